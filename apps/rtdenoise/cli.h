@@ -1,0 +1,41 @@
+// Shared pieces of the `rtdenoise` subcommands.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "rtd/rtd.h"
+
+namespace rtd::cli {
+
+// Each subcommand adds itself to the app and returns the callback that runs it.
+void addDenoise(CLI::App& app);
+void addMethods(CLI::App& app);
+void addBench(CLI::App& app);
+
+/// Applies "key=value" strings to a denoiser; throws rtd::Error on a malformed one.
+void applySettings(Denoiser& d, const std::vector<std::string>& assignments);
+
+/// Parses "WxH".
+std::pair<int, int> parseSize(const std::string& s);
+
+Backend parseBackend(const std::string& s);
+
+/// A one-line progress display: redrawn in place on a terminal, a line every few seconds
+/// otherwise (logs, CI).
+class Progress {
+ public:
+  Progress(std::string what, int total);
+  void update(int done, const std::string& detail = "");
+  void finish(const std::string& detail = "");
+
+ private:
+  std::string what_;
+  int total_;
+  bool tty_;
+  std::chrono::steady_clock::time_point start_, lastPrint_;
+};
+
+}  // namespace rtd::cli

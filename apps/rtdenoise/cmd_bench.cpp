@@ -1,0 +1,94 @@
+// rtdenoise bench: per-pass timings of one method on the analytic synthetic scene.
+#include <algorithm>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "cli.h"
+#include "synthetic/synthetic.h"
+
+namespace rtd::cli {
+
+namespace {
+struct BenchOptions {
+  std::string method = "svgf";
+  std::string size = "1280x720";
+  std::string backend = "cpu";
+  std::string vulkanDevice;
+  std::vector<std::string> settings;
+  int frames = 20;
+  int warmup = 5;
+  int threads = 0;
+  std::string json;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+void runBench(const BenchOptions& o) {
+  const auto [w, h] = parseSize(o.size);
+  auto device = Device::create({.backend = parseBackend(o.backend), .threads = o.threads, .vulkanDevice = o.vulkanDevice});
+  auto denoiser = device->createDenoiser(o.method);
+  applySettings(*denoiser, o.settings);
+
+  // A few distinct frames of a moving camera, cycled, so reprojection does real work.
+  synthetic::Scene scene;
+  scene.width = w;
+  scene.height = h;
+  std::vector<Frame> inputs;
+  for (int i = 0; i < 4; ++i) inputs.push_back(synthetic::makeFrame(scene, i));
+  Image output(w, h, 3);
+
+  std::map<std::string, std::vector<double>> passes;
+  std::vector<std::string> order;
+  std::vector<double> totals;
+  Progress progress("bench " + o.method, o.warmup + o.frames);
+  for (int i = 0; i < o.warmup + o.frames; ++i) {
+    // Cycle 0,1,2,3,2,1,0,... so consecutive frames are always one camera step apart.
+    const int k = i % 6, idx = k < 4 ? k : 6 - k;
+    denoiser->denoise(inputs[idx].inputs(), output.view());
+    progress.update(i + 1);
+    if (i < o.warmup) continue;
+    for (const auto& p : denoiser->stats().passes) {
+      if (!passes.count(p.name)) order.push_back(p.name);
+      passes[p.name].push_back(p.milliseconds);
+    }
+    totals.push_back(denoiser->stats().totalMilliseconds);
+  }
+  progress.finish();
+
+  std::printf("method %s, %dx%d, %s, %d frames after %d warm-up (medians)\n", o.method.c_str(), w, h,
+              device->name().c_str(), o.frames, o.warmup);
+  nlohmann::json j = {{"method", o.method}, {"width", w}, {"height", h}, {"device", device->name()},
+                      {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames}};
+  for (const auto& name : order) {
+    const double m = median(passes[name]);
+    std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
+    j["passesMedianMs"][name] = m;
+  }
+  const double total = median(totals);
+  std::printf("  %-24s %9.3f ms\n", "total", total);
+  j["totalMedianMs"] = total;
+  if (!o.json.empty()) writeFileAtomic(o.json, j.dump(1));
+}
+}  // namespace
+
+void addBench(CLI::App& app) {
+  auto o = std::make_shared<BenchOptions>();
+  auto* cmd = app.add_subcommand("bench", "time a method's passes on a synthetic scene (medians)");
+  cmd->add_option("--method,-m", o->method, "method name")->capture_default_str();
+  cmd->add_option("--size", o->size, "WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--backend,-b", o->backend, "cpu or vulkan")->capture_default_str();
+  cmd->add_option("--device", o->vulkanDevice, "Vulkan device index or name substring");
+  cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable)");
+  cmd->add_option("--frames", o->frames, "timed frames")->capture_default_str();
+  cmd->add_option("--warmup", o->warmup, "untimed frames first")->capture_default_str();
+  cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
+  cmd->add_option("--json", o->json, "also write the medians to this JSON file");
+  cmd->callback([o] { runBench(*o); });
+}
+
+}  // namespace rtd::cli

@@ -1,0 +1,108 @@
+// rtdenoise — the device and the denoiser: the whole public API of the library besides I/O.
+//
+//   auto device = rtd::Device::create({.backend = rtd::Backend::Cpu});
+//   auto denoiser = device->createDenoiser(rtd::SvgfSettings{});   // or createDenoiser("svgf")
+//   for each frame: fill rtd::FrameInputs, then denoiser->denoise(frame, output);
+//   on a camera cut: denoiser->reset();
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rtd/error.h"
+#include "rtd/frame.h"
+#include "rtd/settings.h"
+
+namespace rtd {
+
+enum class Backend { Cpu, Vulkan };
+std::string_view backendName(Backend b);
+
+/// Time one pass took in the last frame (CPU wall time, or GPU time from timestamp queries).
+struct PassTiming {
+  std::string name;
+  double milliseconds = 0;
+};
+
+/// What the last denoise() call did.
+struct FrameStats {
+  std::vector<PassTiming> passes;
+  double totalMilliseconds = 0;
+  uint64_t sanitizedValues = 0;  ///< NaN, Inf or negative radiance values replaced by 0
+  uint64_t pixels = 0;
+};
+
+/// A denoiser owns the history of one image stream. Not thread-safe; use one per stream.
+class Denoiser {
+ public:
+  virtual ~Denoiser() = default;
+
+  virtual std::string_view method() const = 0;
+  virtual Backend backend() const = 0;
+  /// Buffers this method needs in every frame (always includes Buffer::Color).
+  virtual std::vector<Buffer> requiredBuffers() const = 0;
+
+  /// Current settings, by name. set() throws rtd::Error for an unknown name or a bad value.
+  virtual std::vector<SettingInfo> settings() const = 0;
+  virtual void set(std::string_view name, std::string_view value) = 0;
+
+  /// Typed settings: `denoiser->setSettings(rtd::SvgfSettings{...})`. Throws rtd::Error if the
+  /// settings type belongs to another method.
+  template <class S> void setSettings(const S& s) {
+    *static_cast<S*>(settingsStorage(S::kMethod)) = s;
+    settingsChanged();
+  }
+  template <class S> S getSettings() const {
+    return *static_cast<const S*>(const_cast<Denoiser*>(this)->settingsStorage(S::kMethod));
+  }
+
+  /// Denoise one frame. `output` must have the input's size, Float3 or Float4 (alpha is set
+  /// to 1); it receives linear RGB radiance, remodulated, not tone-mapped. A frame whose size
+  /// differs from the previous one resizes the history (and resets it). Throws rtd::Error on a
+  /// missing required buffer or a size mismatch, before touching history.
+  virtual void denoise(const FrameInputs& frame, const ImageView& output) = 0;
+
+  /// Forget all history (camera cut, scene change).
+  virtual void reset() = 0;
+
+  /// Timings and counts of the last denoise() call.
+  virtual const FrameStats& stats() const = 0;
+
+ protected:
+  virtual void* settingsStorage(std::string_view method) = 0;
+  virtual void settingsChanged() {}
+};
+
+struct DeviceDesc {
+  Backend backend = Backend::Cpu;
+  int threads = 0;           ///< CPU worker threads; 0 = all cores
+  std::string vulkanDevice;  ///< Vulkan: device index or part of its name; empty = best
+  bool vulkanValidation = false;  ///< Vulkan: enable validation layers if installed
+};
+
+/// A compute device (CPU thread pool or Vulkan device). Create denoisers from it.
+class Device {
+ public:
+  /// Throws rtd::Error when the backend is unavailable (e.g. no Vulkan device).
+  static std::unique_ptr<Device> create(const DeviceDesc& desc = {});
+  virtual ~Device() = default;
+  virtual Backend backend() const = 0;
+  virtual std::string name() const = 0;
+
+  /// Create a denoiser by method name ("accumulate", "svgf", "bmfr", ...) with default settings.
+  virtual std::unique_ptr<Denoiser> createDenoiser(std::string_view method) = 0;
+  template <class S>
+    requires requires { S::kMethod; }
+  std::unique_ptr<Denoiser> createDenoiser(const S& settings) {
+    auto d = createDenoiser(S::kMethod);
+    d->setSettings(settings);
+    return d;
+  }
+};
+
+/// Every registered method with its settings' defaults.
+std::vector<MethodInfo> listMethods();
+
+}  // namespace rtd

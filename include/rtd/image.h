@@ -1,0 +1,73 @@
+// rtdenoise — images: a non-owning strided view (what the API takes) and an owning float image.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtd {
+
+/// Pixel formats a view may have. Floats are 32-bit IEEE; Int32 is for ids.
+enum class Format : uint8_t { Undefined, Float, Float2, Float3, Float4, Int32 };
+
+/// Number of scalar channels of a format (0 for Undefined).
+constexpr int channelCount(Format f) {
+  switch (f) {
+    case Format::Float: case Format::Int32: return 1;
+    case Format::Float2: return 2;
+    case Format::Float3: return 3;
+    case Format::Float4: return 4;
+    default: return 0;
+  }
+}
+
+/// A strided view of pixels owned by the caller, as in Open Image Denoise's shared buffers.
+/// `pixelStride` and `rowStride` are in bytes; 0 means tightly packed.
+/// Rows run from the top of the image (row 0 is the top), x to the right.
+struct ImageView {
+  void* data = nullptr;
+  int width = 0;
+  int height = 0;
+  Format format = Format::Undefined;
+  size_t pixelStride = 0;
+  size_t rowStride = 0;
+
+  bool empty() const { return data == nullptr; }
+  int channels() const { return channelCount(format); }
+  size_t bytesPerPixel() const { return pixelStride ? pixelStride : size_t(channels()) * 4; }
+  size_t bytesPerRow() const { return rowStride ? rowStride : bytesPerPixel() * size_t(width); }
+  /// Address of pixel (x, y); channel c is at `pixel(x, y) + c`.
+  template <class T = float> T* pixel(int x, int y) const {
+    return reinterpret_cast<T*>(static_cast<char*>(data) + size_t(y) * bytesPerRow() +
+                                size_t(x) * bytesPerPixel());
+  }
+};
+
+/// An owning image of `channels` interleaved floats per pixel, rows from the top.
+struct Image {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  std::vector<float> pixels;
+
+  Image() = default;
+  Image(int w, int h, int c, float fill = 0.0f)
+      : width(w), height(h), channels(c), pixels(size_t(w) * h * c, fill) {}
+
+  float* pixel(int x, int y) { return pixels.data() + (size_t(y) * width + x) * channels; }
+  const float* pixel(int x, int y) const { return pixels.data() + (size_t(y) * width + x) * channels; }
+  float& at(int x, int y, int c = 0) { return pixel(x, y)[c]; }
+  float at(int x, int y, int c = 0) const { return pixel(x, y)[c]; }
+  bool empty() const { return pixels.empty(); }
+
+  /// A view of this image; only 1 to 4 channels have a Format.
+  ImageView view() {
+    static constexpr Format kFormats[] = {Format::Undefined, Format::Float, Format::Float2,
+                                          Format::Float3, Format::Float4};
+    return ImageView{pixels.data(), width, height, channels <= 4 ? kFormats[channels] : Format::Undefined,
+                     0, 0};
+  }
+  ImageView view() const { return const_cast<Image*>(this)->view(); }
+};
+
+}  // namespace rtd

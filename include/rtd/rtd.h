@@ -1,0 +1,9 @@
+// rtdenoise — umbrella header.
+#pragma once
+#include "rtd/denoiser.h"
+#include "rtd/error.h"
+#include "rtd/frame.h"
+#include "rtd/image.h"
+#include "rtd/sequence.h"
+#include "rtd/settings.h"
+#include "rtd/methods/accumulate.h"

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package rtdenoise needs to build, test and run (as root, or with
+# sudo). Does nothing for packages already installed, so it is cheap to run again.
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libopenexr-dev libimath-dev libtbb-dev nlohmann-json3-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libembree-dev libtinygltf-dev libstb-dev
+  glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO=sudo
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi

@@ -1,0 +1,93 @@
+// Base of every CPU denoiser: settings by name, frame import with sanitization, history resize
+// and reset, per-pass timing, previous-frame features. A method implements process().
+#pragma once
+#include <chrono>
+#include <string>
+
+#include <tbb/task_arena.h>
+
+#include "core/frame_data.h"
+#include "core/settings_reflect.h"
+#include "core/timer.h"
+#include "rtd/denoiser.h"
+
+namespace rtd {
+
+template <class S> class CpuDenoiser : public Denoiser {
+ public:
+  explicit CpuDenoiser(tbb::task_arena& arena) : arena_(arena) {}
+
+  std::string_view method() const override { return S::kMethod; }
+  Backend backend() const override { return Backend::Cpu; }
+  std::vector<SettingInfo> settings() const override { return detail::listSettings(settings_); }
+  void set(std::string_view name, std::string_view value) override {
+    S copy = settings_;
+    detail::setSetting(copy, S::kMethod, name, value);
+    settings_ = copy;
+    settingsChanged();
+  }
+  const FrameStats& stats() const override { return stats_; }
+
+  void reset() override {
+    hasPrevious_ = false;
+    resetHistory();
+  }
+
+  void denoise(const FrameInputs& frame, const ImageView& output) final {
+    FrameStats stats;
+    auto start = std::chrono::steady_clock::now();
+    if (output.empty() || output.width != frame[Buffer::Color].width || output.height != frame[Buffer::Color].height)
+      throw Error("output view must be non-empty and the size of buffer 'color'");
+    arena_.execute([&] {
+      {
+        PassTimer t(stats, "import");
+        stats.sanitizedValues = importFrame(frame, requiredBuffers(), current_);
+      }
+      const int w = current_.width, h = current_.height;
+      if (w != width_ || h != height_) {
+        width_ = w;
+        height_ = h;
+        resizeHistory(w, h);
+        for (auto& c : output_) c.resize(w, h);
+        reset();
+      } else if (frame.cameraCut) {
+        reset();
+      }
+      process(current_, hasPrevious_ ? &previous_ : nullptr, output_, stats);
+      {
+        PassTimer t(stats, "export");
+        exportRgb(output_, output);
+      }
+      std::swap(current_, previous_);
+      hasPrevious_ = true;
+    });
+    stats.pixels = uint64_t(width_) * height_;
+    stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    stats_ = std::move(stats);
+  }
+
+ protected:
+  /// Denoise `frame` into `out`. `previous` is the last frame's data, or null right after a
+  /// reset. Time passes with PassTimer(stats, "name").
+  virtual void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) = 0;
+  /// (Re)allocate history for a new size; called before the first frame and on resize.
+  virtual void resizeHistory(int width, int height) = 0;
+  /// Forget history (allocations stay).
+  virtual void resetHistory() = 0;
+
+  void* settingsStorage(std::string_view m) override {
+    if (m != S::kMethod)
+      throw Error("settings of method '" + std::string(m) + "' given to a '" + std::string(S::kMethod) + "' denoiser");
+    return &settings_;
+  }
+
+  S settings_;
+  tbb::task_arena& arena_;
+  FrameData current_, previous_;
+  bool hasPrevious_ = false;
+  int width_ = 0, height_ = 0;
+  Plane3 output_;
+  FrameStats stats_;
+};
+
+}  // namespace rtd

@@ -1,0 +1,94 @@
+#include "core/frame_data.h"
+
+#include <atomic>
+#include <cmath>
+#include <string>
+
+#include "core/parallel.h"
+#include "rtd/error.h"
+
+namespace rtd {
+
+bool isRadianceBuffer(Buffer b) {
+  switch (b) {
+    case Buffer::Color: case Buffer::Direct: case Buffer::Indirect:
+    case Buffer::Diffuse: case Buffer::Specular: return true;
+    default: return false;
+  }
+}
+
+static std::string describe(Buffer b) { return "buffer '" + std::string(bufferName(b)) + "'"; }
+
+uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out) {
+  for (Buffer b : required)
+    if (!in.has(b)) throw Error("missing required " + describe(b));
+  const ImageView& color = in[Buffer::Color];
+  const int w = color.width, h = color.height;
+  if (w <= 0 || h <= 0) throw Error("buffer 'color' has an empty size");
+  for (int i = 0; i < kBufferCount; ++i) {
+    const ImageView& v = in.buffers[i];
+    if (v.empty()) continue;
+    Buffer b = Buffer(i);
+    if (v.width != w || v.height != h)
+      throw Error(describe(b) + " is " + std::to_string(v.width) + "x" + std::to_string(v.height) +
+                  " but color is " + std::to_string(w) + "x" + std::to_string(h));
+    if (v.channels() < bufferChannelCount(b))
+      throw Error(describe(b) + " needs " + std::to_string(bufferChannelCount(b)) + " channels, the view has " +
+                  std::to_string(v.channels()));
+  }
+
+  out.width = w;
+  out.height = h;
+  out.camera = in.camera;
+  std::atomic<uint64_t> replaced{0};
+  for (int i = 0; i < kBufferCount; ++i) {
+    const ImageView& v = in.buffers[i];
+    auto& planes = out.buffers[i];
+    if (v.empty()) {
+      planes.clear();
+      continue;
+    }
+    const Buffer b = Buffer(i);
+    const int nc = bufferChannelCount(b);
+    planes.resize(nc);
+    for (auto& p : planes)
+      if (p.width != w || p.height != h) p.resize(w, h);
+    const bool radiance = isRadianceBuffer(b);
+    const bool ints = v.format == Format::Int32;
+    parallelRows(h, [&](int y) {
+      uint64_t bad = 0;
+      for (int c = 0; c < nc; ++c) {
+        float* dst = planes[c].row(y);
+        for (int x = 0; x < w; ++x) {
+          float value = ints ? float(v.pixel<int32_t>(x, y)[c]) : v.pixel<float>(x, y)[c];
+          // Radiance must be finite and non-negative before it can reach history; a NaN
+          // would otherwise stay in the exponential average for ever.
+          bool ok = radiance ? (value >= 0.0f && value <= 3.0e38f) : std::isfinite(value);
+          if (!ok) { value = 0.0f; ++bad; }
+          dst[x] = value;
+        }
+      }
+      if (bad) replaced += bad;
+    });
+  }
+  return replaced;
+}
+
+void exportRgb(const Plane3& rgb, const ImageView& out) {
+  if (out.format != Format::Float3 && out.format != Format::Float4)
+    throw Error("output view must be Float3 or Float4");
+  if (out.width != rgb[0].width || out.height != rgb[0].height)
+    throw Error("output view is " + std::to_string(out.width) + "x" + std::to_string(out.height) +
+                ", the frame is " + std::to_string(rgb[0].width) + "x" + std::to_string(rgb[0].height));
+  const bool alpha = out.format == Format::Float4;
+  parallelRows(out.height, [&](int y) {
+    const float *r = rgb[0].row(y), *g = rgb[1].row(y), *b = rgb[2].row(y);
+    for (int x = 0; x < out.width; ++x) {
+      float* p = out.pixel<float>(x, y);
+      p[0] = r[x]; p[1] = g[x]; p[2] = b[x];
+      if (alpha) p[3] = 1.0f;
+    }
+  });
+}
+
+}  // namespace rtd

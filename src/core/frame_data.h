@@ -1,0 +1,37 @@
+// The CPU backend's copy of one frame: every provided buffer as float planes.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/plane.h"
+#include "rtd/frame.h"
+
+namespace rtd {
+
+struct FrameData {
+  int width = 0;
+  int height = 0;
+  std::array<std::vector<Plane>, kBufferCount> buffers;  // empty vector where absent
+  Camera camera;
+
+  bool has(Buffer b) const { return !buffers[int(b)].empty(); }
+  const Plane& plane(Buffer b, int c = 0) const { return buffers[int(b)][c]; }
+  Plane& plane(Buffer b, int c = 0) { return buffers[int(b)][c]; }
+  /// The three planes of an RGB/XYZ buffer.
+  const std::vector<Plane>& planes(Buffer b) const { return buffers[int(b)]; }
+};
+
+/// True for buffers holding radiance (sanitized on import: NaN, Inf and negatives become 0).
+bool isRadianceBuffer(Buffer b);
+
+/// Copies the views of `in` into `out` (reusing its allocations). Checks that every required
+/// buffer is present and that all buffers share one size and have enough channels; throws
+/// rtd::Error naming the buffer otherwise. Non-finite feature values also become 0. Returns
+/// the number of values replaced.
+uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out);
+
+/// Writes RGB planes into a Float3/Float4 view (alpha = 1).
+void exportRgb(const Plane3& rgb, const ImageView& out);
+
+}  // namespace rtd

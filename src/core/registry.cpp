@@ -1,0 +1,34 @@
+// One line per method. Each method's folder (src/methods/<name>/) defines its factories.
+#include "core/registry.h"
+
+#include "core/settings_reflect.h"
+#include "rtd/methods/accumulate.h"
+
+namespace rtd {
+
+std::unique_ptr<Denoiser> createAccumulateCpu(tbb::task_arena&);
+
+template <class S> static std::vector<SettingInfo> defaultsOf() { return detail::listSettings(S{}); }
+
+const std::vector<MethodEntry>& methodRegistry() {
+  static const std::vector<MethodEntry> entries = {
+      {"accumulate", "temporal accumulation with robust reprojection (baseline of SVGF/BMFR)",
+       &defaultsOf<AccumulateSettings>, &createAccumulateCpu, nullptr},
+  };
+  return entries;
+}
+
+const MethodEntry* findMethod(std::string_view name) {
+  for (const auto& e : methodRegistry())
+    if (name == e.name) return &e;
+  return nullptr;
+}
+
+std::vector<MethodInfo> listMethods() {
+  std::vector<MethodInfo> out;
+  for (const auto& e : methodRegistry())
+    out.push_back({e.name, e.summary, e.defaults(), e.createCpu != nullptr, e.createVulkan != nullptr});
+  return out;
+}
+
+}  // namespace rtd

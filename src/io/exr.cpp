@@ -1,0 +1,92 @@
+#include "io/exr.h"
+
+#include <Iex.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <unistd.h>
+
+#include <fstream>
+
+#include "rtd/error.h"
+
+namespace rtd::exr {
+
+namespace fs = std::filesystem;
+
+static std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+Header readHeader(const fs::path& path) {
+  if (!fs::exists(path)) throw Error("file " + quoted(path) + " does not exist");
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    Header h;
+    h.width = dw.max.x - dw.min.x + 1;
+    h.height = dw.max.y - dw.min.y + 1;
+    for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
+      h.channels.emplace_back(it.name());
+    return h;
+  } catch (const std::exception& e) {
+    throw Error("file " + quoted(path) + " is not a readable EXR: " + e.what());
+  }
+}
+
+std::vector<std::vector<float>> readChannels(const fs::path& path, const std::vector<std::string>& names,
+                                             const std::string& context) {
+  const std::string where = (context.empty() ? "" : context + ", ") + "file " + quoted(path);
+  if (!fs::exists(path)) throw Error(where + ": file does not exist");
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    std::vector<std::vector<float>> planes(names.size(), std::vector<float>(size_t(w) * h));
+    Imf::FrameBuffer fb;
+    for (size_t i = 0; i < names.size(); ++i) {
+      if (!file.header().channels().findChannel(names[i]))
+        throw Error(where + ": missing channel '" + names[i] + "'");
+      fb.insert(names[i], Imf::Slice::Make(Imf::FLOAT, planes[i].data(), dw, sizeof(float), sizeof(float) * size_t(w)));
+    }
+    file.setFrameBuffer(fb);
+    try {
+      file.readPixels(dw.min.y, dw.max.y);
+    } catch (const std::exception& e) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      throw Error(where + ": pixel data of channels " + list + " is truncated or corrupt (" + e.what() + ")");
+    }
+    return planes;
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error(where + ": not a readable EXR (" + e.what() + ")");
+  }
+}
+
+void writeChannels(const fs::path& path, int width, int height, const std::vector<ChannelSource>& channels) {
+  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
+  try {
+    Imf::Header header(width, height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    Imf::FrameBuffer fb;
+    for (const auto& c : channels) {
+      header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
+      fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char*)c.data, sizeof(float) * c.stride,
+                                   sizeof(float) * c.stride * size_t(width)));
+    }
+    {
+      Imf::OutputFile out(tmp.c_str(), header);
+      out.setFrameBuffer(fb);
+      out.writePixels(height);
+    }
+    fs::rename(tmp, path);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw Error("cannot write " + quoted(path) + ": " + e.what());
+  }
+}
+
+}  // namespace rtd::exr

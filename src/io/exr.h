@@ -1,0 +1,34 @@
+// Thin OpenEXR helpers shared by the sequence reader and writer. Errors become rtd::Error with
+// the file name.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace rtd::exr {
+
+struct Header {
+  int width = 0, height = 0;
+  std::vector<std::string> channels;  // names as stored
+};
+
+/// Reads the header; throws rtd::Error if the file is missing, not an EXR, or corrupt.
+Header readHeader(const std::filesystem::path& path);
+
+/// Reads the named channels as floats, each a width*height plane (rows from the top).
+/// `context` prefixes error messages (e.g. "frame 3"). Missing channels and truncated pixel
+/// data throw rtd::Error naming the file and the channel.
+std::vector<std::vector<float>> readChannels(const std::filesystem::path& path, const std::vector<std::string>& names,
+                                             const std::string& context);
+
+/// One channel to write: a name and interleaved data with a stride (in floats).
+struct ChannelSource {
+  std::string name;
+  const float* data;
+  size_t stride;  // floats between horizontally adjacent pixels
+};
+
+/// Writes FLOAT channels (ZIP compression) atomically: temporary file, then rename.
+void writeChannels(const std::filesystem::path& path, int width, int height, const std::vector<ChannelSource>& channels);
+
+}  // namespace rtd::exr

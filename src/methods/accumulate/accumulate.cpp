@@ -1,0 +1,52 @@
+// Method "accumulate": demodulate, reproject, accumulate, remodulate. The baseline that every
+// other method starts from, exposed on its own.
+#include "backend/cpu/cpu_denoiser.h"
+#include "passes/demodulation.h"
+#include "passes/reprojection.h"
+#include "passes/temporal_accumulation.h"
+#include "rtd/methods/accumulate.h"
+
+namespace rtd {
+
+namespace {
+class AccumulateCpu final : public CpuDenoiser<AccumulateSettings> {
+ public:
+  using CpuDenoiser::CpuDenoiser;
+  std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color}; }
+
+ protected:
+  void resizeHistory(int w, int h) override {
+    accumulator_.resize(w, h);
+    resize(demodulated_, w, h);
+  }
+  void resetHistory() override { accumulator_.reset(); }
+
+  void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
+    const auto* albedo = settings_.demodulate && frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
+    {
+      PassTimer t(stats, "demodulate");
+      demodulate(frame.planes(Buffer::Color), albedo, demodulated_);
+    }
+    {
+      PassTimer t(stats, "reproject");
+      reproject(frame, previous, settings_.reprojection, reprojection_);
+    }
+    {
+      PassTimer t(stats, "accumulate");
+      accumulator_.run(reprojection_, demodulated_, settings_.alpha, settings_.alpha, settings_.maxHistoryLength);
+    }
+    PassTimer t(stats, "remodulate");
+    for (int c = 0; c < 3; ++c) out[c].data = accumulator_.color()[c].data;
+    remodulate(out, albedo);
+  }
+
+ private:
+  Plane3 demodulated_;
+  Reprojection reprojection_;
+  TemporalAccumulator accumulator_;
+};
+}  // namespace
+
+std::unique_ptr<Denoiser> createAccumulateCpu(tbb::task_arena& arena) { return std::make_unique<AccumulateCpu>(arena); }
+
+}  // namespace rtd

@@ -1,0 +1,67 @@
+// Shared pass: reprojection of the previous frame onto the current one, with per-tap
+// consistency tests (Schied et al. 2017 Sec. 4.1; Higginson Sec. 1.3.1, Eq. 1.4).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/frame_data.h"
+#include "rtd/methods/reprojection.h"
+
+namespace rtd {
+
+/// Where each pixel's history comes from, computed once per frame and used to gather any
+/// history plane (colour, moments, history length, BMFR's accumulations).
+struct Reprojection {
+  enum Kind : uint8_t { None = 0, Bilinear = 1, Fallback3x3 = 2 };
+  int width = 0, height = 0;
+  std::vector<uint8_t> kind;                     ///< per pixel
+  std::vector<int32_t> base;                     ///< bilinear: index of the top-left tap; 3x3: of the centre
+  std::vector<std::array<float, 4>> weights;     ///< bilinear: renormalized weights of the 2x2 taps
+  std::vector<uint16_t> mask3x3;                 ///< 3x3: bit (dy+1)*3+(dx+1) set where the tap is valid
+  Plane prevX, prevY;                            ///< reprojected continuous position, pixel units (centre of pixel i at i + 0.5)
+
+  void resize(int w, int h);
+
+  /// History value of plane `h` (previous frame's size) for pixel index i; 0 for None.
+  float gather(const Plane& h, size_t i) const {
+    const float* p = h.ptr();
+    switch (kind[i]) {
+      case Bilinear: {
+        const int b = base[i], w = h.width;
+        const auto& wt = weights[i];
+        // Taps with zero weight may lie outside the image; skip them without reading.
+        float v = 0.0f;
+        if (wt[0] != 0.0f) v += wt[0] * p[b];
+        if (wt[1] != 0.0f) v += wt[1] * p[b + 1];
+        if (wt[2] != 0.0f) v += wt[2] * p[b + w];
+        if (wt[3] != 0.0f) v += wt[3] * p[b + w + 1];
+        return v;
+      }
+      case Fallback3x3: return gather3x3(h, i);
+      default: return 0.0f;
+    }
+  }
+
+  /// Number of pixels of each kind (for tests and statistics).
+  std::array<size_t, 3> counts() const;
+
+ private:
+  float gather3x3(const Plane& h, size_t i) const;
+};
+
+/// The 3x3 fallback kernel of Higginson Eq. 1.4 (a Gaussian with sigma ~ 1.04 px), row-major.
+extern const float kFallbackKernel3x3[9];
+
+/// Fills `out` for the current frame. With `previous == nullptr` every pixel is None.
+/// The motion of a pixel is Buffer::Motion if the frame has it; otherwise, if both frames have
+/// valid cameras and the current frame has Buffer::Position, the projection of the position
+/// with the previous camera (a static scene); otherwise zero.
+void reproject(const FrameData& current, const FrameData* previous, const ReprojectionSettings& s,
+               Reprojection& out);
+
+/// History length after this frame: the reprojected previous length (bilinear, rounded to
+/// the nearest integer, as BMFR does for its 8-bit counts) plus one, capped; 1 where None.
+void updateHistoryLength(const Reprojection& rp, const Plane& previousLength, int maxLength, Plane& length);
+
+}  // namespace rtd

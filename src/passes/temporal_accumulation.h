@@ -1,0 +1,48 @@
+// Shared pass: temporal accumulation of demodulated radiance and its luminance moments
+// (Schied et al. 2017 Sec. 4.1 / Eq. 1.2-1.3 of Higginson), with the cumulative-then-
+// exponential weight w = max(1/n, alpha) of Koskela et al. 2019 Sec. 4.1.
+#pragma once
+#include "core/frame_data.h"
+#include "passes/reprojection.h"
+
+namespace rtd {
+
+/// New-sample weight for history length n (including the new sample).
+inline float newSampleWeight(float n, float alpha) { return std::max(1.0f / n, alpha); }
+
+/// out = w * current + (1 - w) * reprojected history, w = newSampleWeight(length, alpha);
+/// out = current where the pixel has no history (length 1 gives w = 1 anyway).
+void accumulatePlane(const Reprojection& rp, const Plane& length, float alpha, const Plane& current,
+                     const Plane& history, Plane& out);
+
+/// Owns the history of one radiance stream: accumulated colour (three planes), the first and
+/// second raw moments of its luminance, and the history length, double-buffered.
+class TemporalAccumulator {
+ public:
+  void resize(int w, int h);
+  void reset();
+
+  /// Accumulates `color` (demodulated) with reprojection `rp`, shared between streams.
+  /// Moments use `momentsAlpha`; both use the same history length.
+  void run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha, int maxHistoryLength);
+
+  const Plane3& color() const { return color_[cur_]; }
+  /// Methods that feed a filtered result back as history (SVGF: first a-trous level) write here.
+  Plane3& color() { return color_[cur_]; }
+  const Plane& moment1() const { return m1_[cur_]; }
+  const Plane& moment2() const { return m2_[cur_]; }
+  const Plane& historyLength() const { return length_[cur_]; }
+  /// Variance of luminance from the moments, max(0, mu2 - mu1^2) (SVGF Sec. 4.2).
+  float temporalVariance(size_t i) const {
+    const float m1 = m1_[cur_].data[i];
+    return std::max(0.0f, m2_[cur_].data[i] - m1 * m1);
+  }
+
+ private:
+  Plane3 color_[2];
+  Plane m1_[2], m2_[2], length_[2];
+  Plane lum_, lum2_;
+  int cur_ = 0;
+};
+
+}  // namespace rtd

@@ -1,0 +1,144 @@
+#include "synthetic/synthetic.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rtd::synthetic {
+
+namespace {
+
+struct V3 {
+  float x, y, z;
+};
+inline V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline V3 operator*(V3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+inline float dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V3 normalize(V3 a) { return a * (1.0f / std::sqrt(dot(a, a))); }
+
+// PCG-style hash to a uniform in (0, 1).
+inline float uniform(uint32_t a, uint32_t b, uint32_t c) {
+  uint32_t h = a * 747796405u + b * 2891336453u + c * 277803737u + 0x9e3779b9u;
+  h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
+  h = (h >> 22u) ^ h;
+  return (float(h >> 8) + 0.5f) * (1.0f / 16777216.0f);
+}
+
+struct Hit {
+  float t = INFINITY;
+  V3 n{0, 0, 0};
+  int id = 0;
+};
+
+constexpr V3 kSphereCentre{0.0f, 0.75f, 0.0f};
+constexpr float kSphereRadius = 0.75f;
+constexpr float kWallZ = -4.0f;
+
+Hit intersect(V3 o, V3 d) {
+  Hit h;
+  if (d.y < 0) {  // floor y = 0
+    float t = -o.y / d.y;
+    if (t > 0 && t < h.t) h = {t, {0, 1, 0}, 1};
+  }
+  if (d.z < 0) {  // wall z = kWallZ
+    float t = (kWallZ - o.z) / d.z;
+    if (t > 0 && t < h.t) h = {t, {0, 0, 1}, 2};
+  }
+  V3 oc = o - kSphereCentre;
+  float b = dot(oc, d), c = dot(oc, oc) - kSphereRadius * kSphereRadius, disc = b * b - c;
+  if (disc > 0) {
+    float t = -b - std::sqrt(disc);
+    if (t > 0 && t < h.t) h = {t, normalize(o + d * t - kSphereCentre), 3};
+  }
+  return h;
+}
+
+V3 albedoAt(const Hit& h, V3 p) {
+  if (h.id == 1) {
+    const bool odd = (int(std::floor(p.x * 2.0f)) + int(std::floor(p.z * 2.0f))) & 1;
+    return odd ? V3{0.8f, 0.8f, 0.75f} : V3{0.25f, 0.3f, 0.35f};
+  }
+  if (h.id == 2) return {0.6f, 0.55f, 0.5f};
+  if (h.id == 3) return {0.9f, 0.4f, 0.3f};
+  return {0, 0, 0};
+}
+
+V3 cameraPosition(const Scene& s, int index) { return {s.cameraSpeed * float(index), 1.0f, 5.0f}; }
+
+Camera cameraOf(const Scene& s, int index) {
+  Camera c;
+  V3 e = cameraPosition(s, index);
+  c.worldToCamera = {1, 0, 0, -e.x, 0, 1, 0, -e.y, 0, 0, 1, -e.z, 0, 0, 0, 1};
+  const float f = 1.0f / std::tan(s.verticalFov * 0.5f), aspect = float(s.width) / float(s.height);
+  const float n = 0.1f, fa = 100.0f;
+  c.projection = {f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, -(fa + n) / (fa - n), -2 * fa * n / (fa - n), 0, 0, -1, 0};
+  c.valid = true;
+  return c;
+}
+
+}  // namespace
+
+Frame makeFrame(const Scene& s, int index, Image* reference) {
+  const int w = s.width, h = s.height;
+  Frame f;
+  f.number = index + 1;
+  f.width = w;
+  f.height = h;
+  f.camera = cameraOf(s, index);
+  for (Buffer b : {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Depth, Buffer::Position, Buffer::Motion,
+                   Buffer::ObjectId, Buffer::Roughness})
+    f[b] = Image(w, h, bufferChannelCount(b));
+  if (reference) *reference = Image(w, h, 3);
+
+  const V3 eye = cameraPosition(s, index), prevEye = cameraPosition(s, index - 1);
+  const float tanHalf = std::tan(s.verticalFov * 0.5f), aspect = float(w) / float(h);
+  const V3 light = normalize({0.4f, 1.0f, 0.6f});
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float sx = (2.0f * (x + 0.5f) / w - 1.0f) * tanHalf * aspect;
+      const float sy = (1.0f - 2.0f * (y + 0.5f) / h) * tanHalf;
+      const V3 d = normalize({sx, sy, -1.0f});
+      const Hit hit = intersect(eye, d);
+      V3 radiance{0.1f, 0.12f, 0.15f};  // sky
+      if (hit.id) {
+        const V3 p = eye + d * hit.t;
+        const V3 a = albedoAt(hit, p);
+        // Sun with the sphere's shadow, plus a constant ambient term.
+        float sun = std::max(0.0f, dot(hit.n, light));
+        if (sun > 0 && intersect(p + hit.n * 1e-3f, light).id == 3) sun = 0;
+        radiance = a * (0.25f + 1.5f * sun);
+        f[Buffer::Albedo].at(x, y, 0) = a.x;
+        f[Buffer::Albedo].at(x, y, 1) = a.y;
+        f[Buffer::Albedo].at(x, y, 2) = a.z;
+        f[Buffer::Normal].at(x, y, 0) = hit.n.x;
+        f[Buffer::Normal].at(x, y, 1) = hit.n.y;
+        f[Buffer::Normal].at(x, y, 2) = hit.n.z;
+        f[Buffer::Depth].at(x, y) = hit.t * -d.z;  // view depth along -z
+        f[Buffer::Position].at(x, y, 0) = p.x;
+        f[Buffer::Position].at(x, y, 1) = p.y;
+        f[Buffer::Position].at(x, y, 2) = p.z;
+        f[Buffer::ObjectId].at(x, y) = float(hit.id);
+        f[Buffer::Roughness].at(x, y) = 1.0f;
+        // Motion: where p was on screen with the previous camera (static scene).
+        const V3 q = p - prevEye;
+        const float px = (q.x / -q.z / (tanHalf * aspect) * 0.5f + 0.5f) * w;
+        const float py = (0.5f - q.y / -q.z / tanHalf * 0.5f) * h;
+        f[Buffer::Motion].at(x, y, 0) = px - (x + 0.5f);
+        f[Buffer::Motion].at(x, y, 1) = py - (y + 0.5f);
+      } else {
+        f[Buffer::Depth].at(x, y) = 1e4f;
+      }
+      const float noise = s.noise > 0 ? 1.0f + s.noise * (-std::log(uniform(uint32_t(x), uint32_t(y), s.seed * 7919u + uint32_t(index))) - 1.0f) : 1.0f;
+      f[Buffer::Color].at(x, y, 0) = radiance.x * noise;
+      f[Buffer::Color].at(x, y, 1) = radiance.y * noise;
+      f[Buffer::Color].at(x, y, 2) = radiance.z * noise;
+      if (reference) {
+        reference->at(x, y, 0) = radiance.x;
+        reference->at(x, y, 1) = radiance.y;
+        reference->at(x, y, 2) = radiance.z;
+      }
+    }
+  return f;
+}
+
+}  // namespace rtd::synthetic

@@ -1,0 +1,26 @@
+// An analytic test scene: a pinhole camera translating over a checkered floor, a back wall and
+// a sphere, ray-cast in closed form. It gives exact feature buffers, exact motion, a noise-free
+// reference and 1-spp-like noisy radiance (radiance times an exponential variate of mean 1),
+// with no renderer involved. Used by tests, benchmarks and `rtdenoise bench`.
+#pragma once
+#include <cstdint>
+
+#include "rtd/sequence.h"
+
+namespace rtd::synthetic {
+
+struct Scene {
+  int width = 160;
+  int height = 90;
+  float cameraSpeed = 0.02f;     ///< camera translation along +x per frame (world units)
+  float verticalFov = 1.0472f;   ///< radians (60 degrees)
+  float noise = 1.0f;            ///< 0: noise-free; 1: exponential noise of mean 1
+  uint32_t seed = 1;
+};
+
+/// Frame `index` (0-based; its number is index + 1). Buffers: color, albedo, normal, depth,
+/// position, motion, objectId, roughness; camera matrices valid. `reference`, if not null,
+/// receives the noise-free radiance (RGB).
+Frame makeFrame(const Scene& scene, int index, Image* reference = nullptr);
+
+}  // namespace rtd::synthetic
