@@ -41,6 +41,25 @@ void TemporalAccumulator::reset() {
 
 void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha,
                               int maxHistoryLength) {
+  run(rp, color, alpha, momentsAlpha, maxHistoryLength, AccumulationOptions{});
+}
+
+namespace {
+// Plain exponential moving average: w = alpha wherever the pixel has history.
+void accumulatePlaneEma(const Reprojection& rp, float alpha, const Plane& current, const Plane& history, Plane& out) {
+  const int w = rp.width;
+  parallelRows(rp.height, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const float c = current.data[i];
+      out.data[i] = rp.kind[i] == Reprojection::None ? c : alpha * c + (1.0f - alpha) * rp.gather(history, i);
+    }
+  });
+}
+}  // namespace
+
+void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha,
+                              int maxHistoryLength, const AccumulationOptions& options) {
   const int prev = cur_;
   cur_ ^= 1;
   updateHistoryLength(rp, length_[prev], maxHistoryLength, length_[cur_]);
@@ -48,14 +67,26 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
   parallelRows(rp.height, [&](int y) {
     const float *r = color[0].row(y), *g = color[1].row(y), *b = color[2].row(y);
     float *l = lum_.row(y), *l2 = lum2_.row(y);
-    for (int x = 0; x < w; ++x) {
-      l[x] = luminance(r[x], g[x], b[x]);
-      l2[x] = l[x] * l[x];
+    if (options.luminance == MomentLuminance::Rec709) {
+      for (int x = 0; x < w; ++x) {
+        l[x] = luminance(r[x], g[x], b[x]);
+        l2[x] = l[x] * l[x];
+      }
+    } else {
+      for (int x = 0; x < w; ++x) {
+        l[x] = momentLuminance(options.luminance, r[x], g[x], b[x]);
+        l2[x] = l[x] * l[x];
+      }
     }
   });
   for (int c = 0; c < 3; ++c) accumulatePlane(rp, length_[cur_], alpha, color[c], color_[prev][c], color_[cur_][c]);
-  accumulatePlane(rp, length_[cur_], momentsAlpha, lum_, m1_[prev], m1_[cur_]);
-  accumulatePlane(rp, length_[cur_], momentsAlpha, lum2_, m2_[prev], m2_[cur_]);
+  if (options.cumulativeMoments) {
+    accumulatePlane(rp, length_[cur_], momentsAlpha, lum_, m1_[prev], m1_[cur_]);
+    accumulatePlane(rp, length_[cur_], momentsAlpha, lum2_, m2_[prev], m2_[cur_]);
+  } else {
+    accumulatePlaneEma(rp, momentsAlpha, lum_, m1_[prev], m1_[cur_]);
+    accumulatePlaneEma(rp, momentsAlpha, lum2_, m2_[prev], m2_[cur_]);
+  }
 }
 
 }  // namespace rtd
