@@ -28,6 +28,14 @@ inline vf vabs(vf x) {
   return x;
 }
 inline vf vmax(vf a, vf b) { return a > b ? a : b; }
+inline vf vsqrt(vf x) {
+#ifdef __AVX__
+  return __builtin_ia32_sqrtps256(x);
+#else
+  for (int k = 0; k < kLanes; ++k) x[k] = std::sqrt(x[k]);
+  return x;
+#endif
+}
 
 // exp(-x) for x >= 0 (x = +inf gives 0): range reduction by ln 2 and a degree-6 Taylor
 // polynomial, relative error ~2e-7 -- one exp shared by the depth and luminance weights.
@@ -49,8 +57,13 @@ inline vf expNeg(vf x) {
   return p * scale;
 }
 
-// d^e by repeated squaring (sigma_n = 128 is seven squarings).
-inline vf ipow(vf d, int e) {
+// d^e by repeated squaring; kSquarings >= 0: e = 2^kSquarings, unrolled (sigma_n = 128 is
+// seven squarings, 64 six).
+template <int kSquarings> inline vf ipow(vf d, int e) {
+  if constexpr (kSquarings >= 0) {
+    for (int i = 0; i < kSquarings; ++i) d *= d;
+    return d;
+  }
   vf r = splat(1.0f);
   while (true) {
     if (e & 1) r *= d;
@@ -71,7 +84,7 @@ struct Tap {
   float h;
 };
 
-template <bool kPropagate>
+template <bool kPropagate, int kSquarings>
 void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
                 const std::vector<Tap>& taps, float h0) {
   const PaddedPlane& z = g.depth;
@@ -83,7 +96,10 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
   const float *pgx = g.gradX.data.data(), *pgy = g.gradY.data.data();
   const float *pr = in.color[0].data.data(), *pg = in.color[1].data.data(), *pb = in.color[2].data.data();
   const float *pl = in.lum.data.data(), *pv = in.var.data.data();
-  const float* pinv = lv.lumInvBandwidth ? lv.lumInvBandwidth->data.data() : nullptr;
+  const float* pscale = lv.sigmaScale ? lv.sigmaScale->data.data() : nullptr;
+  const ptrdiff_t S = z.stride;
+  const float sigmaL = lv.sigmaLuminance, epsL = lv.luminanceEpsilon;
+  const bool prefilter = lv.prefilterVariance, useVar = lv.varianceScale;
   float *qr = out.color[0].data.data(), *qg = out.color[1].data.data(), *qb = out.color[2].data.data();
   float *ql = out.lum.data.data(), *qv = out.var.data.data();
   const bool cie = lv.luminance == MomentLuminance::CieLightness;
@@ -94,13 +110,24 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
       const vf lc = load(pl + c);
-      const vf inv = pinv ? load(pinv + c) : splat(0.0f);
+      vf inv;
+      {
+        // w_l bandwidth from the (3x3-Gaussian-prefiltered) variance at the centre.
+        vf v = load(pv + c);
+        if (prefilter)
+          v = 0.25f * v + 0.125f * (load(pv + c - 1) + load(pv + c + 1) + load(pv + c - S) + load(pv + c + S)) +
+              0.0625f * (load(pv + c - S - 1) + load(pv + c - S + 1) + load(pv + c + S - 1) + load(pv + c + S + 1));
+        v = vmax(v, splat(0.0f));
+        const vf sd = useVar ? v : vsqrt(v);
+        const vf k = pscale ? load(pscale + c) : splat(1.0f);
+        inv = k > 0.0f ? 1.0f / (sigmaL * k * sd + epsL) : splat(0.0f);
+      }
       vf sw = splat(h0), sr = h0 * load(pr + c), sg = h0 * load(pg + c), sb = h0 * load(pb + c);
       vf sv = kPropagate ? h0 * h0 * load(pv + c) : splat(0.0f);
       for (const Tap& t : taps) {
         const size_t q = c + t.offset;
         vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-        const vf wn = ipow(vmax(d, splat(0.0f)), e);
+        const vf wn = ipow<kSquarings>(vmax(d, splat(0.0f)), e);
         const vf denomZ = vabs(gx * t.ox + gy * t.oy) + epsZ;
         const vf expo = vabs(zc - load(pz + q)) / denomZ + vabs(lc - load(pl + q)) * inv;
         const vf wt = (t.h * wn) * expNeg(expo);
@@ -203,8 +230,11 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
                       kernelWeight1D(lv.kernel, dx) * kernelWeight1D(lv.kernel, dy)});
     }
   const float h0 = kernelWeight1D(lv.kernel, 0) * kernelWeight1D(lv.kernel, 0);
-  if (lv.propagateVariance) atrousRows<true>(g, lv, in, out, taps, h0);
-  else atrousRows<false>(g, lv, in, out, taps, h0);
+  const int e = std::max(1, lv.normalExponent);
+  const bool p = lv.propagateVariance;
+  if (e == 128) p ? atrousRows<true, 7>(g, lv, in, out, taps, h0) : atrousRows<false, 7>(g, lv, in, out, taps, h0);
+  else if (e == 64) p ? atrousRows<true, 6>(g, lv, in, out, taps, h0) : atrousRows<false, 6>(g, lv, in, out, taps, h0);
+  else p ? atrousRows<true, -1>(g, lv, in, out, taps, h0) : atrousRows<false, -1>(g, lv, in, out, taps, h0);
 }
 
 void gaussian3x3(const PaddedPlane& in, PaddedPlane& out) {
@@ -229,23 +259,6 @@ void gaussian3x3(const PaddedPlane& in, PaddedPlane& out) {
       o[x] = 0.0625f * (a[x - 1] + a[x + 1] + c[x - 1] + c[x + 1]) + 0.125f * (a[x] + c[x] + b[x - 1] + b[x + 1]) +
              0.25f * b[x];
     o[w - 1] = px(w - 1);
-  });
-}
-
-void luminanceBandwidth(const PaddedPlane& variance, bool prefilter, bool useVariance, float sigmaLuminance, float eps,
-                        const PaddedPlane* sigmaScale, PaddedPlane& out) {
-  const int w = variance.width, h = variance.height;
-  if (prefilter) gaussian3x3(variance, out);
-  const PaddedPlane& v = prefilter ? out : variance;
-  parallelRows(h, [&](int y) {
-    const float* vr = v.row(y);
-    const float* sr = sigmaScale ? sigmaScale->row(y) : nullptr;
-    float* o = out.row(y);
-    for (int x = 0; x < w; ++x) {
-      const float s = useVariance ? vr[x] : std::sqrt(std::max(0.0f, vr[x]));
-      const float k = sr ? sr[x] : 1.0f;
-      o[x] = k > 0.0f ? 1.0f / (sigmaLuminance * k * s + eps) : 0.0f;
-    }
   });
 }
 

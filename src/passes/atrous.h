@@ -92,9 +92,15 @@ struct AtrousLevel {
   float sigmaDepth = 1.0f;
   float depthEpsilon = 1e-2f;
   int normalExponent = 128;    ///< >= 1
-  /// Per centre pixel 1 / (sigma_l * scale + eps), or 0 to switch w_l off there; see
-  /// luminanceBandwidth().
-  const PaddedPlane* lumInvBandwidth = nullptr;
+  /// Luminance weight bandwidth at the centre pixel p: sigma_l * k(p) * s(p) + eps, with
+  /// s = sqrt(V) (Schied) or V (varianceScale, Dundr), V = g3x3(var) if prefilterVariance
+  /// (Schied Eq. 5; computed here, not as a separate pass) else var, and k(p) from `sigmaScale`
+  /// (1 when null; 0 switches w_l off at p).
+  float sigmaLuminance = 4.0f;
+  float luminanceEpsilon = 1e-10f;
+  bool prefilterVariance = true;
+  bool varianceScale = false;
+  const PaddedPlane* sigmaScale = nullptr;
   /// Var' = sum h^2 w^2 Var / (sum h w)^2 (Schied Eq. 4); otherwise out.var is left untouched.
   bool propagateVariance = true;
   /// Luminance written to out.lum for the next level's w_l.
@@ -105,14 +111,10 @@ struct AtrousLevel {
 /// w = w_z w_n w_l; the centre tap always has w = 1. `in` and `out` must differ.
 void atrousLevel(const AtrousGuide& guide, const AtrousLevel& level, const AtrousImage& in, AtrousImage& out);
 
-/// 3x3 Gaussian (binomial 1/16, 1/8, 1/4) of a plane; border pixels count as 0 weightless
-/// taps only through the zero border (SVGF's g3x3). `in` and `out` must differ.
+/// 3x3 Gaussian (binomial 1/16, 1/8, 1/4) of a plane, clamped to edge (SVGF's g3x3, run once
+/// in Dundr's variant). Inside atrousLevel the same kernel reads the zero border instead.
+/// `in` and `out` must differ.
 void gaussian3x3(const PaddedPlane& in, PaddedPlane& out);
 
-/// The per-pixel factor of w_l: 1 / (sigma_l * scale(p) * s(p) + eps), with s = sqrt(V) or V
-/// (useVariance), V = g3x3(variance) if `prefilter`, else the variance; scale(p) from
-/// `sigmaScale` (1 when null; 0 switches the luminance weight off at p).
-void luminanceBandwidth(const PaddedPlane& variance, bool prefilter, bool useVariance, float sigmaLuminance, float eps,
-                        const PaddedPlane* sigmaScale, PaddedPlane& out);
 
 }  // namespace rtd

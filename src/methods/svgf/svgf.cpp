@@ -61,7 +61,6 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     pad_ = pad;
     guide_.resize(w, h, pad);
     for (auto& im : levels_) im.resize(w, h, pad);
-    invBandwidth_.resize(w, h, pad);
     sigmaScale_.resize(w, h, pad);
     for (auto& s : streams_) {
       rtd::resize(s.demod, w, h);
@@ -211,16 +210,17 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       PassTimer t(stats, "atrous" + std::to_string(i + 1) + suffix);
       AtrousImage& src = levels_[cur];
       AtrousImage& dst = levels_[cur ^ 1];
-      luminanceBandwidth(src.var, s.variancePrefilter == SvgfVariancePrefilter::everyLevel,
-                         s.luminanceScale == SvgfLuminanceScale::variance, s.sigmaLuminance, s.luminanceEpsilon,
-                         &sigmaScale_, invBandwidth_);
       AtrousLevel lv;
       lv.kernel = s.kernel == SvgfKernel::b3spline5x5 ? AtrousKernel::B3Spline5x5 : AtrousKernel::Binomial3x3;
       lv.step = steps[i];
       lv.sigmaDepth = s.sigmaDepth;
       lv.depthEpsilon = s.depthEpsilon;
       lv.normalExponent = normalExponent;
-      lv.lumInvBandwidth = &invBandwidth_;
+      lv.sigmaLuminance = s.sigmaLuminance;
+      lv.luminanceEpsilon = s.luminanceEpsilon;
+      lv.prefilterVariance = s.variancePrefilter == SvgfVariancePrefilter::everyLevel;
+      lv.varianceScale = s.luminanceScale == SvgfLuminanceScale::variance;
+      lv.sigmaScale = &sigmaScale_;
       // The last level's variance is not used any more.
       lv.propagateVariance = propagate && i + 1 < n;
       lv.luminance = lum;
@@ -263,7 +263,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   Reprojection reprojection_;
   AtrousGuide guide_;
   AtrousImage levels_[3];
-  PaddedPlane invBandwidth_, sigmaScale_;
+  PaddedPlane sigmaScale_;
   Stream streams_[kMaxStreams];
   Plane3 sum_, display_;
   Taa taa_;

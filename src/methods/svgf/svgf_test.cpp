@@ -68,12 +68,30 @@ struct Scene {
   }
 };
 
-AtrousLevel level(AtrousKernel k, int step, const PaddedPlane* inv) {
+// `scale`: per-pixel multiplier of sigma_l (0 = luminance weight off).
+AtrousLevel level(AtrousKernel k, int step, const PaddedPlane* scale) {
   AtrousLevel lv;
   lv.kernel = k;
   lv.step = step;
-  lv.lumInvBandwidth = inv;
+  lv.sigmaScale = scale;
+  lv.sigmaLuminance = 4.0f;
+  lv.luminanceEpsilon = 1e-4f;
   return lv;
+}
+
+// 1 / (sigma_l k sqrt(g3x3(Var)) + eps) at p, the zero border counted as variance 0.
+double referenceInvBandwidth(const Scene& s, const AtrousLevel& lv, int x, int y) {
+  const double k = lv.sigmaScale ? lv.sigmaScale->at(x, y) : 1.0;
+  if (k == 0.0) return 0.0;
+  double v = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int qx = x + dx, qy = y + dy;
+      if (qx < 0 || qy < 0 || qx >= s.w || qy >= s.h) continue;
+      v += (dx ? 0.5 : 1.0) * (dy ? 0.5 : 1.0) * 0.25 * s.a.var.at(qx, qy);
+    }
+  const double sd = lv.varianceScale ? v : std::sqrt(v);
+  return 1.0 / (lv.sigmaLuminance * k * sd + lv.luminanceEpsilon);
 }
 
 // Double-precision evaluation of Schied et al. Eq. 3-5 at one pixel, written from the paper.
@@ -81,6 +99,7 @@ void referencePixel(const Scene& s, const AtrousLevel& lv, int x, int y, double 
   const int r = lv.kernel == AtrousKernel::B3Spline5x5 ? 2 : 1;
   const double b3[5] = {1 / 16.0, 1 / 4.0, 3 / 8.0, 1 / 4.0, 1 / 16.0}, bi[3] = {0.25, 0.5, 0.25};
   double sw = 0, sv = 0, sc[3] = {0, 0, 0};
+  const double inv = referenceInvBandwidth(s, lv, x, y);
   for (int dy = -r; dy <= r; ++dy)
     for (int dx = -r; dx <= r; ++dx) {
       const int qx = x + dx * lv.step, qy = y + dy * lv.step;
@@ -94,7 +113,7 @@ void referencePixel(const Scene& s, const AtrousLevel& lv, int x, int y, double 
         const double g = double(s.guide.gradX.at(x, y)) * dx * lv.step + double(s.guide.gradY.at(x, y)) * dy * lv.step;
         const double wz = std::exp(-std::abs(double(s.guide.depth.at(x, y)) - s.guide.depth.at(qx, qy)) /
                                    (lv.sigmaDepth * std::abs(g) + lv.depthEpsilon));
-        const double wl = std::exp(-std::abs(double(s.a.lum.at(x, y)) - s.a.lum.at(qx, qy)) * lv.lumInvBandwidth->at(x, y));
+        const double wl = std::exp(-std::abs(double(s.a.lum.at(x, y)) - s.a.lum.at(qx, qy)) * inv);
         wt = wn * wz * wl;
       }
       sw += hk * wt;
@@ -120,7 +139,7 @@ void randomScene(Scene& s, uint32_t seed) {
       for (int c = 0; c < 3; ++c) s.a.color[c].at(x, y) = u(rng);
       s.a.lum.at(x, y) = luminance(s.a.color[0].at(x, y), s.a.color[1].at(x, y), s.a.color[2].at(x, y));
       s.a.var.at(x, y) = 0.05f * u(rng);
-      s.inv.at(x, y) = 1.0f / (4.0f * std::sqrt(s.a.var.at(x, y)) + 1e-4f);
+      s.inv.at(x, y) = u(rng) < 0.1f ? 0.0f : 1.0f + 7.0f * u(rng);  // sigma_l multiplier, sometimes off
     }
 }
 
@@ -130,7 +149,8 @@ TEST(Atrous, MatchesDoublePrecisionReferenceBothKernels) {
       Scene s(37, 21, 8);  // width not a multiple of 8: the tail tile is exercised
       randomScene(s, 7 + step);
       AtrousLevel lv = level(k, step, &s.inv);
-      lv.normalExponent = 64;
+      lv.normalExponent = step == 1 ? 64 : 5;  // the unrolled and the generic power
+      lv.varianceScale = k == AtrousKernel::Binomial3x3;  // Dundr's variance scale
       atrousLevel(s.guide, lv, s.a, s.b);
       for (int y = 0; y < s.h; ++y)
         for (int x = 0; x < s.w; ++x) {
@@ -193,7 +213,7 @@ TEST(Atrous, DepthAndNormalEdgesSurviveFiveLevels) {
       for (int c = 0; c < 3; ++c) s.a.color[c].at(x, y) = v;
       s.a.lum.at(x, y) = v;
       s.a.var.at(x, y) = 1.0f;
-      s.inv.at(x, y) = 0.0f;  // luminance weight off: only the features keep the edges
+      s.inv.at(x, y) = 0.0f;  // sigma_l scale 0: luminance weight off, only the features keep the edges
     }
   const AtrousImage& r = runLevels(s, AtrousKernel::B3Spline5x5, 5);
   for (int y = 0; y < s.h; ++y)
