@@ -3,10 +3,12 @@
 
 #include "core/settings_reflect.h"
 #include "rtd/methods/accumulate.h"
+#include "rtd/methods/bmfr.h"
 
 namespace rtd {
 
 std::unique_ptr<Denoiser> createAccumulateCpu(tbb::task_arena&);
+std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena&);
 
 template <class S> static std::vector<SettingInfo> defaultsOf() { return detail::listSettings(S{}); }
 
@@ -14,6 +16,8 @@ const std::vector<MethodEntry>& methodRegistry() {
   static const std::vector<MethodEntry> entries = {
       {"accumulate", "temporal accumulation with robust reprojection (baseline of SVGF/BMFR)",
        &defaultsOf<AccumulateSettings>, &createAccumulateCpu, nullptr},
+      {"bmfr", "blockwise multi-order feature regression (Koskela et al. 2019)", &defaultsOf<BmfrSettings>,
+       &createBmfrCpu, nullptr},
   };
   return entries;
 }

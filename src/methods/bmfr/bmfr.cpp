@@ -1,0 +1,372 @@
+// Method "bmfr" (Koskela et al. 2019): phase I accumulates the demodulated 1-spp input with
+// the shared reprojection, phase II fits every block of it as a least-squares combination of
+// noise-free features (augmented Householder QR with stochastic regularization, qr.h), and
+// phase III accumulates the fit again with phase I's taps and counts, remodulates, and applies
+// TAA. docs/methods/bmfr.md describes every choice.
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "backend/cpu/cpu_denoiser.h"
+#include "core/parallel.h"
+#include "methods/bmfr/blocks.h"
+#include "methods/bmfr/qr.h"
+#include "passes/demodulation.h"
+#include "passes/reprojection.h"
+#include "passes/taa.h"
+#include "passes/temporal_accumulation.h"
+#include "rtd/methods/bmfr.h"
+
+namespace rtd {
+
+namespace {
+
+using bmfr::kMaxChannels;
+using bmfr::kMaxFeatures;
+
+/// Where a feature column comes from. Positions enter the squares centred on the block
+/// (w - c)^2, which spans the same space as {1, w, w^2} but keeps float precision when the
+/// scene is far from the origin.
+enum class FeatureKind : uint8_t { Constant, Normal, Position, PositionSquared, MaterialId, Roughness };
+
+struct Feature {
+  FeatureKind kind;
+  int channel;
+};
+
+/// What phase II leaves per block for the synthesis: the weights and the normalization that
+/// maps a raw feature f to (f - centre) * scale in [-1, 1].
+struct BlockFit {
+  float alpha[kMaxChannels][kMaxFeatures];
+  float centre[kMaxFeatures];
+  float scale[kMaxFeatures];
+  float positionCentre[3];
+};
+
+/// Per-thread work space of one block: column-major [T | z_R z_G z_B] and pixel indices.
+struct BlockScratch {
+  std::vector<float> columns;
+  std::vector<int32_t> index;
+  size_t stride = 0;
+};
+
+constexpr int kMaxBlock = 64;
+constexpr size_t kMaxStride = size_t(kMaxBlock) * kMaxBlock;
+
+// Integer hash (a PCG output permutation) to a uniform float in [0, 1).
+inline float hashUniform(uint32_t a, uint32_t b, uint32_t c) {
+  uint32_t h = a * 747796405u + b * 2891336453u + c * 3266489917u + 0x9e3779b9u;
+  h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
+  h = (h >> 22u) ^ h;
+  return float(h >> 8) * (1.0f / 16777216.0f);
+}
+
+// Minimum and maximum with sixteen partial results (vectorizes without -ffast-math).
+inline void minMax(const float* __restrict v, int n, float& lo, float& hi) {
+  float l[16], h[16];
+  for (int k = 0; k < 16; ++k) { l[k] = INFINITY; h[k] = -INFINITY; }
+  int i = 0;
+  for (; i + 16 <= n; i += 16)
+    for (int k = 0; k < 16; ++k) {
+      l[k] = std::min(l[k], v[i + k]);
+      h[k] = std::max(h[k], v[i + k]);
+    }
+  for (; i < n; ++i) { l[0] = std::min(l[0], v[i]); h[0] = std::max(h[0], v[i]); }
+  lo = l[0];
+  hi = h[0];
+  for (int k = 1; k < 16; ++k) { lo = std::min(lo, l[k]); hi = std::max(hi, h[k]); }
+}
+
+// The block's normalization of one feature: (f - centre) * scale spans [-1, 1] (Sec. 4.2:
+// "T within every block is scaled to be in range [-1, 1]"). A feature that is constant on
+// the block (to rounding) becomes a zero column, which the regularization noise fills.
+inline void normalization(float lo, float hi, float& centre, float& scale) {
+  centre = 0.5f * (lo + hi);
+  const float half = 0.5f * (hi - lo);
+  scale = half > 1e-6f * std::max({std::abs(lo), std::abs(hi), 1e-30f}) ? 1.0f / half : 0.0f;
+}
+
+class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
+ public:
+  using CpuDenoiser::CpuDenoiser;
+
+  std::vector<Buffer> requiredBuffers() const override {
+    std::vector<Buffer> b{Buffer::Color};
+    if (settings_.featureNormal) b.push_back(Buffer::Normal);
+    if (settings_.featurePosition || settings_.featurePositionSquared) b.push_back(Buffer::Position);
+    return b;
+  }
+
+ protected:
+  void resizeHistory(int w, int h) override {
+    resize(demodulated_, w, h);
+    for (int k = 0; k < 2; ++k) {
+      length_[k].resize(w, h);
+      resize(noisy_[k], w, h);
+      resize(filtered_[k], w, h);
+    }
+    resize(fitted_, w, h);
+    resize(remodulated_, w, h);
+    reprojection_.resize(w, h);
+    taa_.resize(w, h);
+    // The 32x32 grid has the most blocks; allocate for it whatever the current setting.
+    const bmfr::BlockGrid g = bmfr::makeBlockGrid(w, h, 32, 0, true);
+    fits_.assign(size_t(g.count()), BlockFit{});
+    noise_.assign(size_t(kMaxFeatures) * kMaxStride, 0.0f);
+  }
+
+  void resetHistory() override {
+    for (auto& l : length_) l.fill(0.0f);
+    taa_.reset();
+    frameIndex_ = 0;
+  }
+
+  void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
+    const BmfrSettings& s = settings_;
+    const auto* albedo = s.demodulate && frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
+    const int prev = cur_;
+    cur_ ^= 1;
+    {
+      PassTimer t(stats, "demodulate");
+      demodulate(frame.planes(Buffer::Color), albedo, demodulated_);
+    }
+    {
+      PassTimer t(stats, "reproject");
+      reproject(frame, previous, s.reprojection, reprojection_);
+    }
+    {
+      // Phase I: cumulative then exponential average, w = max(1/n, 0.2) (Sec. 4.1).
+      PassTimer t(stats, "accumulateNoisy");
+      updateHistoryLength(reprojection_, length_[prev], s.maxHistoryLength, length_[cur_]);
+      for (int c = 0; c < 3; ++c)
+        accumulatePlane(reprojection_, length_[cur_], s.alphaNoisy, demodulated_[c], noisy_[prev][c], noisy_[cur_][c]);
+    }
+    const Plane3* fitted = &noisy_[cur_];
+    if (s.fit) {
+      selectFeatures(frame);
+      const int size = s.blockSize == BmfrBlockSize::Block64 ? 64 : 32;
+      grid_ = bmfr::makeBlockGrid(frame.width, frame.height, size, frameIndex_, s.blockOffsets);
+      {
+        PassTimer t(stats, "fit");
+        fitBlocks(frame, noisy_[cur_]);
+      }
+      {
+        PassTimer t(stats, "synthesize");
+        synthesize(frame);
+      }
+      fitted = &fitted_;
+    }
+    const Plane3* filtered = fitted;
+    if (s.accumulateFiltered) {
+      // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
+      PassTimer t(stats, "accumulateFiltered");
+      for (int c = 0; c < 3; ++c)
+        accumulatePlane(reprojection_, length_[cur_], s.alphaFiltered, (*fitted)[c], filtered_[prev][c],
+                        filtered_[cur_][c]);
+      filtered = &filtered_[cur_];
+    }
+    {
+      PassTimer t(stats, "remodulate");
+      Plane3& target = s.taa.taa ? remodulated_ : out;
+      for (int c = 0; c < 3; ++c) target[c].data = (*filtered)[c].data;
+      remodulate(target, albedo);
+    }
+    if (s.taa.taa) {
+      PassTimer t(stats, "taa");
+      taa_.run(reprojection_, remodulated_, s.taa.taaAlpha, out);
+    }
+    ++frameIndex_;
+  }
+
+ private:
+  void selectFeatures(const FrameData& frame) {
+    const BmfrSettings& s = settings_;
+    features_.clear();
+    features_.push_back({FeatureKind::Constant, 0});
+    auto add = [&](bool on, Buffer b, FeatureKind kind, int channels) {
+      if (!on || !frame.has(b)) return;
+      for (int c = 0; c < channels; ++c) features_.push_back({kind, c});
+    };
+    add(s.featureNormal, Buffer::Normal, FeatureKind::Normal, 3);
+    add(s.featurePosition, Buffer::Position, FeatureKind::Position, 3);
+    add(s.featurePositionSquared, Buffer::Position, FeatureKind::PositionSquared, 3);
+    add(s.featureMaterialId, Buffer::MaterialId, FeatureKind::MaterialId, 1);
+    add(s.featureRoughness, Buffer::Roughness, FeatureKind::Roughness, 1);
+  }
+
+  const Plane& rawPlane(const FrameData& frame, const Feature& f) const {
+    switch (f.kind) {
+      case FeatureKind::Normal: return frame.plane(Buffer::Normal, f.channel);
+      case FeatureKind::Position:
+      case FeatureKind::PositionSquared: return frame.plane(Buffer::Position, f.channel);
+      case FeatureKind::MaterialId: return frame.plane(Buffer::MaterialId);
+      default: return frame.plane(Buffer::Roughness);
+    }
+  }
+
+  int rowsPerBlock() const {
+    const int all = grid_.size * grid_.size;
+    return settings_.samplesPerBlock > 0 ? std::min(settings_.samplesPerBlock, all) : all;
+  }
+
+  // The image pixel of each least-squares row of block (bx, by): every pixel of the block,
+  // or `samplesPerBlock` jittered-stratified ones (per frame and block), mirrored at borders.
+  void blockPixels(int bx, int by, int rows, int32_t* index) const {
+    const int size = grid_.size, x0 = grid_.x0(bx), y0 = grid_.y0(by), w = grid_.width, h = grid_.height;
+    if (rows == size * size) {
+      for (int ly = 0; ly < size; ++ly) {
+        const int y = bmfr::mirror(y0 + ly, h);
+        for (int lx = 0; lx < size; ++lx) index[ly * size + lx] = y * w + bmfr::mirror(x0 + lx, w);
+      }
+      return;
+    }
+    int cellsX = 1;
+    while (cellsX * cellsX < rows) ++cellsX;
+    const int cellsY = (rows + cellsX - 1) / cellsX;
+    const uint32_t block = uint32_t(by * grid_.blocksX + bx);
+    for (int k = 0; k < rows; ++k) {
+      const float jx = hashUniform(uint32_t(k), block, uint32_t(frameIndex_) * 2u);
+      const float jy = hashUniform(uint32_t(k), block, uint32_t(frameIndex_) * 2u + 1u);
+      const int lx = std::min(int((float(k % cellsX) + jx) * float(size) / float(cellsX)), size - 1);
+      const int ly = std::min(int((float(k / cellsX) + jy) * float(size) / float(cellsY)), size - 1);
+      index[k] = bmfr::mirror(y0 + ly, h) * w + bmfr::mirror(x0 + lx, w);
+    }
+  }
+
+  // Uniform noise on [-eps, eps] per (row, feature), deterministic per frame and shared by
+  // all blocks of the frame, as in the authors' code.
+  void makeNoise(int rows, size_t stride) {
+    const float eps = settings_.noiseAmount;
+    const int m = int(features_.size());
+    for (int k = 1; k < m; ++k)
+      for (int r = 0; r < rows; ++r)
+        noise_[size_t(k) * stride + r] = eps * (2.0f * hashUniform(uint32_t(r), uint32_t(k), uint32_t(frameIndex_)) - 1.0f);
+  }
+
+  void fitBlocks(const FrameData& frame, const Plane3& noisy) {
+    const int rows = rowsPerBlock();
+    const size_t stride = (size_t(rows) + 15) & ~size_t(15);
+    const int m = int(features_.size());
+    if (settings_.noiseAmount > 0.0f) makeNoise(rows, stride);
+    tbb::parallel_for(tbb::blocked_range<int>(0, grid_.count(), 1), [&](const tbb::blocked_range<int>& range) {
+      BlockScratch& scratch = scratch_.local();
+      if (scratch.columns.size() < size_t(kMaxFeatures + kMaxChannels) * kMaxStride) {
+        scratch.columns.assign(size_t(kMaxFeatures + kMaxChannels) * kMaxStride, 0.0f);
+        scratch.index.assign(kMaxStride, 0);
+      }
+      for (int b = range.begin(); b != range.end(); ++b) {
+        const int bx = b % grid_.blocksX, by = b / grid_.blocksX;
+        if (!grid_.inImage(bx, by)) continue;
+        fitBlock(frame, noisy, bx, by, rows, stride, m, scratch, fits_[size_t(b)]);
+      }
+    });
+  }
+
+  void fitBlock(const FrameData& frame, const Plane3& noisy, int bx, int by, int rows, size_t stride, int m,
+                BlockScratch& scratch, BlockFit& fit) const {
+    int32_t* index = scratch.index.data();
+    float* cols = scratch.columns.data();
+    blockPixels(bx, by, rows, index);
+    auto gather = [&](const Plane& p, float* dst) {
+      const float* src = p.ptr();
+      for (int r = 0; r < rows; ++r) dst[r] = src[index[r]];
+    };
+    // Position centres first: the squares are taken about them.
+    for (int c = 0; c < 3; ++c) fit.positionCentre[c] = 0.0f;
+    for (int k = 0; k < m; ++k) {
+      const Feature& f = features_[size_t(k)];
+      float* col = cols + size_t(k) * stride;
+      if (f.kind == FeatureKind::Constant) {
+        std::fill(col, col + rows, 1.0f);
+        fit.centre[k] = 0.0f;
+        fit.scale[k] = 1.0f;
+        continue;
+      }
+      gather(rawPlane(frame, f), col);
+      if (f.kind == FeatureKind::PositionSquared) {
+        float lo, hi;
+        minMax(col, rows, lo, hi);
+        const float pc = 0.5f * (lo + hi);
+        fit.positionCentre[f.channel] = pc;
+        for (int r = 0; r < rows; ++r) col[r] = (col[r] - pc) * (col[r] - pc);
+      }
+      float lo, hi;
+      minMax(col, rows, lo, hi);
+      normalization(lo, hi, fit.centre[k], fit.scale[k]);
+      const float centre = fit.centre[k], scale = fit.scale[k];
+      for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale;
+    }
+    // Stochastic regularization on T only (Eq. 7); the synthesis uses the noise-free T.
+    if (settings_.noiseAmount > 0.0f)
+      for (int k = 1; k < m; ++k) {
+        float* col = cols + size_t(k) * stride;
+        const float* n = noise_.data() + size_t(k) * stride;
+        for (int r = 0; r < rows; ++r) col[r] += n[r];
+      }
+    for (int c = 0; c < 3; ++c) gather(noisy[c], cols + size_t(m + c) * stride);
+
+    bmfr::TriangularSystem system;
+    bmfr::householderQr(cols, rows, stride, m, 3, system);
+    bmfr::backSubstitute(system, fit.alpha);
+  }
+
+  // Eq. 6: y = T alpha per pixel with its block's weights and normalization, clamped >= 0.
+  void synthesize(const FrameData& frame) {
+    const int w = frame.width, m = int(features_.size());
+    const Plane* planes[kMaxFeatures];
+    for (int k = 0; k < m; ++k)
+      planes[k] = features_[size_t(k)].kind == FeatureKind::Constant ? nullptr : &rawPlane(frame, features_[size_t(k)]);
+    parallelRows(frame.height, [&](int y) {
+      float feature[kMaxBlock];
+      float* outRow[3] = {fitted_[0].row(y), fitted_[1].row(y), fitted_[2].row(y)};
+      const int by = grid_.blockY(y);
+      for (int x0 = 0; x0 < w;) {
+        const int bx = grid_.blockX(x0);
+        const int x1 = std::min(w, grid_.x0(bx) + grid_.size), n = x1 - x0;
+        const BlockFit& fit = fits_[size_t(by * grid_.blocksX + bx)];
+        for (int c = 0; c < 3; ++c) std::fill(outRow[c] + x0, outRow[c] + x1, fit.alpha[c][0]);
+        for (int k = 1; k < m; ++k) {
+          const float* src = planes[k]->row(y) + x0;
+          const float centre = fit.centre[k], scale = fit.scale[k];
+          if (features_[size_t(k)].kind == FeatureKind::PositionSquared) {
+            const float pc = fit.positionCentre[features_[size_t(k)].channel];
+            for (int i = 0; i < n; ++i) feature[i] = ((src[i] - pc) * (src[i] - pc) - centre) * scale;
+          } else {
+            for (int i = 0; i < n; ++i) feature[i] = (src[i] - centre) * scale;
+          }
+          for (int c = 0; c < 3; ++c) {
+            const float a = fit.alpha[c][k];
+            float* o = outRow[c] + x0;
+            for (int i = 0; i < n; ++i) o[i] += a * feature[i];
+          }
+        }
+        for (int c = 0; c < 3; ++c)
+          for (int i = 0; i < n; ++i) outRow[c][x0 + i] = std::max(outRow[c][x0 + i], 0.0f);
+        x0 = x1;
+      }
+    });
+  }
+
+  Plane3 demodulated_, fitted_, remodulated_;
+  Plane length_[2];
+  Plane3 noisy_[2], filtered_[2];
+  int cur_ = 0;
+  int frameIndex_ = 0;
+  Reprojection reprojection_;
+  Taa taa_;
+  bmfr::BlockGrid grid_;
+  std::vector<Feature> features_;
+  std::vector<BlockFit> fits_;
+  std::vector<float> noise_;
+  tbb::enumerable_thread_specific<BlockScratch> scratch_;
+};
+
+}  // namespace
+
+std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena& arena) { return std::make_unique<BmfrCpu>(arena); }
+
+}  // namespace rtd
