@@ -65,20 +65,24 @@ inline float hashUniform(uint32_t a, uint32_t b, uint32_t c) {
   return float(h >> 8) * (1.0f / 16777216.0f);
 }
 
-// Minimum and maximum with sixteen partial results (vectorizes without -ffast-math).
-inline void minMax(const float* __restrict v, int n, float& lo, float& hi) {
-  float l[16], h[16];
-  for (int k = 0; k < 16; ++k) { l[k] = INFINITY; h[k] = -INFINITY; }
+// Eight-wide float vectors (GCC/Clang vector extensions: AVX where available, SSE pairs
+// otherwise), for reductions the compiler will not vectorize on its own without -ffast-math.
+typedef float Float8 __attribute__((vector_size(32), aligned(4)));
+
+// Minimum and maximum of v[0..n).
+inline void minMax(const float* v, int n, float& lo, float& hi) {
+  Float8 l, h;
+  for (int k = 0; k < 8; ++k) { l[k] = INFINITY; h[k] = -INFINITY; }
   int i = 0;
-  for (; i + 16 <= n; i += 16)
-    for (int k = 0; k < 16; ++k) {
-      l[k] = std::min(l[k], v[i + k]);
-      h[k] = std::max(h[k], v[i + k]);
-    }
-  for (; i < n; ++i) { l[0] = std::min(l[0], v[i]); h[0] = std::max(h[0], v[i]); }
+  for (; i + 8 <= n; i += 8) {
+    const Float8 x = *reinterpret_cast<const Float8*>(v + i);
+    l = x < l ? x : l;
+    h = x > h ? x : h;
+  }
   lo = l[0];
   hi = h[0];
-  for (int k = 1; k < 16; ++k) { lo = std::min(lo, l[k]); hi = std::max(hi, h[k]); }
+  for (int k = 1; k < 8; ++k) { lo = std::min(lo, l[k]); hi = std::max(hi, h[k]); }
+  for (; i < n; ++i) { lo = std::min(lo, v[i]); hi = std::max(hi, v[i]); }
 }
 
 // The block's normalization of one feature: (f - centre) * scale spans [-1, 1] (Sec. 4.2:
@@ -266,17 +270,35 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     });
   }
 
+  // Copies plane p over the block's rows into a column: whole block rows at once where the
+  // block lies inside the image, mirrored pixel by pixel at the borders; through the sample
+  // indices when the block is sub-sampled.
+  void gatherColumn(const Plane& p, int bx, int by, int rows, const int32_t* index, float* dst) const {
+    const float* src = p.ptr();
+    const int size = grid_.size;
+    if (rows != size * size) {
+      for (int r = 0; r < rows; ++r) dst[r] = src[index[r]];
+      return;
+    }
+    const int x0 = grid_.x0(bx), y0 = grid_.y0(by), w = grid_.width, h = grid_.height;
+    const bool inside = x0 >= 0 && x0 + size <= w;
+    for (int ly = 0; ly < size; ++ly) {
+      const float* row = src + size_t(bmfr::mirror(y0 + ly, h)) * w;
+      float* d = dst + ly * size;
+      if (inside) std::copy(row + x0, row + x0 + size, d);
+      else
+        for (int lx = 0; lx < size; ++lx) d[lx] = row[bmfr::mirror(x0 + lx, w)];
+    }
+  }
+
   void fitBlock(const FrameData& frame, const Plane3& noisy, int bx, int by, int rows, size_t stride, int m,
                 BlockScratch& scratch, BlockFit& fit) const {
     int32_t* index = scratch.index.data();
     float* cols = scratch.columns.data();
-    blockPixels(bx, by, rows, index);
-    auto gather = [&](const Plane& p, float* dst) {
-      const float* src = p.ptr();
-      for (int r = 0; r < rows; ++r) dst[r] = src[index[r]];
-    };
-    // Position centres first: the squares are taken about them.
-    for (int c = 0; c < 3; ++c) fit.positionCentre[c] = 0.0f;
+    if (rows != grid_.size * grid_.size) blockPixels(bx, by, rows, index);
+    // Raw feature columns and their block range. The squares are taken about the block's
+    // position mid-range (same span as w^2 with the constant and w, better conditioned).
+    int positionColumn[3] = {-1, -1, -1};
     for (int k = 0; k < m; ++k) {
       const Feature& f = features_[size_t(k)];
       float* col = cols + size_t(k) * stride;
@@ -286,28 +308,38 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         fit.scale[k] = 1.0f;
         continue;
       }
-      gather(rawPlane(frame, f), col);
       if (f.kind == FeatureKind::PositionSquared) {
         float lo, hi;
+        if (positionColumn[f.channel] >= 0) {
+          std::copy_n(cols + size_t(positionColumn[f.channel]) * stride, rows, col);
+        } else {
+          gatherColumn(rawPlane(frame, f), bx, by, rows, index, col);
+        }
         minMax(col, rows, lo, hi);
         const float pc = 0.5f * (lo + hi);
         fit.positionCentre[f.channel] = pc;
         for (int r = 0; r < rows; ++r) col[r] = (col[r] - pc) * (col[r] - pc);
+      } else {
+        gatherColumn(rawPlane(frame, f), bx, by, rows, index, col);
+        if (f.kind == FeatureKind::Position) positionColumn[f.channel] = k;
       }
       float lo, hi;
       minMax(col, rows, lo, hi);
       normalization(lo, hi, fit.centre[k], fit.scale[k]);
-      const float centre = fit.centre[k], scale = fit.scale[k];
-      for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale;
     }
-    // Stochastic regularization on T only (Eq. 7); the synthesis uses the noise-free T.
-    if (settings_.noiseAmount > 0.0f)
-      for (int k = 1; k < m; ++k) {
-        float* col = cols + size_t(k) * stride;
-        const float* n = noise_.data() + size_t(k) * stride;
-        for (int r = 0; r < rows; ++r) col[r] += n[r];
-      }
-    for (int c = 0; c < 3; ++c) gather(noisy[c], cols + size_t(m + c) * stride);
+    // Normalize to [-1, 1] and add the regularization noise to T only (Eq. 7); the synthesis
+    // uses the noise-free T.
+    const bool regularize = settings_.noiseAmount > 0.0f;
+    for (int k = 1; k < m; ++k) {
+      float* col = cols + size_t(k) * stride;
+      const float* n = noise_.data() + size_t(k) * stride;
+      const float centre = fit.centre[k], scale = fit.scale[k];
+      if (regularize)
+        for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale + n[r];
+      else
+        for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale;
+    }
+    for (int c = 0; c < 3; ++c) gatherColumn(noisy[c], bx, by, rows, index, cols + size_t(m + c) * stride);
 
     bmfr::TriangularSystem system;
     bmfr::householderQr(cols, rows, stride, m, 3, system);

@@ -2,6 +2,7 @@
 // (normal equations with Cholesky, exact enough in double for well-conditioned blocks).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -13,9 +14,11 @@ namespace {
 
 struct Block {
   int rows, features, channels;
-  std::vector<float> cols;  // column-major, stride = rows
-  float* col(int c) { return cols.data() + size_t(c) * rows; }
-  const float* col(int c) const { return cols.data() + size_t(c) * rows; }
+  std::vector<float> cols;  // column-major, stride = rows rounded up to 8 (as householderQr needs)
+  size_t stride() const { return size_t(rows + 7) & ~size_t(7); }
+  float* col(int c) { return cols.data() + size_t(c) * stride(); }
+  const float* col(int c) const { return cols.data() + size_t(c) * stride(); }
+  void allocate() { cols.assign(stride() * (features + channels), 0.0f); }
 };
 
 // Constant first column, the rest uniform in [-1, 1]; right-hand sides a random combination
@@ -23,7 +26,8 @@ struct Block {
 Block randomBlock(int rows, int features, int channels, uint32_t seed, float noise = 0.3f) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  Block b{rows, features, channels, std::vector<float>(size_t(rows) * (features + channels))};
+  Block b{rows, features, channels, {}};
+  b.allocate();
   for (int r = 0; r < rows; ++r) b.col(0)[r] = 1.0f;
   for (int k = 1; k < features; ++k)
     for (int r = 0; r < rows; ++r) b.col(k)[r] = u(rng);
@@ -73,7 +77,7 @@ std::vector<double> referenceSolve(const Block& b, int channel) {
 }
 
 void solve(Block b, TriangularSystem& system, float alpha[kMaxChannels][kMaxFeatures], int* deficient = nullptr) {
-  householderQr(b.cols.data(), b.rows, size_t(b.rows), b.features, b.channels, system);
+  householderQr(b.cols.data(), b.rows, b.stride(), b.features, b.channels, system);
   const int d = backSubstitute(system, alpha);
   if (deficient) *deficient = d;
 }
@@ -145,8 +149,9 @@ TEST(BmfrQr, OneRForThreeChannelsEqualsThreeSeparateSolves) {
   solve(joint, system, alpha);
   for (int c = 0; c < 3; ++c) {
     Block single{joint.rows, joint.features, 1, {}};
-    single.cols.assign(joint.cols.begin(), joint.cols.begin() + size_t(joint.rows) * joint.features);
-    single.cols.insert(single.cols.end(), joint.col(10 + c), joint.col(10 + c) + joint.rows);
+    single.allocate();
+    for (int k = 0; k < 10; ++k) std::copy_n(joint.col(k), joint.rows, single.col(k));
+    std::copy_n(joint.col(10 + c), joint.rows, single.col(10));
     TriangularSystem s1;
     float a1[kMaxChannels][kMaxFeatures];
     solve(single, s1, a1);
@@ -173,7 +178,8 @@ TEST(BmfrQr, RecoversAnExactCombination) {
 // multiples of the constant one and T is rank-deficient.
 Block flatWall(float noiseAmount, uint32_t seed) {
   const int side = 32, rows = side * side, features = 10;
-  Block b{rows, features, 1, std::vector<float>(size_t(rows) * (features + 1))};
+  Block b{rows, features, 1, {}};
+  b.allocate();
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   for (int r = 0; r < rows; ++r) {

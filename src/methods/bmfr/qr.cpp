@@ -7,24 +7,40 @@ namespace rtd::bmfr {
 
 namespace {
 
-// Float addition is not associative, so without -ffast-math a plain reduction loop stays
-// scalar. Sixteen explicit partial sums let the compiler keep them in two AVX registers, and
-// the pairwise final sum also bounds the rounding error over a 1024-row block.
-inline float dot(const float* __restrict a, const float* __restrict b, int n) {
-  float acc[16] = {};
-  int i = 0;
-  for (; i + 16 <= n; i += 16)
-    for (int l = 0; l < 16; ++l) acc[l] += a[i + l] * b[i + l];
-  float tail = 0.0f;
-  for (; i < n; ++i) tail += a[i] * b[i];
-  for (int w = 8; w >= 1; w /= 2)
-    for (int l = 0; l < w; ++l) acc[l] += acc[l + w];
-  return acc[0] + tail;
+// Eight-wide float vectors (GCC/Clang vector extensions: one AVX register where available, an
+// SSE pair otherwise). Float addition is not associative, so the compiler would not vectorize
+// these reductions itself without -ffast-math.
+typedef float Float8 __attribute__((vector_size(32), aligned(4)));
+inline Float8 load(const float* p) { return *reinterpret_cast<const Float8*>(p); }
+inline void store(float* p, Float8 v) { *reinterpret_cast<Float8*>(p) = v; }
+inline float sum(Float8 v) {
+  const float a = (v[0] + v[4]) + (v[2] + v[6]), b = (v[1] + v[5]) + (v[3] + v[7]);
+  return a + b;
 }
 
-// y -= a * x
-inline void subtractScaled(float a, const float* __restrict x, float* __restrict y, int n) {
-  for (int i = 0; i < n; ++i) y[i] -= a * x[i];
+// Applies the reflection I - beta u u^T to Count columns over rows [begin, end): all dot
+// products in one pass over u, then all updates in a second one.
+template <int Count> void reflect(const float* u, float beta, float* const* y, int begin, int end) {
+  Float8 acc[Count] = {};
+  for (int i = begin; i < end; i += 8) {
+    const Float8 uu = load(u + i);
+    for (int j = 0; j < Count; ++j) acc[j] += uu * load(y[j] + i);
+  }
+  float scale[Count];
+  for (int j = 0; j < Count; ++j) scale[j] = beta * sum(acc[j]);
+  for (int i = begin; i < end; i += 8) {
+    const Float8 uu = load(u + i);
+    for (int j = 0; j < Count; ++j) store(y[j] + i, load(y[j] + i) - scale[j] * uu);
+  }
+}
+
+inline float sumOfSquares(const float* x, int begin, int end) {
+  Float8 acc = {};
+  for (int i = begin; i < end; i += 8) {
+    const Float8 v = load(x + i);
+    acc += v * v;
+  }
+  return sum(acc);
 }
 
 }  // namespace
@@ -33,20 +49,28 @@ void householderQr(float* cols, int rows, size_t stride, int features, int chann
   out.features = features;
   out.channels = channels;
   const int columns = features + channels;
+  // Work on whole vectors: rows are padded with zeros to a multiple of 8 (zero rows change no
+  // dot product and are never updated), and reflection k runs from row k rounded down to a
+  // multiple of 8, with column k's entries above the diagonal zeroed once they are in R.
+  const int padded = (rows + 7) & ~7;
+  for (int j = 0; j < columns; ++j) std::fill(cols + size_t(j) * stride + rows, cols + size_t(j) * stride + padded, 0.0f);
   for (int k = 0; k < features; ++k) {
     auto store = [&](int j, float v) {
       if (j < features) out.R[k][j] = v;
       else out.r[j - features][k] = v;
     };
-    const int n = rows - k;  // rows k.. of every column take part in reflection k
-    if (n <= 0) {            // fewer rows than features: nothing left below the diagonal
+    if (k >= rows) {  // fewer rows than features: nothing left below the diagonal
       for (int j = k; j < columns; ++j) store(j, 0.0f);
       continue;
     }
-    float* x = cols + size_t(k) * stride + k;
-    const float xk = x[0];
-    const float below = dot(x + 1, x + 1, n - 1);
+    float* x = cols + size_t(k) * stride;
+    const int begin = k & ~7;
+    std::fill(x + begin, x + k, 0.0f);  // R[0..k)[k], already stored by earlier reflections
+    const float xk = x[k];
+    x[k] = 0.0f;
+    const float below = sumOfSquares(x, begin, padded);
     if (below == 0.0f) {  // already upper triangular in this column (or all zero: R_kk = 0)
+      x[k] = xk;
       out.R[k][k] = xk;
       for (int j = k + 1; j < columns; ++j) store(j, cols[size_t(j) * stride + k]);
       continue;
@@ -55,12 +79,19 @@ void householderQr(float* cols, int rows, size_t stride, int features, int chann
     // H x = alpha e_k with alpha = -sign(x_k) ||x||, so u_k = x_k - alpha adds magnitudes.
     const float alpha = xk >= 0.0f ? -norm : norm;
     const float uk = xk - alpha;
-    x[0] = uk;  // column k now holds u (rows k..)
+    x[k] = uk;  // column k now holds u (rows k..)
     const float beta = 2.0f / (below + uk * uk);
-    for (int j = k + 1; j < columns; ++j) {
-      float* y = cols + size_t(j) * stride + k;
-      subtractScaled(beta * dot(x, y, n), x, y, n);
-      store(j, y[0]);
+    for (int j = k + 1; j < columns; j += 4) {
+      const int count = std::min(4, columns - j);
+      float* y[4] = {};
+      for (int q = 0; q < count; ++q) y[q] = cols + size_t(j + q) * stride;
+      switch (count) {
+        case 1: reflect<1>(x, beta, y, begin, padded); break;
+        case 2: reflect<2>(x, beta, y, begin, padded); break;
+        case 3: reflect<3>(x, beta, y, begin, padded); break;
+        default: reflect<4>(x, beta, y, begin, padded); break;
+      }
+      for (int q = 0; q < count; ++q) store(j + q, y[q][k]);
     }
     out.R[k][k] = alpha;
   }

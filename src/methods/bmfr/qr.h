@@ -23,7 +23,8 @@ struct TriangularSystem {
 
 /// Column-major block: column c occupies cols[c * stride .. c * stride + rows). The first
 /// `features` columns are T (+ N), the next `channels` columns are the right-hand sides.
-/// Overwritten: the QR runs in place.
+/// Overwritten: the QR runs in place. stride >= rows rounded up to a multiple of 8 (the
+/// padding rows are zeroed and take part as zeros).
 ///
 /// Reflection k maps rows k.. of column k onto -sign(x_k) ||x|| e_k (the numerically stable
 /// sign choice: u_k = x_k + sign(x_k) ||x|| never cancels), applied to every later column,
