@@ -51,7 +51,6 @@ struct BlockFit {
 struct BlockScratch {
   std::vector<float> columns;
   std::vector<int32_t> index;
-  size_t stride = 0;
 };
 
 constexpr int kMaxBlock = 64;
@@ -175,9 +174,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     }
     {
       PassTimer t(stats, "remodulate");
-      Plane3& target = s.taa.taa ? remodulated_ : out;
-      for (int c = 0; c < 3; ++c) target[c].data = (*filtered)[c].data;
-      remodulate(target, albedo);
+      remodulateInto(*filtered, albedo, s.taa.taa ? remodulated_ : out);
     }
     if (s.taa.taa) {
       PassTimer t(stats, "taa");
@@ -187,6 +184,23 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   }
 
  private:
+  // out = illumination * albedo' (the shared remodulation's factor), without a copy first.
+  static void remodulateInto(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out) {
+    const int w = illumination[0].width;
+    parallelRows(illumination[0].height, [&](int y) {
+      for (int c = 0; c < 3; ++c) {
+        const float* in = illumination[c].row(y);
+        float* o = out[c].row(y);
+        if (!albedo) {
+          std::copy(in, in + w, o);
+          continue;
+        }
+        const float* a = (*albedo)[c].row(y);
+        for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(a[x]);
+      }
+    });
+  }
+
   void selectFeatures(const FrameData& frame) {
     const BmfrSettings& s = settings_;
     features_.clear();
@@ -242,20 +256,34 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   }
 
   // Uniform noise on [-eps, eps] per (row, feature), deterministic per frame and shared by
-  // all blocks of the frame, as in the authors' code.
-  void makeNoise(int rows, size_t stride) {
+  // all blocks of the frame, as in the authors' code. Row r of feature k: noise_[k * kMaxStride + r].
+  void makeNoise(int rows) {
     const float eps = settings_.noiseAmount;
     const int m = int(features_.size());
     for (int k = 1; k < m; ++k)
       for (int r = 0; r < rows; ++r)
-        noise_[size_t(k) * stride + r] = eps * (2.0f * hashUniform(uint32_t(r), uint32_t(k), uint32_t(frameIndex_)) - 1.0f);
+        noise_[size_t(k) * kMaxStride + r] = eps * (2.0f * hashUniform(uint32_t(r), uint32_t(k), uint32_t(frameIndex_)) - 1.0f);
   }
 
+  // The block's rows in tiles of kTileRows (whole block rows), each tile's columns contiguous,
+  // for bmfr::householderQrTiled: a tile of 256 rows x 13 columns fits in L1.
+  struct Tiling {
+    int rows, tileRows, tileCount, columns;
+    size_t tileStride;
+    float* column(float* base, int t, int c) const { return base + (size_t(t) * columns + c) * tileStride; }
+    int rowsIn(int t) const { return std::min(tileRows, rows - t * tileRows); }
+  };
+  static constexpr int kTileRows = 256;
+
   void fitBlocks(const FrameData& frame, const Plane3& noisy) {
-    const int rows = rowsPerBlock();
-    const size_t stride = (size_t(rows) + 15) & ~size_t(15);
-    const int m = int(features_.size());
-    if (settings_.noiseAmount > 0.0f) makeNoise(rows, stride);
+    const int rows = rowsPerBlock(), m = int(features_.size());
+    Tiling tiling;
+    tiling.rows = rows;
+    tiling.tileRows = std::min(rows, kTileRows);
+    tiling.tileCount = (rows + tiling.tileRows - 1) / tiling.tileRows;
+    tiling.columns = m + 3;
+    tiling.tileStride = (size_t(tiling.tileRows) + 15) & ~size_t(15);
+    if (settings_.noiseAmount > 0.0f) makeNoise(rows);
     tbb::parallel_for(tbb::blocked_range<int>(0, grid_.count(), 1), [&](const tbb::blocked_range<int>& range) {
       BlockScratch& scratch = scratch_.local();
       if (scratch.columns.size() < size_t(kMaxFeatures + kMaxChannels) * kMaxStride) {
@@ -265,84 +293,103 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       for (int b = range.begin(); b != range.end(); ++b) {
         const int bx = b % grid_.blocksX, by = b / grid_.blocksX;
         if (!grid_.inImage(bx, by)) continue;
-        fitBlock(frame, noisy, bx, by, rows, stride, m, scratch, fits_[size_t(b)]);
+        fitBlock(frame, noisy, bx, by, tiling, scratch, fits_[size_t(b)]);
       }
     });
   }
 
-  // Copies plane p over the block's rows into a column: whole block rows at once where the
+  // Copies plane p over the block's rows into column c: whole block rows at once where the
   // block lies inside the image, mirrored pixel by pixel at the borders; through the sample
   // indices when the block is sub-sampled.
-  void gatherColumn(const Plane& p, int bx, int by, int rows, const int32_t* index, float* dst) const {
+  void gatherColumn(const Plane& p, int bx, int by, const Tiling& tiling, const int32_t* index, float* base,
+                    int c) const {
     const float* src = p.ptr();
     const int size = grid_.size;
-    if (rows != size * size) {
-      for (int r = 0; r < rows; ++r) dst[r] = src[index[r]];
+    if (tiling.rows != size * size) {
+      for (int r = 0; r < tiling.rows; ++r)
+        tiling.column(base, r / tiling.tileRows, c)[r % tiling.tileRows] = src[index[r]];
       return;
     }
     const int x0 = grid_.x0(bx), y0 = grid_.y0(by), w = grid_.width, h = grid_.height;
     const bool inside = x0 >= 0 && x0 + size <= w;
     for (int ly = 0; ly < size; ++ly) {
       const float* row = src + size_t(bmfr::mirror(y0 + ly, h)) * w;
-      float* d = dst + ly * size;
+      const int r0 = ly * size;  // a block row never straddles two tiles (kTileRows % size == 0)
+      float* d = tiling.column(base, r0 / tiling.tileRows, c) + r0 % tiling.tileRows;
       if (inside) std::copy(row + x0, row + x0 + size, d);
       else
         for (int lx = 0; lx < size; ++lx) d[lx] = row[bmfr::mirror(x0 + lx, w)];
     }
   }
 
-  void fitBlock(const FrameData& frame, const Plane3& noisy, int bx, int by, int rows, size_t stride, int m,
+  void fitBlock(const FrameData& frame, const Plane3& noisy, int bx, int by, const Tiling& tiling,
                 BlockScratch& scratch, BlockFit& fit) const {
     int32_t* index = scratch.index.data();
-    float* cols = scratch.columns.data();
-    if (rows != grid_.size * grid_.size) blockPixels(bx, by, rows, index);
+    float* base = scratch.columns.data();
+    const int m = tiling.columns - 3;
+    if (tiling.rows != grid_.size * grid_.size) blockPixels(bx, by, tiling.rows, index);
+    auto columnMinMax = [&](int k, float& lo, float& hi) {
+      lo = INFINITY;
+      hi = -INFINITY;
+      for (int t = 0; t < tiling.tileCount; ++t) {
+        float l, h;
+        minMax(tiling.column(base, t, k), tiling.rowsIn(t), l, h);
+        lo = std::min(lo, l);
+        hi = std::max(hi, h);
+      }
+    };
     // Raw feature columns and their block range. The squares are taken about the block's
     // position mid-range (same span as w^2 with the constant and w, better conditioned).
     int positionColumn[3] = {-1, -1, -1};
     for (int k = 0; k < m; ++k) {
       const Feature& f = features_[size_t(k)];
-      float* col = cols + size_t(k) * stride;
       if (f.kind == FeatureKind::Constant) {
-        std::fill(col, col + rows, 1.0f);
+        for (int t = 0; t < tiling.tileCount; ++t) std::fill_n(tiling.column(base, t, k), tiling.rowsIn(t), 1.0f);
         fit.centre[k] = 0.0f;
         fit.scale[k] = 1.0f;
         continue;
       }
       if (f.kind == FeatureKind::PositionSquared) {
-        float lo, hi;
         if (positionColumn[f.channel] >= 0) {
-          std::copy_n(cols + size_t(positionColumn[f.channel]) * stride, rows, col);
+          for (int t = 0; t < tiling.tileCount; ++t)
+            std::copy_n(tiling.column(base, t, positionColumn[f.channel]), tiling.rowsIn(t), tiling.column(base, t, k));
         } else {
-          gatherColumn(rawPlane(frame, f), bx, by, rows, index, col);
+          gatherColumn(rawPlane(frame, f), bx, by, tiling, index, base, k);
         }
-        minMax(col, rows, lo, hi);
+        float lo, hi;
+        columnMinMax(k, lo, hi);
         const float pc = 0.5f * (lo + hi);
         fit.positionCentre[f.channel] = pc;
-        for (int r = 0; r < rows; ++r) col[r] = (col[r] - pc) * (col[r] - pc);
+        for (int t = 0; t < tiling.tileCount; ++t) {
+          float* col = tiling.column(base, t, k);
+          for (int r = 0, n = tiling.rowsIn(t); r < n; ++r) col[r] = (col[r] - pc) * (col[r] - pc);
+        }
       } else {
-        gatherColumn(rawPlane(frame, f), bx, by, rows, index, col);
+        gatherColumn(rawPlane(frame, f), bx, by, tiling, index, base, k);
         if (f.kind == FeatureKind::Position) positionColumn[f.channel] = k;
       }
       float lo, hi;
-      minMax(col, rows, lo, hi);
+      columnMinMax(k, lo, hi);
       normalization(lo, hi, fit.centre[k], fit.scale[k]);
     }
     // Normalize to [-1, 1] and add the regularization noise to T only (Eq. 7); the synthesis
     // uses the noise-free T.
     const bool regularize = settings_.noiseAmount > 0.0f;
-    for (int k = 1; k < m; ++k) {
-      float* col = cols + size_t(k) * stride;
-      const float* n = noise_.data() + size_t(k) * stride;
-      const float centre = fit.centre[k], scale = fit.scale[k];
-      if (regularize)
-        for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale + n[r];
-      else
-        for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale;
-    }
-    for (int c = 0; c < 3; ++c) gatherColumn(noisy[c], bx, by, rows, index, cols + size_t(m + c) * stride);
+    for (int k = 1; k < m; ++k)
+      for (int t = 0; t < tiling.tileCount; ++t) {
+        float* col = tiling.column(base, t, k);
+        const float* n = noise_.data() + size_t(k) * kMaxStride + size_t(t) * tiling.tileRows;
+        const float centre = fit.centre[k], scale = fit.scale[k];
+        const int rows = tiling.rowsIn(t);
+        if (regularize)
+          for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale + n[r];
+        else
+          for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale;
+      }
+    for (int c = 0; c < 3; ++c) gatherColumn(noisy[c], bx, by, tiling, index, base, m + c);
 
     bmfr::TriangularSystem system;
-    bmfr::householderQr(cols, rows, stride, m, 3, system);
+    bmfr::householderQrTiled(base, tiling.rows, tiling.tileRows, tiling.tileStride, m, 3, system);
     bmfr::backSubstitute(system, fit.alpha);
   }
 

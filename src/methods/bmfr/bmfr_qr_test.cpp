@@ -159,6 +159,26 @@ TEST(BmfrQr, OneRForThreeChannelsEqualsThreeSeparateSolves) {
   }
 }
 
+TEST(BmfrQr, TiledFactorizationGivesTheSameSolution) {
+  for (int rows : {1024, 1000, 4096}) {
+    const Block b = randomBlock(rows, 10, 3, 61);
+    TriangularSystem plain, tiled;
+    float a[kMaxChannels][kMaxFeatures], at[kMaxChannels][kMaxFeatures];
+    solve(b, plain, a);
+    // Re-lay the block as tiles of 256 rows (the last one partial for 1000 rows).
+    const int tileRows = 256, tiles = (rows + tileRows - 1) / tileRows, columns = 13;
+    std::vector<float> t(size_t(tiles) * columns * tileRows, 0.0f);
+    for (int c = 0; c < columns; ++c)
+      for (int r = 0; r < rows; ++r) t[(size_t(r / tileRows) * columns + c) * tileRows + r % tileRows] = b.col(c)[r];
+    householderQrTiled(t.data(), rows, tileRows, tileRows, 10, 3, tiled);
+    backSubstitute(tiled, at);
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 10; ++k) EXPECT_NEAR(at[c][k], a[c][k], 2e-5f * (1.0f + std::abs(a[c][k]))) << rows;
+    for (int i = 0; i < 10; ++i)  // same R up to row signs
+      for (int j = i; j < 10; ++j) EXPECT_NEAR(std::abs(tiled.R[i][j]), std::abs(plain.R[i][j]), 1e-4f * std::abs(plain.R[0][0]));
+  }
+}
+
 TEST(BmfrQr, RecoversAnExactCombination) {
   Block b = randomBlock(1024, 10, 1, 41, 0.0f);
   // z = T a* exactly (up to the float rounding of z itself).

@@ -97,6 +97,36 @@ void householderQr(float* cols, int rows, size_t stride, int features, int chann
   }
 }
 
+void householderQrTiled(float* tiles, int rows, int tileRows, size_t tileStride, int features, int channels,
+                        TriangularSystem& out) {
+  const int columns = features + channels;
+  const int tileCount = (rows + tileRows - 1) / tileRows;
+  if (tileCount <= 1) {
+    householderQr(tiles, rows, tileStride, features, channels, out);
+    return;
+  }
+  // Stack the tiles' triangles: tile t contributes rows [t * features, (t + 1) * features).
+  constexpr int kMaxStacked = 16 * kMaxFeatures;
+  const int stackedRows = tileCount * features;
+  const size_t stackedStride = size_t(stackedRows + 7) & ~size_t(7);
+  float stacked[(kMaxFeatures + kMaxChannels) * ((kMaxStacked + 7) & ~7)];
+  if (stackedRows > kMaxStacked) {  // more tiles than the stack holds: fall back to one pass
+    householderQr(tiles, rows, tileStride, features, channels, out);
+    return;
+  }
+  for (int t = 0; t < tileCount; ++t) {
+    TriangularSystem tile;
+    const int n = std::min(tileRows, rows - t * tileRows);
+    householderQr(tiles + size_t(t) * columns * tileStride, n, tileStride, features, channels, tile);
+    for (int i = 0; i < features; ++i) {
+      const size_t row = size_t(t) * features + i;
+      for (int j = 0; j < features; ++j) stacked[size_t(j) * stackedStride + row] = j >= i ? tile.R[i][j] : 0.0f;
+      for (int c = 0; c < channels; ++c) stacked[size_t(features + c) * stackedStride + row] = tile.r[c][i];
+    }
+  }
+  householderQr(stacked, stackedRows, stackedStride, features, channels, out);
+}
+
 int backSubstitute(const TriangularSystem& s, float alpha[kMaxChannels][kMaxFeatures], float relativePivotTolerance) {
   const int m = s.features;
   float maxPivot = 0.0f;

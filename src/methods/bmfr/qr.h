@@ -33,6 +33,16 @@ struct TriangularSystem {
 /// rank deficiency for the back substitution to report).
 void householderQr(float* cols, int rows, size_t stride, int features, int channels, TriangularSystem& out);
 
+/// The same factorization for a matrix stored as row tiles, so each tile's reflections run in
+/// L1 cache (a two-level "tall-skinny" Householder QR): tile t holds rows
+/// [t * tileRows, min(rows, (t + 1) * tileRows)) with column c at
+/// tiles[(t * (features + channels) + c) * tileStride]. Each tile is reduced to its
+/// triangular [R_t | r_t]; the stacked triangles are reduced once more. R and r equal the
+/// untiled ones up to the signs of their rows (R^T R = T^T T either way), so the solution is
+/// the same. tileStride >= tileRows rounded up to 8. The tiles are overwritten.
+void householderQrTiled(float* tiles, int rows, int tileRows, size_t tileStride, int features, int channels,
+                        TriangularSystem& out);
+
 /// Solves R alpha = r for every channel. A pivot |R_kk| <= relativePivotTolerance * max |R_jj|
 /// counts as rank-deficient: its weight is set to 0 rather than dividing by (nearly) zero.
 /// Returns the number of such pivots (0 for a full-rank system). alpha[c][k]: weight of
