@@ -133,6 +133,31 @@ TEST(Bmfr, SubsampledBlocksReproduceALinearCombination) {
   EXPECT_LT(firstFrameError(s, 160, 96), 5e-3);
 }
 
+TEST(Bmfr, MaterialIdFeatureIsUsedWhenEnabled) {
+  // Illumination with a per-material step that no geometric feature explains.
+  const auto scene = smallScene(160, 96, 0.0f, 0.0f);
+  Frame f = linearFrame(scene, 0);
+  f[Buffer::MaterialId] = f[Buffer::ObjectId];
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const float a = f[Buffer::Albedo].at(x, y, c);
+        f[Buffer::Color].at(x, y, c) += 0.3f * f[Buffer::MaterialId].at(x, y) * (a > 1e-3f ? a : 1.0f);
+      }
+  auto error = [&](bool useMaterial) {
+    BmfrSettings s;
+    s.noiseAmount = 0.0f;
+    s.featureMaterialId = useMaterial;
+    auto d = makeBmfr(s);
+    Image out(f.width, f.height, 3);
+    d->denoise(f.inputs(), out.view());
+    return relativeRmse(out, f[Buffer::Color]);
+  };
+  const double with = error(true), without = error(false);
+  EXPECT_LT(with, 1e-5);
+  EXPECT_GT(without, 10 * with);
+}
+
 TEST(BmfrBlocks, EveryPixelInExactlyOneBlockEveryFrame) {
   for (int size : {32, 64})
     for (int frame = 0; frame < 16; ++frame) {
