@@ -295,6 +295,21 @@ TEST(Bmfr, FlatWallIsFiniteWithRegularization) {
   }
 }
 
+TEST(Bmfr, ImagesSmallerThanABlockAreFinite) {
+  for (auto size : {std::pair{5, 3}, std::pair{40, 17}}) {
+    const Frame f = flatWallFrame(size.first, size.second);
+    for (auto block : {BmfrBlockSize::Block32, BmfrBlockSize::Block64}) {
+      BmfrSettings s;
+      s.blockSize = block;
+      auto d = makeBmfr(s);
+      Image out(f.width, f.height, 3);
+      for (int t = 0; t < 2; ++t) d->denoise(f.inputs(), out.view());
+      EXPECT_TRUE(allFinite(out));
+      EXPECT_LT(relativeRmse(out, f[Buffer::Color]), 1e-2);
+    }
+  }
+}
+
 double rmse(const Image& a, const Image& b) {
   double e = 0;
   for (size_t i = 0; i < a.pixels.size(); ++i) e += (double(a.pixels[i]) - b.pixels[i]) * (a.pixels[i] - b.pixels[i]);
