@@ -257,8 +257,11 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
 
   // Uniform noise on [-eps, eps] per (row, feature), deterministic per frame and shared by
   // all blocks of the frame, as in the authors' code. Row r of feature k: noise_[k * kMaxStride + r].
+  // The regularization's strength is the noise column's energy, rows * eps^2 / 3; the paper
+  // tuned eps for 32x32 = 1024 rows, so fits with fewer rows (sub-sampled blocks) scale eps
+  // by sqrt(1024 / rows) to keep that energy (docs/methods/bmfr.md).
   void makeNoise(int rows) {
-    const float eps = settings_.noiseAmount;
+    const float eps = settings_.noiseAmount * std::sqrt(std::max(1.0f, 1024.0f / float(rows)));
     const int m = int(features_.size());
     for (int k = 1; k < m; ++k)
       for (int r = 0; r < rows; ++r)
@@ -322,12 +325,32 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     }
   }
 
+  // Widens [lo, hi] to cover plane p (or (p - centre)^2) over the block's image pixels.
+  void extendOverBlock(const Plane& p, int bx, int by, float centre, bool squared, float& lo, float& hi) const {
+    const int x0 = std::max(grid_.x0(bx), 0), x1 = std::min(grid_.x0(bx) + grid_.size, grid_.width);
+    const int y0 = std::max(grid_.y0(by), 0), y1 = std::min(grid_.y0(by) + grid_.size, grid_.height);
+    float row[kMaxBlock];
+    for (int y = y0; y < y1; ++y) {
+      const float* src = p.row(y) + x0;
+      const int n = x1 - x0;
+      for (int i = 0; i < n; ++i) row[i] = squared ? (src[i] - centre) * (src[i] - centre) : src[i];
+      float l, h;
+      minMax(row, n, l, h);
+      lo = std::min(lo, l);
+      hi = std::max(hi, h);
+    }
+  }
+
   void fitBlock(const FrameData& frame, const Plane3& noisy, int bx, int by, const Tiling& tiling,
                 BlockScratch& scratch, BlockFit& fit) const {
     int32_t* index = scratch.index.data();
     float* base = scratch.columns.data();
     const int m = tiling.columns - 3;
-    if (tiling.rows != grid_.size * grid_.size) blockPixels(bx, by, tiling.rows, index);
+    // Sub-sampled blocks take each feature's range over the samples and every image pixel
+    // of the block, so the synthesis never meets a feature outside [-1, 1] (no extrapolation
+    // beyond the normalized range; with all pixels as rows this holds by construction).
+    const bool sampled = tiling.rows != grid_.size * grid_.size;
+    if (sampled) blockPixels(bx, by, tiling.rows, index);
     auto columnMinMax = [&](int k, float& lo, float& hi) {
       lo = INFINITY;
       hi = -INFINITY;
@@ -358,6 +381,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         }
         float lo, hi;
         columnMinMax(k, lo, hi);
+        if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, 0.0f, false, lo, hi);
         const float pc = 0.5f * (lo + hi);
         fit.positionCentre[f.channel] = pc;
         for (int t = 0; t < tiling.tileCount; ++t) {
@@ -370,6 +394,9 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       }
       float lo, hi;
       columnMinMax(k, lo, hi);
+      if (sampled)
+        extendOverBlock(rawPlane(frame, f), bx, by, fit.positionCentre[f.channel],
+                        f.kind == FeatureKind::PositionSquared, lo, hi);
       normalization(lo, hi, fit.centre[k], fit.scale[k]);
     }
     // Normalize to [-1, 1] and add the regularization noise to T only (Eq. 7); the synthesis
@@ -411,11 +438,14 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         for (int k = 1; k < m; ++k) {
           const float* src = planes[k]->row(y) + x0;
           const float centre = fit.centre[k], scale = fit.scale[k];
+          // Clamped to the fitted range [-1, 1]: a no-op up to rounding, since the block's
+          // normalization covers all of its pixels.
           if (features_[size_t(k)].kind == FeatureKind::PositionSquared) {
             const float pc = fit.positionCentre[features_[size_t(k)].channel];
-            for (int i = 0; i < n; ++i) feature[i] = ((src[i] - pc) * (src[i] - pc) - centre) * scale;
+            for (int i = 0; i < n; ++i)
+              feature[i] = std::clamp(((src[i] - pc) * (src[i] - pc) - centre) * scale, -1.0f, 1.0f);
           } else {
-            for (int i = 0; i < n; ++i) feature[i] = (src[i] - centre) * scale;
+            for (int i = 0; i < n; ++i) feature[i] = std::clamp((src[i] - centre) * scale, -1.0f, 1.0f);
           }
           for (int c = 0; c < 3; ++c) {
             const float a = fit.alpha[c][k];
