@@ -4,11 +4,13 @@
 #include "core/settings_reflect.h"
 #include "rtd/methods/accumulate.h"
 #include "rtd/methods/svgf.h"
+#include "rtd/methods/bmfr.h"
 
 namespace rtd {
 
 std::unique_ptr<Denoiser> createAccumulateCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createSvgfCpu(tbb::task_arena&);
+std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena&);
 
 template <class S> static std::vector<SettingInfo> defaultsOf() { return detail::listSettings(S{}); }
 
@@ -18,6 +20,8 @@ const std::vector<MethodEntry>& methodRegistry() {
        &defaultsOf<AccumulateSettings>, &createAccumulateCpu, nullptr},
       {"svgf", "spatiotemporal variance-guided filtering (Schied 2017; Dundr, Gersthofer, Voorhuis variants)",
        &defaultsOf<SvgfSettings>, &createSvgfCpu, nullptr},
+      {"bmfr", "blockwise multi-order feature regression (Koskela et al. 2019)", &defaultsOf<BmfrSettings>,
+       &createBmfrCpu, nullptr},
   };
   return entries;
 }
