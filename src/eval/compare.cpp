@@ -154,6 +154,7 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
       c.shownFrameNumber = frame.number;
     }
     const FrameInputs inputs = frame.inputs();
+    const PreparedReference prepared = prepareReference(frame.number, reference, settings.eval);
     for (auto& r : runners) {
       const Image* result = &frame[Buffer::Color];
       if (r.denoiser) {
@@ -168,7 +169,7 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
           }
         result = &r.output;
       }
-      const FrameMetrics& m = r.evaluator.add(frame.number, *result, reference, isShown ? &r.run.flipMap : nullptr);
+      const FrameMetrics& m = r.evaluator.add(*result, prepared, isShown ? &r.run.flipMap : nullptr);
       if (isShown) {
         r.run.shown = *result;
         r.run.shownFlip = m.flip;
@@ -181,9 +182,9 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
     r.run.metrics = {r.run.label, r.evaluator.frames(), r.evaluator.steady(), r.evaluator.warmup()};
     c.runs.push_back(std::move(r.run));
   }
-  // Crop: as asked, clamped to the image; by default a centred quarter-area region.
-  c.cropWidth = settings.cropWidth > 0 ? std::min(settings.cropWidth, c.width) : std::max(1, std::min(c.width, c.width / 2));
-  c.cropHeight = settings.cropHeight > 0 ? std::min(settings.cropHeight, c.height) : std::max(1, std::min(c.height, c.height / 2));
+  // Crop: as asked, clamped to the image; by default a centred region a third of each side.
+  c.cropWidth = settings.cropWidth > 0 ? std::min(settings.cropWidth, c.width) : std::max(1, std::min(c.width, c.width / 3));
+  c.cropHeight = settings.cropHeight > 0 ? std::min(settings.cropHeight, c.height) : std::max(1, std::min(c.height, c.height / 3));
   c.cropX = settings.cropWidth > 0 ? std::clamp(settings.cropX, 0, c.width - c.cropWidth) : (c.width - c.cropWidth) / 2;
   c.cropY = settings.cropWidth > 0 ? std::clamp(settings.cropY, 0, c.height - c.cropHeight) : (c.height - c.cropHeight) / 2;
   c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

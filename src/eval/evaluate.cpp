@@ -23,10 +23,10 @@ const std::vector<MetricInfo>& metricList() {
       {"flip", "FLIP", "tone-mapped sRGB", false, &FrameMetrics::flip, false},
       {"relMse", "relMSE", "linear HDR", false, &FrameMetrics::relMse, false},
       {"rmse", "RMSE", "linear HDR", false, &FrameMetrics::rmse, false},
-      {"temporalError", "temporal err", "tone-mapped sRGB luma", false, &FrameMetrics::temporalError, true},
-      {"temporalErrorVsReference", "temporal err vs ref", "tone-mapped sRGB luma", false,
+      {"temporalError", "temporal", "tone-mapped sRGB luma", false, &FrameMetrics::temporalError, true},
+      {"temporalErrorVsReference", "temporal vs ref", "tone-mapped sRGB luma", false,
        &FrameMetrics::temporalErrorVsReference, true},
-      {"referenceTemporalError", "reference temporal err", "tone-mapped sRGB luma", false,
+      {"referenceTemporalError", "ref temporal", "tone-mapped sRGB luma", false,
        &FrameMetrics::referenceTemporalError, true},
   };
   return list;
@@ -57,50 +57,73 @@ void SequenceEvaluator::resetTemporal() {
   prevReferenceLuma_ = Image();
 }
 
+namespace {
+Image rgbOnly(const Image& img) {
+  if (img.channels == 3) return img;
+  if (img.channels < 3) throw Error("expected an RGB image, got " + std::to_string(img.channels) + " channel(s)");
+  Image out(img.width, img.height, 3);
+  for (size_t i = 0; i < size_t(img.width) * img.height; ++i)
+    for (int c = 0; c < 3; ++c) out.pixels[i * 3 + c] = img.pixels[i * img.channels + c];
+  return out;
+}
+}  // namespace
+
+PreparedReference prepareReference(int number, const Image& reference, const EvalSettings& settings) {
+  PreparedReference p;
+  p.number = number;
+  p.linear = rgbOnly(reference);
+  p.ldr = toneMap(p.linear, settings.toneMap);
+  p.luma = luminance(p.ldr);
+  if (settings.computeFlip) p.flip = FlipReference(p.ldr, settings.flip);
+  return p;
+}
+
 const FrameMetrics& SequenceEvaluator::add(int number, const Image& result, const Image& reference, Image* flipMap) {
   if (result.width != reference.width || result.height != reference.height)
     throw Error("frame " + std::to_string(number) + ": result is " + std::to_string(result.width) + "x" +
                 std::to_string(result.height) + " but reference is " + std::to_string(reference.width) + "x" +
                 std::to_string(reference.height));
-  FrameMetrics m;
-  m.number = number;
-  m.warmup = int(frames_.size()) < settings_.warmupFrames;
-  const Image resultLdr = toneMap(result, settings_.toneMap), referenceLdr = toneMap(reference, settings_.toneMap);
-  Image resultHdr = result, referenceHdr = reference;  // RGB only, for the linear metrics
-  if (result.channels != 3) resultHdr = Image(result.width, result.height, 3);
-  if (reference.channels != 3) referenceHdr = Image(reference.width, reference.height, 3);
-  for (size_t i = 0; i < size_t(result.width) * result.height; ++i)
-    for (int c = 0; c < 3; ++c) {
-      resultHdr.pixels[i * 3 + c] = result.pixels[i * result.channels + c];
-      referenceHdr.pixels[i * 3 + c] = reference.pixels[i * reference.channels + c];
-    }
+  return add(result, prepareReference(number, reference, settings_), flipMap);
+}
 
-  m.psnr = psnr(resultLdr, referenceLdr);
-  m.ssim = ssim(resultLdr, referenceLdr);
-  m.flip = settings_.computeFlip ? flip(resultLdr, referenceLdr, settings_.flip, flipMap) : kNaN;
-  m.relMse = relMse(resultHdr, referenceHdr, settings_.relMseEpsilon);
-  m.rmse = rmse(resultHdr, referenceHdr);
+const FrameMetrics& SequenceEvaluator::add(const Image& result, const PreparedReference& ref, Image* flipMap) {
+  if (result.width != ref.linear.width || result.height != ref.linear.height)
+    throw Error("frame " + std::to_string(ref.number) + ": result is " + std::to_string(result.width) + "x" +
+                std::to_string(result.height) + " but reference is " + std::to_string(ref.linear.width) + "x" +
+                std::to_string(ref.linear.height));
+  FrameMetrics m;
+  m.number = ref.number;
+  m.warmup = int(frames_.size()) < settings_.warmupFrames;
+  const Image resultHdr = rgbOnly(result);
+  const Image resultLdr = toneMap(resultHdr, settings_.toneMap);
+
+  m.psnr = psnr(resultLdr, ref.ldr);
+  m.ssim = ssim(resultLdr, ref.ldr);
+  m.flip = settings_.computeFlip && !ref.flip.empty() ? ref.flip.compare(resultLdr, flipMap) : kNaN;
+  m.relMse = relMse(resultHdr, ref.linear, settings_.relMseEpsilon);
+  m.rmse = rmse(resultHdr, ref.linear);
 
   // Temporal error (Schied et al. 2017): mean absolute luma change between consecutive frames.
-  Image lr = luminance(resultLdr), lf = luminance(referenceLdr);
+  Image lr = luminance(resultLdr);
+  const Image& lf = ref.luma;
   if (!prevResultLuma_.empty() && prevResultLuma_.width == lr.width && prevResultLuma_.height == lr.height) {
-    double raw = 0, ref = 0, vs = 0;
+    double raw = 0, refSum = 0, vs = 0;
     for (size_t i = 0; i < lr.pixels.size(); ++i) {
       const double dr = double(lr.pixels[i]) - prevResultLuma_.pixels[i];
       const double df = double(lf.pixels[i]) - prevReferenceLuma_.pixels[i];
       raw += std::abs(dr);
-      ref += std::abs(df);
+      refSum += std::abs(df);
       vs += std::abs(dr - df);
     }
     const double n = double(lr.pixels.size());
     m.temporalError = raw / n;
-    m.referenceTemporalError = ref / n;
+    m.referenceTemporalError = refSum / n;
     m.temporalErrorVsReference = vs / n;
   } else {
     m.temporalError = m.referenceTemporalError = m.temporalErrorVsReference = kNaN;
   }
   prevResultLuma_ = std::move(lr);
-  prevReferenceLuma_ = std::move(lf);
+  prevReferenceLuma_ = lf;
   frames_.push_back(m);
   return frames_.back();
 }
@@ -213,11 +236,12 @@ std::vector<StreamMetrics> evaluateDirectories(const fs::path& referenceDir, con
     };
     const Image res = result->read(i);
     check(res, *result, i);
-    resultEval.add(result->frameNumber(i), res, ref);
+    const PreparedReference prepared = prepareReference(result->frameNumber(i), ref, settings);
+    resultEval.add(res, prepared);
     if (input) {
       const Image in = input->read(inIndex[i]);
       check(in, *input, inIndex[i]);
-      inputEval.add(result->frameNumber(i), in, ref);
+      inputEval.add(in, prepared);
     }
     if (progress) progress(i + 1, n);
   }
@@ -249,7 +273,7 @@ std::string tableFor(const std::vector<StreamMetrics>& streams, bool warmup) {
   std::snprintf(buf, sizeof buf, "%-22s %6s", "", "frames");
   out += buf;
   for (const auto& m : metricList()) {
-    std::snprintf(buf, sizeof buf, " %12s", std::string(m.label).substr(0, 12).c_str());
+    std::snprintf(buf, sizeof buf, " %15s", m.label);
     out += buf;
   }
   out += "\n";
@@ -258,7 +282,7 @@ std::string tableFor(const std::vector<StreamMetrics>& streams, bool warmup) {
     std::snprintf(buf, sizeof buf, "%-22s %6d", s.name.substr(0, 22).c_str(), sum.frames);
     out += buf;
     for (const auto& m : metricList()) {
-      std::snprintf(buf, sizeof buf, " %12s", formatValue(sum.mean.*m.field, m).c_str());
+      std::snprintf(buf, sizeof buf, " %15s", formatValue(sum.mean.*m.field, m).c_str());
       out += buf;
     }
     out += "\n";
@@ -281,7 +305,7 @@ std::string summaryTable(const std::vector<StreamMetrics>& streams, const EvalSe
     out += tableFor(streams, true);
   }
   out += "(PSNR, SSIM, FLIP and temporal errors on " + operatorName(settings.toneMap.op) +
-         "-tone-mapped sRGB; relMSE, RMSE on linear HDR; 'temporal err vs ref' is the reference-relative one)\n";
+         "-tone-mapped sRGB; relMSE, RMSE on linear HDR; 'temporal' is the mean |luma change| between consecutive frames, 'temporal vs ref' its difference from the reference's own change)\n";
   return out;
 }
 

@@ -316,15 +316,16 @@ double featureSigma(double ppd) { return 0.5 * kFeatureWidth * ppd; }
 
 }  // namespace flipdetail
 
-namespace {
-using namespace flipdetail;
-
 /// Spatially filtered, Hunt-adjusted L*a*b* of one image (Sec. 4.1) and its normalized
-/// achromatic channel for feature detection (Sec. 4.2).
-struct FlipPrepared {
+/// achromatic channel's feature magnitudes (Sec. 4.2).
+struct FlipReference::Prepared {
   std::vector<float> lab[3];
   std::vector<float> edge, point;  // feature magnitudes
 };
+using FlipPrepared = FlipReference::Prepared;
+
+namespace {
+using namespace flipdetail;
 
 FlipPrepared prepare(const Image& srgb, double ppd) {
   const int w = srgb.width, h = srgb.height;
@@ -423,12 +424,22 @@ FlipPrepared prepare(const Image& srgb, double ppd) {
 }
 }  // namespace
 
-double flip(const Image& test, const Image& reference, const FlipSettings& settings, Image* errorMap) {
-  requireSameSize(test, reference, "flip");
-  if (test.channels != 3) throw Error("flip: expected tone-mapped RGB images (3 channels)");
-  const double ppd = settings.pixelsPerDegree();
-  const FlipPrepared t = prepare(test, ppd), r = prepare(reference, ppd);
-  const int w = test.width, h = test.height;
+FlipReference::FlipReference(const Image& reference, const FlipSettings& settings)
+    : settings_(settings), width_(reference.width), height_(reference.height) {
+  if (reference.channels != 3 || reference.empty()) throw Error("flip: expected a tone-mapped RGB reference (3 channels)");
+  prepared_ = std::make_shared<const Prepared>(prepare(reference, settings.pixelsPerDegree()));
+}
+
+double FlipReference::compare(const Image& test, Image* errorMap) const {
+  using namespace flipdetail;
+  if (!prepared_) throw Error("flip: no reference prepared");
+  if (test.width != width_ || test.height != height_ || test.channels != 3)
+    throw Error("flip: test image is " + std::to_string(test.width) + "x" + std::to_string(test.height) + "x" +
+                std::to_string(test.channels) + ", reference is " + std::to_string(width_) + "x" +
+                std::to_string(height_) + "x3");
+  const FlipPrepared t = prepare(test, settings_.pixelsPerDegree());
+  const FlipPrepared& r = *prepared_;
+  const int w = width_, h = height_;
   if (errorMap) *errorMap = Image(w, h, 1);
   std::vector<double> rowSums(h);
   tbb::parallel_for(0, h, [&](int y) {
@@ -449,6 +460,12 @@ double flip(const Image& test, const Image& reference, const FlipSettings& setti
   double sum = 0;
   for (double s : rowSums) sum += s;
   return sum / (double(w) * h);
+}
+
+double flip(const Image& test, const Image& reference, const FlipSettings& settings, Image* errorMap) {
+  requireSameSize(test, reference, "flip");
+  if (test.channels != 3) throw Error("flip: expected tone-mapped RGB images (3 channels)");
+  return FlipReference(reference, settings).compare(test, errorMap);
 }
 
 // ---------------------------------------------------------------------------------------------

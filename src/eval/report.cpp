@@ -95,7 +95,7 @@ const char* kPalette[] = {"#888888", "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
 
 /// One line chart of a metric over frames, one polyline per run, warm-up frames shaded.
 std::string plotSvg(const Comparison& c, const MetricInfo& m) {
-  const double W = 660, H = 230, left = 64, right = 12, top = 28, bottom = 34;
+  const double W = 660, H = 244, left = 64, right = 12, top = 42, bottom = 34;
   double lo = INFINITY, hi = -INFINITY;
   int fmin = INT32_MAX, fmax = INT32_MIN;
   for (const auto& r : c.runs)
@@ -148,7 +148,7 @@ std::string plotSvg(const Comparison& c, const MetricInfo& m) {
       << "</text>";
   }
   s << "<text x='" << left + pw / 2 << "' y='" << H - 2 << "' text-anchor='middle' class='tk'>frame</text>";
-  double legendX = left + 260;
+  double legendX = left;
   for (size_t k = 0; k < c.runs.size(); ++k) {
     const auto& r = c.runs[k];
     const char* col = kPalette[k % 10];
@@ -162,8 +162,8 @@ std::string plotSvg(const Comparison& c, const MetricInfo& m) {
     }
     if (count == 1) s << "<circle cx='" << pts.str().substr(0, pts.str().find(',')) << "' cy='" << Y(r.metrics.frames.back().*m.field) << "' r='3' fill='" << col << "'/>";
     s << "<polyline fill='none' stroke='" << col << "' stroke-width='1.6' points='" << pts.str() << "'/>";
-    s << "<rect x='" << legendX << "' y='8' width='10' height='10' fill='" << col << "'/><text x='" << legendX + 13
-      << "' y='17' class='tk'>" << esc(r.label) << "</text>";
+    s << "<rect x='" << legendX << "' y='22' width='10' height='10' fill='" << col << "'/><text x='" << legendX + 13
+      << "' y='31' class='tk'>" << esc(r.label) << "</text>";
     legendX += 22 + 7.0 * double(r.label.size());
   }
   s << "</svg>";
@@ -242,9 +242,9 @@ std::string comparisonHtml(const Comparison& c) {
   };
   h << "<h2>Summary</h2><p class='note'>Means over the frames after warm-up; best value per column in bold. "
        "PSNR, SSIM, FLIP and the temporal errors are computed on tone-mapped sRGB, relMSE and RMSE on linear HDR "
-       "radiance. <i>temporal err</i> is the mean absolute luma change between consecutive frames (Schied et al. 2017); "
-       "<i>temporal err vs ref</i> is the mean absolute difference between the result's and the reference's "
-       "frame-to-frame change, so a frozen image is not rewarded.</p>\n";
+       "radiance. <i>temporal</i> is the mean absolute luma change between consecutive frames (Schied et al. 2017); "
+       "<i>temporal vs ref</i> is the mean absolute difference between the result's and the reference's "
+       "frame-to-frame change, so a frozen image is not rewarded; <i>ref temporal</i> is the reference's own change.</p>\n";
   summaryTableHtml(false);
   if (c.eval.warmupFrames > 0) {
     h << "<p class='note'>Warm-up frames:</p>\n";

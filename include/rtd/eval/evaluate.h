@@ -60,6 +60,17 @@ struct MetricSummary {
 };
 MetricSummary summarize(const std::vector<FrameMetrics>& frames, bool warmup);
 
+/// A reference frame prepared once (RGB, tone-mapped, luma, FLIP half) and evaluated against
+/// several streams.
+struct PreparedReference {
+  int number = 0;
+  Image linear;  ///< linear HDR RGB
+  Image ldr;     ///< tone-mapped sRGB
+  Image luma;    ///< luma of ldr
+  FlipReference flip;
+};
+PreparedReference prepareReference(int number, const Image& reference, const EvalSettings& settings);
+
 /// Evaluates a stream of frames in order. Keeps the previous frame's luma for temporal error.
 class SequenceEvaluator {
  public:
@@ -67,6 +78,8 @@ class SequenceEvaluator {
   /// `result` and `reference` are linear HDR RGB of frame `number`. `flipMap`, if not null,
   /// receives the FLIP error map; `resultLdr`, the tone-mapped result.
   const FrameMetrics& add(int number, const Image& result, const Image& reference, Image* flipMap = nullptr);
+  /// Same, with the reference prepared by prepareReference() with the same settings.
+  const FrameMetrics& add(const Image& result, const PreparedReference& reference, Image* flipMap = nullptr);
   /// Forget the previous frame (camera cut): the next frame has no temporal error.
   void resetTemporal();
   const std::vector<FrameMetrics>& frames() const { return frames_; }

@@ -5,6 +5,7 @@
 //   tone-mapped sRGB (toneMap() output, values in [0,1]):          psnr, ssim, flip, temporal error
 #pragma once
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,23 @@ struct FlipSettings {
 /// error in [0,1] (one channel).
 double flip(const Image& test, const Image& reference, const FlipSettings& settings = {},
             Image* errorMap = nullptr);
+
+/// The reference half of FLIP (filtered L*a*b* and feature magnitudes), computed once and
+/// compared against several test images (one per method) at the cost of one preparation each.
+class FlipReference {
+ public:
+  FlipReference() = default;
+  FlipReference(const Image& reference, const FlipSettings& settings = {});
+  /// Same as flip(test, reference, settings, errorMap).
+  double compare(const Image& test, Image* errorMap = nullptr) const;
+  bool empty() const { return !prepared_; }
+  struct Prepared;
+
+ private:
+  std::shared_ptr<const Prepared> prepared_;
+  FlipSettings settings_;
+  int width_ = 0, height_ = 0;
+};
 
 /// The magma colour map (as the FLIP paper shows error maps), v in [0,1] -> sRGB-encoded RGB.
 void magma(float v, float rgb[3]);
