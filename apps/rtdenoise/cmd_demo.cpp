@@ -24,8 +24,26 @@ struct DemoOptions {
   int frames = 40;
   int threads = 0;
   std::string methods;
+  bool saveScene = false;
   EvalOptions eval;
 };
+
+/// Wraps a source so that every frame it loads is also written: the input as a native sequence
+/// in <dir>/input, the reference as RGB EXRs in <dir>/reference (for `rtdenoise eval|compare`).
+eval::FrameSource savedWhileLoading(eval::FrameSource src, const fs::path& dir) {
+  auto writer = std::make_shared<SequenceWriter>(dir / "input");
+  fs::create_directories(dir / "reference");
+  src.load = [load = src.load, writer, dir](int index, Image& reference) {
+    Frame f = load(index, reference);
+    writer->write(f);
+    writer->finish();
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04d.exr", f.number);
+    writeRgbExr(dir / "reference" / name, reference);
+    return f;
+  };
+  return src;
+}
 
 /// THE DEMO'S SCENE SOURCE (the one place to switch to the path tracer): the default
 /// built-in animated scene as input frames plus references. Today: the analytic scene of
@@ -44,6 +62,7 @@ eval::FrameSource demoScene(const DemoOptions& o) {
                     std::to_string(w) + "x" + std::to_string(h);
   src.frameCount = o.frames;
   src.load = [scene](int index, Image& reference) { return synthetic::makeFrame(scene, index, &reference); };
+  if (o.saveScene) src = savedWhileLoading(src, fs::path(o.out) / "scene");
   return src;
 }
 
@@ -75,6 +94,9 @@ void addDemo(CLI::App& app) {
   cmd->add_option("--frames", o->frames, "number of frames")->capture_default_str();
   cmd->add_option("--methods,-m", o->methods, "comma-separated methods (default: every CPU method)");
   cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
+  cmd->add_flag("--save-scene", o->saveScene,
+                "also write the scene: <out>/scene/input (native sequence) and <out>/scene/reference (EXRs); "
+                "large: about 10 MB per 480x270 frame");
   o->eval.add(cmd);
   cmd->callback([o] { run(*o); });
 }
