@@ -41,7 +41,6 @@ class TemporalAccumulator {
  private:
   Plane3 color_[2];
   Plane m1_[2], m2_[2], length_[2];
-  Plane lum_, lum2_;
   int cur_ = 0;
 };
 
