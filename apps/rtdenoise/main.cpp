@@ -9,6 +9,11 @@ int main(int argc, char** argv) {
   rtd::cli::addDenoise(app);
   rtd::cli::addMethods(app);
   rtd::cli::addBench(app);
+#ifdef HAVE_RTDENOISE_EVAL
+  rtd::cli::addEval(app);
+  rtd::cli::addCompare(app);
+  rtd::cli::addDemo(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
