@@ -9,6 +9,9 @@ int main(int argc, char** argv) {
   rtd::cli::addDenoise(app);
   rtd::cli::addMethods(app);
   rtd::cli::addBench(app);
+#ifdef HAVE_RTDENOISE_RENDER
+  rtd::cli::addRender(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
