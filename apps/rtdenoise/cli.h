@@ -14,6 +14,7 @@ namespace rtd::cli {
 void addDenoise(CLI::App& app);
 void addMethods(CLI::App& app);
 void addBench(CLI::App& app);
+void addDevices(CLI::App& app);
 
 /// Applies "key=value" strings to a denoiser; throws rtd::Error on a malformed one.
 void applySettings(Denoiser& d, const std::vector<std::string>& assignments);

@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   rtd::cli::addDenoise(app);
   rtd::cli::addMethods(app);
   rtd::cli::addBench(app);
+  rtd::cli::addDevices(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
