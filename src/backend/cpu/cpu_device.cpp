@@ -1,5 +1,8 @@
 // Device::create and the CPU device: a oneTBB arena that every CPU denoiser runs in.
 #include <tbb/info.h>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <tbb/task_arena.h>
 
 #include "core/registry.h"
@@ -8,11 +11,23 @@
 namespace rtd {
 
 namespace {
+
+// Denoisers hold a reference to their device's arena and may outlive the Device object
+// (`Device::create()->createDenoiser(...)` is a natural thing to write), so arenas live for
+// the whole process: one per thread count, created on first use.
+tbb::task_arena& arenaFor(int threads) {
+  static std::mutex mutex;
+  static std::map<int, std::unique_ptr<tbb::task_arena>> arenas;
+  std::lock_guard lock(mutex);
+  auto& a = arenas[threads];
+  if (!a) a = std::make_unique<tbb::task_arena>(threads);
+  return *a;
+}
+
 class CpuDevice final : public Device {
  public:
   explicit CpuDevice(int threads)
-      : arena_(threads > 0 ? threads : tbb::info::default_concurrency()),
-        threads_(threads > 0 ? threads : tbb::info::default_concurrency()) {}
+      : threads_(threads > 0 ? threads : tbb::info::default_concurrency()), arena_(arenaFor(threads_)) {}
   Backend backend() const override { return Backend::Cpu; }
   std::string name() const override { return "CPU (" + std::to_string(threads_) + " threads, oneTBB)"; }
   std::unique_ptr<Denoiser> createDenoiser(std::string_view method) override {
@@ -23,8 +38,8 @@ class CpuDevice final : public Device {
   }
 
  private:
-  tbb::task_arena arena_;
   int threads_;
+  tbb::task_arena& arena_;
 };
 }  // namespace
 
