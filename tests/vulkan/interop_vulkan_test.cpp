@@ -144,3 +144,16 @@ TEST(VulkanDevice, WithoutAnyDriverTheBackendFailsClearlyAndTheCpuStillWorks) {
 
 }  // namespace
 }  // namespace rtd::test
+
+namespace rtd::test {
+namespace {
+TEST(VulkanDevice, DenoiserOutlivesItsDevice) {
+  RTD_REQUIRE_VULKAN();
+  auto denoiser = Device::create({.backend = Backend::Vulkan})->createDenoiser("accumulate");
+  const auto frames = syntheticFrames(2);
+  Image out(kWidth, kHeight, 3);
+  for (const auto& f : frames) denoiser->denoise(f.inputs(), out.view());
+  EXPECT_GT(out.at(kWidth / 2, kHeight / 2, 1), 0.0f);
+}
+}  // namespace
+}  // namespace rtd::test

@@ -103,7 +103,7 @@ struct ExternalHandles {
 
 /// A Vulkan instance, device and compute queue (owned, or borrowed from the application), with
 /// the pipelines of every embedded shader created on first use.
-class Context {
+class Context : public std::enable_shared_from_this<Context> {
  public:
   /// Picks a device by DeviceDesc::vulkanDevice (index or case-insensitive name substring;
   /// empty: discrete > integrated > virtual > CPU). Throws rtd::Error when none fits.

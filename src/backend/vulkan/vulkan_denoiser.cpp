@@ -19,7 +19,7 @@ std::string sizeText(int w, int h) { return std::to_string(w) + "x" + std::to_st
 
 }  // namespace
 
-VulkanDenoiserBase::VulkanDenoiserBase(Context& ctx) : ctx_(ctx), descriptors_(ctx) {
+VulkanDenoiserBase::VulkanDenoiserBase(Context& ctx) : keepAlive_(ctx.weak_from_this().lock()), ctx_(ctx), descriptors_(ctx) {
   VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pi.queueFamilyIndex = ctx.queueFamily();

@@ -43,6 +43,9 @@ class VulkanDenoiserBase : public Denoiser {
   /// last frame or null after a reset. Returns the planes (RGB) to export.
   virtual const Planes& process(Recorder& rec, const GpuFrame& frame, const GpuFrame* previous) = 0;
 
+  // Keeps the device alive while a denoiser exists, even after its rtd::Device is gone (as
+  // CPU denoisers keep their arena); null for a Context not owned by a shared_ptr (tests).
+  std::shared_ptr<Context> keepAlive_;
   Context& ctx_;
   int width_ = 0, height_ = 0;
 

@@ -10,7 +10,7 @@ namespace rtd {
 namespace {
 class VulkanDevice final : public Device {
  public:
-  explicit VulkanDevice(std::unique_ptr<vk::Context> ctx) : ctx_(std::move(ctx)) {}
+  explicit VulkanDevice(std::shared_ptr<vk::Context> ctx) : ctx_(std::move(ctx)) {}
   Backend backend() const override { return Backend::Vulkan; }
   std::string name() const override { return ctx_->name() + " (Vulkan)"; }
   std::unique_ptr<Denoiser> createDenoiser(std::string_view method) override {
@@ -22,17 +22,17 @@ class VulkanDevice final : public Device {
   }
 
  private:
-  std::unique_ptr<vk::Context> ctx_;
+  std::shared_ptr<vk::Context> ctx_;  // shared with its denoisers, which may outlive the device
 };
 }  // namespace
 
 std::unique_ptr<Device> createVulkanDevice(const DeviceDesc& desc) {
-  return std::make_unique<VulkanDevice>(std::make_unique<vk::Context>(desc));
+  return std::make_unique<VulkanDevice>(std::make_shared<vk::Context>(desc));
 }
 
 std::unique_ptr<Device> createVulkanDevice(const VulkanDeviceDesc& desc) {
   vk::ExternalHandles h{desc.instance, desc.physicalDevice, desc.device, desc.queue, desc.queueFamily};
-  return std::make_unique<VulkanDevice>(std::make_unique<vk::Context>(h));
+  return std::make_unique<VulkanDevice>(std::make_shared<vk::Context>(h));
 }
 
 void denoiseVulkan(Denoiser& denoiser, const VulkanFrameInputs& frame, const VulkanBufferView& output,
