@@ -530,9 +530,10 @@ void Recorder::fill(const DeviceBuffer& b, uint32_t value) {
   pendingBarrier_ = true;
 }
 
-void Recorder::copy(const DeviceBuffer& src, const DeviceBuffer& dst, VkDeviceSize bytes) {
+void Recorder::copy(const DeviceBuffer& src, const DeviceBuffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset,
+                    VkDeviceSize dstOffset) {
   if (pendingBarrier_) barrier();
-  VkBufferCopy c{0, 0, bytes};
+  VkBufferCopy c{srcOffset, dstOffset, bytes};
   vkCmdCopyBuffer(cmd_, src.handle(), dst.handle(), 1, &c);
   pendingBarrier_ = true;
 }

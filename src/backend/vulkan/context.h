@@ -202,7 +202,8 @@ class Recorder {
   /// Makes every previous compute/transfer write visible to later compute and transfer work.
   void barrier();
   void fill(const DeviceBuffer& b, uint32_t value);
-  void copy(const DeviceBuffer& src, const DeviceBuffer& dst, VkDeviceSize bytes);
+  void copy(const DeviceBuffer& src, const DeviceBuffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset = 0,
+            VkDeviceSize dstOffset = 0);
   /// Starts a named pass (ends the previous one): per-pass GPU times come from these marks.
   void pass(const std::string& name);
   /// Ends the last pass.

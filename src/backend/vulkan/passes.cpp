@@ -1,5 +1,7 @@
 #include "backend/vulkan/passes.h"
 
+#include <algorithm>
+
 namespace rtd::vk {
 
 Binding GpuFrame::bindingOf(Buffer b, const Context& ctx) const {
@@ -65,14 +67,57 @@ void GpuTemporalAccumulator::resize(Context& ctx, int w, int h) {
 }
 
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
-                                 int maxHistoryLength) {
+                                 int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments) {
   const int prev = cur_;
   cur_ ^= 1;
+  if (clear_) {
+    rec.fill(history_[prev].buffer, 0);
+    clear_ = false;
+  }
   struct PC {
     uint32_t width, height;
     float alpha, momentsAlpha, maxHistoryLength;
-  } pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength)};
+    uint32_t luminanceMode, cumulativeMoments;
+  } pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength), luminanceMode,
+       cumulativeMoments};
   rec.dispatch("temporal_accumulation", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
+}
+
+void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient) {
+  struct PC {
+    uint32_t width, height, hasGradient;
+    float maxDepthSlope;
+  } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::DepthGradient), maxDepthSlope};
+  rec.dispatch("atrous_guide",
+               {frame[Buffer::Depth], frame.bindingOf(Buffer::DepthGradient, rec.context()), gradient}, pc,
+               frame.width, frame.height);
+}
+
+void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& lv,
+                 const Planes& in, Planes& out) {
+  struct PC {
+    uint32_t width, height;
+    int32_t step, radius;
+    float sigmaDepth, depthEpsilon;
+    int32_t normalExponent;
+    float sigmaLuminance, luminanceEpsilon;
+    uint32_t flags, luminanceMode;
+  } pc{uint32_t(in.width), uint32_t(in.height), lv.step, lv.radius, lv.sigmaDepth, lv.depthEpsilon,
+       std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
+       (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
+           (lv.propagateVariance ? 8u : 0u),
+       lv.luminanceMode};
+  rec.dispatch("atrous",
+               {frame[Buffer::Depth], frame[Buffer::Normal], gradient, in, out,
+                lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())},
+               pc, in.width, in.height);
+}
+
+void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int dstPlane) {
+  struct PC {
+    uint32_t width, height, srcPlane, dstPlane;
+  } pc{uint32_t(in.width), uint32_t(in.height), uint32_t(srcPlane), uint32_t(dstPlane)};
+  rec.dispatch("gaussian3x3", {in, out}, pc, in.width, in.height);
 }
 
 void GpuTaa::resize(Context& ctx, int w, int h) {

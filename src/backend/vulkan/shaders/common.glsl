@@ -13,4 +13,21 @@ float luminance(vec3 c) {
   return l;
 }
 
+// CIE 1976 lightness L* of relative luminance y (white = 1), as cieLightness() on the CPU.
+float cieLightness(float y) {
+  const float kDelta3 = 216.0 / 24389.0;
+  const float f = y > kDelta3 ? pow(y, 1.0 / 3.0) : y * (841.0 / 108.0) + 4.0 / 29.0;
+  return 116.0 * f - 16.0;
+}
+
+// The luminance of moments, variance and w_l (MomentLuminance: 0 Rec709, 1 Rec601, 2 CIE L*).
+float momentLuminance(uint mode, vec3 c) {
+  if (mode == 1u) {
+    precise float l = 0.299 * c.r + 0.587 * c.g + 0.114 * c.b;
+    return l;
+  }
+  if (mode == 2u) return cieLightness(max(0.0, luminance(c)));
+  return luminance(c);
+}
+
 bool outside(uvec2 p, uint width, uint height) { return p.x >= width || p.y >= height; }

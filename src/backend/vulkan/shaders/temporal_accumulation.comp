@@ -19,6 +19,8 @@ layout(push_constant) uniform PC {
   uint width, height;
   float alpha, momentsAlpha;
   float maxHistoryLength;
+  uint luminanceMode;      // MomentLuminance: 0 Rec709, 1 Rec601, 2 CIE L*
+  uint cumulativeMoments;  // 1: moments w = max(1/n, alpha); 0: plain EMA (Schied)
 } pc;
 
 void main() {
@@ -34,7 +36,7 @@ void main() {
   outp[5u * plane + i] = len;
 
   const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
-  const float l = luminance(c);
+  const float l = momentLuminance(pc.luminanceMode, c);
   precise float l2 = l * l;
   const float cur[5] = float[5](c.r, c.g, c.b, l, l2);
   for (uint k = 0; k < 5; ++k) {
@@ -42,7 +44,8 @@ void main() {
       outp[k * plane + i] = cur[k];
       continue;
     }
-    const float a = max(1.0 / len, k < 3u ? pc.alpha : pc.momentsAlpha);
+    const float a = k < 3u ? max(1.0 / len, pc.alpha)
+                           : (pc.cumulativeMoments != 0u ? max(1.0 / len, pc.momentsAlpha) : pc.momentsAlpha);
     precise float v = a * cur[k] + (1.0 - a) * gatherPlane(i, k * plane, w, plane);
     outp[k * plane + i] = v;
   }
