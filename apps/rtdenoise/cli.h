@@ -21,6 +21,7 @@ void addDemo(CLI::App& app);
 #endif
 /// `render` (only when built with the renderer, HAVE_RTDENOISE_RENDER).
 void addRender(CLI::App& app);
+void addDevices(CLI::App& app);
 
 /// Applies "key=value" strings to a denoiser; throws rtd::Error on a malformed one.
 void applySettings(Denoiser& d, const std::vector<std::string>& assignments);

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
 #ifdef HAVE_RTDENOISE_RENDER
   rtd::cli::addRender(app);
 #endif
+  rtd::cli::addDevices(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
