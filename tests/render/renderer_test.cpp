@@ -84,6 +84,19 @@ TEST(RenderDeterminism, SeedReuseReproducesThePixelExactly) {
   EXPECT_GT(differentWithOtherSeed, 20);  // seeds really drive the random numbers
 }
 
+TEST(RenderReference, ProgressivePassesStopAtTheTimeBudget) {
+  auto scene = Scene::load("cornell");
+  Renderer r(scene, tiny(4, 4));
+  // 2^20 samples would take many seconds; a 50 ms budget stops after a whole pass of the
+  // doubling sequence 1, 2, 4, ..., so the count taken is 2^k - 1.
+  const Image img = r.renderReference(0, 1 << 20, 0.05);
+  const int taken = r.stats().samplesPerPixel;
+  EXPECT_GE(taken, 1);
+  EXPECT_LT(taken, 1 << 20);
+  EXPECT_EQ((taken + 1) & taken, 0) << taken;
+  for (float v : img.pixels) EXPECT_TRUE(std::isfinite(v) && v >= 0);
+}
+
 TEST(RenderSparse, RotatingBlueNoiseMaskCoversEveryPixelOncePerCycle) {
   auto scene = Scene::load("cornell");
   RenderSettings s = tiny(64, 64);
