@@ -176,14 +176,22 @@ TEST(RenderFeatures, MotionVectorsMatchReprojectionForCameraAndObjectMotion) {
   const int w = 64, h = 36, frame = 10;
   Renderer r(scene, tiny(w, h));
   const Frame prev = r.render(frame - 1), cur = r.render(frame);
-  int checked[3] = {0, 0, 0};
+  int checked[3] = {0, 0, 0}, skyChecked = 0;
   const double spin = 120.0 / 47.0 * 3.14159265358979 / 180.0;  // box: 0 -> 120 degrees over frames 0..47
   const Vec boxCentre = {-0.5, 0.35, -0.9};
   const Vec ballStep = {2.0 / 24.0, 0.0, 0.6 / 24.0};  // ball: (-1.8,.4,.2) at 0 -> (0.2,.4,.8) at 24
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const float id = cur[Buffer::ObjectId].at(x, y);
-      if (id == 0) continue;
+      if (id == 0) {
+        // Background: a direction at infinity moves with the camera's rotation only.
+        const Vec d = CameraGeom(cur.camera).ray(x + 0.5, y + 0.5, w, h);
+        const auto pp = projectWithMatrices(prev.camera, add(CameraGeom(prev.camera).eye, scale(d, 1e3)), w, h);
+        EXPECT_NEAR(x + 0.5 + cur[Buffer::Motion].at(x, y, 0), pp[0], 2e-2);
+        EXPECT_NEAR(y + 0.5 + cur[Buffer::Motion].at(x, y, 1), pp[1], 2e-2);
+        ++skyChecked;
+        continue;
+      }
       Vec p = px3(cur[Buffer::Position], x, y);
       int kind = 0;
       if (id == 5) {  // ball
@@ -205,6 +213,7 @@ TEST(RenderFeatures, MotionVectorsMatchReprojectionForCameraAndObjectMotion) {
   EXPECT_GT(checked[0], 500);
   EXPECT_GT(checked[1], 15);
   EXPECT_GT(checked[2], 15);
+  EXPECT_GT(skyChecked, 20);
 }
 
 TEST(RenderFeatures, StereoEyesAreSeparatedAlongTheRightAxis) {
