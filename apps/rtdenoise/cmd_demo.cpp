@@ -7,6 +7,9 @@
 #include "eval_options.h"
 #include "rtd/eval/compare.h"
 #include "synthetic/synthetic.h"
+#ifdef HAVE_RTDENOISE_RENDER
+#include "rtd/render/render.h"
+#endif
 
 namespace rtd::cli {
 
@@ -20,8 +23,12 @@ std::vector<std::string> splitList(const std::string& s);
 namespace {
 struct DemoOptions {
   std::string out = "rtdenoise-demo";
-  std::string size = "480x270";
-  int frames = 40;
+  std::string scene = "dynamic";
+  std::string size = "320x180";
+  int frames = 32;
+  int referenceSpp = 256;
+  std::string cacheDir;
+  bool noCache = false;
   int threads = 0;
   std::string methods;
   bool saveScene = false;
@@ -45,23 +52,51 @@ eval::FrameSource savedWhileLoading(eval::FrameSource src, const fs::path& dir) 
   return src;
 }
 
-/// THE DEMO'S SCENE SOURCE (the one place to switch to the path tracer): the default
-/// built-in animated scene as input frames plus references. Today: the analytic scene of
-/// src/synthetic (exact features and motion, noise-free reference computed in closed form,
-/// so nothing needs caching). With the renderer, this renders the default scene's 1-spp
-/// inputs and its many-spp references into <out>/scene, reusing cached references.
-eval::FrameSource demoScene(const DemoOptions& o) {
-  const auto [w, h] = parseSize(o.size);
-  if (o.frames < 2) throw Error("--frames " + std::to_string(o.frames) + ": the demo needs at least 2 frames");
+/// The analytic scene of src/synthetic: exact features and motion, a closed-form reference.
+eval::FrameSource syntheticScene(const DemoOptions& o, int w, int h) {
   synthetic::Scene scene;
   scene.width = w;
   scene.height = h;
   eval::FrameSource src;
-  src.description = "built-in analytic scene (camera translating over a checkered floor, wall and sphere; "
+  src.description = "analytic scene (camera translating over a checkered floor, wall and sphere; "
                     "exponential 1-spp-like noise; exact reference), " +
                     std::to_string(w) + "x" + std::to_string(h);
   src.frameCount = o.frames;
   src.load = [scene](int index, Image& reference) { return synthetic::makeFrame(scene, index, &reference); };
+  return src;
+}
+
+/// The demo's scene source: the built-in animated scene rendered by the path tracer at 1 spp,
+/// with references of `referenceSpp` samples taken from (or stored in) the reference cache, so a
+/// second run renders no reference again. `--scene synthetic` uses the analytic scene instead.
+eval::FrameSource demoScene(const DemoOptions& o) {
+  const auto [w, h] = parseSize(o.size);
+  if (o.frames < 2) throw Error("--frames " + std::to_string(o.frames) + ": the demo needs at least 2 frames");
+  eval::FrameSource src;
+  if (o.scene == "synthetic") {
+    src = syntheticScene(o, w, h);
+  } else {
+#ifdef HAVE_RTDENOISE_RENDER
+    auto scene = render::Scene::load(o.scene);
+    render::RenderSettings rs = scene->suggestedSettings();
+    rs.width = w;
+    rs.height = h;
+    auto renderer = std::make_shared<render::Renderer>(scene, rs);
+    render::ReferenceCache cache;
+    if (!o.noCache) cache.dir = o.cacheDir.empty() ? render::ReferenceCache::defaultDir() : fs::path(o.cacheDir);
+    src.description = "built-in scene '" + scene->name() + "' path traced at 1 spp, references at " +
+                      std::to_string(o.referenceSpp) + " spp, " + std::to_string(w) + "x" + std::to_string(h);
+    src.frameCount = o.frames;
+    const int spp = o.referenceSpp;
+    src.load = [renderer, scene, cache, spp](int index, Image& reference) {
+      Frame f = renderer->render(index);
+      reference = cache.fetchOrRender(*renderer, *scene, index, spp, 0.0, render::Eye::Center);
+      return f;
+    };
+#else
+    throw Error("this build has no path tracer; use --scene synthetic");
+#endif
+  }
   if (o.saveScene) src = savedWhileLoading(src, fs::path(o.out) / "scene");
   return src;
 }
@@ -78,8 +113,8 @@ void run(const DemoOptions& o) {
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
   const auto source = demoScene(o);
-  std::fprintf(stderr, "rtdenoise demo: %d frames of the built-in scene at %s; methods: %s\n", o.frames,
-               o.size.c_str(), list.c_str());
+  std::fprintf(stderr, "rtdenoise demo: %s, %d frames; methods: %s\n", source.description.c_str(), o.frames,
+               list.c_str());
   auto c = runComparisonWithProgress(source, cs, "demo: denoise + evaluate");
   c.title = "rtdenoise demo";
   writeComparison(c, o.out);
@@ -90,7 +125,12 @@ void addDemo(CLI::App& app) {
   auto o = std::make_shared<DemoOptions>();
   auto* cmd = app.add_subcommand("demo", "render the built-in scene, run every method, evaluate, write the HTML report");
   cmd->add_option("--out,-o", o->out, "output directory (report.html, metrics.json)")->capture_default_str();
+  cmd->add_option("--scene", o->scene, "built-in scene (see `rtdenoise render --help`), a scene file, or 'synthetic'")
+      ->capture_default_str();
   cmd->add_option("--size", o->size, "WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--reference-spp", o->referenceSpp, "samples per pixel of the references")->capture_default_str();
+  cmd->add_option("--reference-cache", o->cacheDir, "reference cache directory (default $RTD_CACHE_DIR or ~/.cache/rtdenoise/references)");
+  cmd->add_flag("--no-reference-cache", o->noCache, "do not read or write the reference cache");
   cmd->add_option("--frames", o->frames, "number of frames")->capture_default_str();
   cmd->add_option("--methods,-m", o->methods, "comma-separated methods (default: every CPU method)");
   cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
