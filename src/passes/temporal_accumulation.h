@@ -15,6 +15,11 @@ inline float newSampleWeight(float n, float alpha) { return std::max(1.0f / n, a
 void accumulatePlane(const Reprojection& rp, const Plane& length, float alpha, const Plane& current,
                      const Plane& history, Plane& out);
 
+/// accumulatePlane() for three planes in one pass (one tap decode per pixel): BMFR's phase III
+/// accumulation of the fitted colour with phase I's taps and history length.
+void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, const Plane3& current,
+                      const Plane3& history, Plane3& out);
+
 /// Owns the history of one radiance stream: accumulated colour (three planes), the first and
 /// second raw moments of its luminance, and the history length, double-buffered.
 class TemporalAccumulator {
