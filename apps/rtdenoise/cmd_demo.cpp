@@ -26,7 +26,7 @@ struct DemoOptions {
   std::string scene = "dynamic";
   std::string size = "320x180";
   int frames = 32;
-  int referenceSpp = 256;
+  int referenceSpp = 128;
   std::string cacheDir;
   bool noCache = false;
   int threads = 0;
