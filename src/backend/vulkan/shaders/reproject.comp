@@ -60,9 +60,17 @@ bool tapValid(uint i, int px, int py, float depthTol, uint plane) {
     if (!(abs(zp - z) <= depthTol)) return false;
   }
   if (has(F_NORMAL)) {
-    precise float d = 0.0;
-    for (uint c = 0; c < 3; ++c) d += curNormal[c * plane + i] * prevNormal[c * plane + j];
-    if (!(d >= pc.normalTolerance)) return false;
+    const vec3 n = vec3(curNormal[i], curNormal[plane + i], curNormal[2u * plane + i]);
+    const vec3 np = vec3(prevNormal[j], prevNormal[plane + j], prevNormal[2u * plane + j]);
+    precise float n2 = n.x * n.x + n.y * n.y + n.z * n.z;
+    if (n2 < 0.25) {
+      // Background (zero normal: a miss) matches background only.
+      precise float np2 = np.x * np.x + np.y * np.y + np.z * np.z;
+      if (!(np2 < 0.25)) return false;
+    } else {
+      precise float d = n.x * np.x + n.y * np.y + n.z * np.z;
+      if (!(d >= pc.normalTolerance)) return false;
+    }
   }
   if (has(F_ID) && curId[i] != prevId[j]) return false;
   if (has(F_POSITION)) {
@@ -144,9 +152,16 @@ void main() {
       wt[t] = bw[t];
       sum += bw[t];
     }
-  if (sum > 1e-4) {
+  if (sum > 1e-4 && pc.width >= 2u && pc.height >= 2u) {
     for (int t = 0; t < 4; ++t) wt[t] /= sum;
-    store(i, plane, RP_BILINEAR, y0 * int(w) + x0, wt, px, py);
+    // Taps outside the image have weight 0: slide the 2x2 window inside (moving the weights
+    // with it) so gathers read all four taps without bounds checks.
+    int bx = x0, by = y0;
+    if (bx < 0) { bx = 0; wt = vec4(wt[1], 0.0, wt[3], 0.0); }
+    if (bx > int(w) - 2) { bx = int(w) - 2; wt = vec4(0.0, wt[0], 0.0, wt[2]); }
+    if (by < 0) { by = 0; wt = vec4(wt[2], wt[3], 0.0, 0.0); }
+    if (by > int(pc.height) - 2) { by = int(pc.height) - 2; wt = vec4(0.0, 0.0, wt[0], wt[1]); }
+    store(i, plane, RP_BILINEAR, by * int(w) + bx, wt, px, py);
     return;
   }
   if (has(F_FALLBACK)) {
