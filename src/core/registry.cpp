@@ -16,6 +16,7 @@ std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena&);
 #ifdef RTD_HAS_VULKAN
 #define RTD_VULKAN_FACTORY(f) &f
 std::unique_ptr<Denoiser> createAccumulateVulkan(vk::Context&);
+std::unique_ptr<Denoiser> createSvgfVulkan(vk::Context&);
 #else
 #define RTD_VULKAN_FACTORY(f) nullptr
 #endif
@@ -27,7 +28,7 @@ const std::vector<MethodEntry>& methodRegistry() {
       {"accumulate", "temporal accumulation with robust reprojection (baseline of SVGF/BMFR)",
        &defaultsOf<AccumulateSettings>, &createAccumulateCpu, RTD_VULKAN_FACTORY(createAccumulateVulkan)},
       {"svgf", "spatiotemporal variance-guided filtering (Schied 2017; Dundr, Gersthofer, Voorhuis variants)",
-       &defaultsOf<SvgfSettings>, &createSvgfCpu, nullptr},
+       &defaultsOf<SvgfSettings>, &createSvgfCpu, RTD_VULKAN_FACTORY(createSvgfVulkan)},
       {"bmfr", "blockwise multi-order feature regression (Koskela et al. 2019)", &defaultsOf<BmfrSettings>,
        &createBmfrCpu, nullptr},
   };

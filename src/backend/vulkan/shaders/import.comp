@@ -27,7 +27,7 @@ void main() {
     const uint bits = src[s + c];
     float v = pc.isInt != 0 ? float(int(bits)) : uintBitsToFloat(bits);
     // Ordered comparisons are false for NaN; the bound rejects +Inf (and -Inf via the abs).
-    const bool ok = pc.radiance != 0 ? (v >= 0.0 && v <= 3.0e38) : (abs(v) <= 3.4e38);
+    const bool ok = pc.radiance != 0 ? (v >= 0.0 && v <= 3.0e38) : (abs(v) <= 3.0e38);
     if (!ok) { v = 0.0; ++bad; }
     dst[c * plane + i] = v;
   }

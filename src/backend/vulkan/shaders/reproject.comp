@@ -60,17 +60,16 @@ bool tapValid(uint i, int px, int py, float depthTol, uint plane) {
     if (!(abs(zp - z) <= depthTol)) return false;
   }
   if (has(F_NORMAL)) {
-    // Background pixels (zero normal: a miss) match background pixels only, as on the CPU.
-    precise float nn = 0.0, d = 0.0, pp = 0.0;
-    for (uint c = 0; c < 3; ++c) {
-      nn += curNormal[c * plane + i] * curNormal[c * plane + i];
-      d += curNormal[c * plane + i] * prevNormal[c * plane + j];
-      pp += prevNormal[c * plane + j] * prevNormal[c * plane + j];
-    }
-    if (nn < 0.25) {
-      if (!(pp < 0.25)) return false;
-    } else if (!(d >= pc.normalTolerance)) {
-      return false;
+    const vec3 n = vec3(curNormal[i], curNormal[plane + i], curNormal[2u * plane + i]);
+    const vec3 np = vec3(prevNormal[j], prevNormal[plane + j], prevNormal[2u * plane + j]);
+    precise float n2 = n.x * n.x + n.y * n.y + n.z * n.z;
+    if (n2 < 0.25) {
+      // Background (zero normal: a miss) matches background only.
+      precise float np2 = np.x * np.x + np.y * np.y + np.z * np.z;
+      if (!(np2 < 0.25)) return false;
+    } else {
+      precise float d = n.x * np.x + n.y * np.y + n.z * np.z;
+      if (!(d >= pc.normalTolerance)) return false;
     }
   }
   if (has(F_ID) && curId[i] != prevId[j]) return false;
@@ -153,9 +152,10 @@ void main() {
       wt[t] = bw[t];
       sum += bw[t];
     }
-  if (sum > 1e-4 && w >= 2u && pc.height >= 2u) {
+  if (sum > 1e-4 && pc.width >= 2u && pc.height >= 2u) {
     for (int t = 0; t < 4; ++t) wt[t] /= sum;
-    // Slide the 2x2 footprint inside the image (taps outside have weight 0), as on the CPU.
+    // Taps outside the image have weight 0: slide the 2x2 window inside (moving the weights
+    // with it) so gathers read all four taps without bounds checks.
     int bx = x0, by = y0;
     if (bx < 0) { bx = 0; wt = vec4(wt[1], 0.0, wt[3], 0.0); }
     if (bx > int(w) - 2) { bx = int(w) - 2; wt = vec4(0.0, wt[0], 0.0, wt[2]); }

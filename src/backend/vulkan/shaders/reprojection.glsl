@@ -18,31 +18,32 @@ const float kFallbackKernel3x3[9] = float[9](0.0778, 0.1233, 0.0778, 0.1233, 0.1
 uint rpKind(uint i) { return rp[i] & 3u; }
 
 // History value of the plane starting at element `planeBase` for pixel i; 0 where none.
-// Same tap order and arithmetic as Reprojection::gather on the CPU.
+// Same tap order and arithmetic as Reprojection::gatherBilinear / taps() on the CPU.
 float gatherPlane(uint i, uint planeBase, uint width, uint plane) {
   const uint km = rp[i];
   const uint kind = km & 3u;
   const int b = int(rp[plane + i]);
   if (kind == RP_BILINEAR) {
+    // All four taps lie inside the previous frame (reproject slides the footprint inside).
     const float w0 = uintBitsToFloat(rp[2u * plane + i]), w1 = uintBitsToFloat(rp[3u * plane + i]);
     const float w2 = uintBitsToFloat(rp[4u * plane + i]), w3 = uintBitsToFloat(rp[5u * plane + i]);
-    precise float v = 0.0;
-    if (w0 != 0.0) v += w0 * histAt(planeBase + uint(b));
-    if (w1 != 0.0) v += w1 * histAt(planeBase + uint(b + 1));
-    if (w2 != 0.0) v += w2 * histAt(planeBase + uint(b + int(width)));
-    if (w3 != 0.0) v += w3 * histAt(planeBase + uint(b + int(width) + 1));
+    precise float v = w0 * histAt(planeBase + uint(b)) + w1 * histAt(planeBase + uint(b + 1)) +
+                      w2 * histAt(planeBase + uint(b + int(width))) + w3 * histAt(planeBase + uint(b + int(width) + 1));
     return v;
   }
   if (kind == RP_FALLBACK) {
+    // Weights normalized first, then summed, as Reprojection::taps().
     const uint m = km >> 2;
-    precise float sum = 0.0, wsum = 0.0;
+    precise float wsum = 0.0;
+    for (int t = 0; t < 9; ++t)
+      if ((m & (1u << t)) != 0u) wsum += kFallbackKernel3x3[t];
+    precise float v = 0.0;
     for (int t = 0; t < 9; ++t) {
       if ((m & (1u << t)) == 0u) continue;
       const int j = b + (t / 3 - 1) * int(width) + (t % 3 - 1);
-      sum += kFallbackKernel3x3[t] * histAt(planeBase + uint(j));
-      wsum += kFallbackKernel3x3[t];
+      v += (kFallbackKernel3x3[t] / wsum) * histAt(planeBase + uint(j));
     }
-    return sum / wsum;
+    return v;
   }
   return 0.0;
 }

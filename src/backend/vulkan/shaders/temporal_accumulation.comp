@@ -31,22 +31,23 @@ void main() {
   const bool none = rpKind(i) == RP_NONE;
 
   // BMFR rounds the reprojected length to an integer (8-bit counts); std::round semantics.
-  const float n = none ? 0.0 : floor(gatherPlane(i, 5u * plane, w, plane) + 0.5);
-  const float len = min(n + 1.0, pc.maxHistoryLength);
-  outp[5u * plane + i] = len;
+  // Disoccluded pixels: n = 1, weight 1. Port of the fused TemporalAccumulator::run.
+  const float n = none ? 1.0 : min(floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) + 1.0, pc.maxHistoryLength);
+  outp[5u * plane + i] = n;
 
   const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
   const float l = momentLuminance(pc.luminanceMode, c);
-  precise float l2 = l * l;
-  const float cur[5] = float[5](c.r, c.g, c.b, l, l2);
-  for (uint k = 0; k < 5; ++k) {
-    if (none) {
-      outp[k * plane + i] = cur[k];
-      continue;
-    }
-    const float a = k < 3u ? max(1.0 / len, pc.alpha)
-                           : (pc.cumulativeMoments != 0u ? max(1.0 / len, pc.momentsAlpha) : pc.momentsAlpha);
-    precise float v = a * cur[k] + (1.0 - a) * gatherPlane(i, k * plane, w, plane);
+  const float a = max(1.0 / n, pc.alpha);
+  const float am = pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
+  for (uint k = 0; k < 3; ++k) {
+    const float hist = none ? 0.0 : gatherPlane(i, k * plane, w, plane);
+    precise float v = a * c[k] + (1.0 - a) * hist;
     outp[k * plane + i] = v;
   }
+  const float h1 = none ? 0.0 : gatherPlane(i, 3u * plane, w, plane);
+  const float h2 = none ? 0.0 : gatherPlane(i, 4u * plane, w, plane);
+  precise float m1 = am * l + (1.0 - am) * h1;
+  precise float m2 = am * l * l + (1.0 - am) * h2;
+  outp[3u * plane + i] = m1;
+  outp[4u * plane + i] = m2;
 }
