@@ -14,7 +14,8 @@ namespace {
 // leaves room for GPUs whose exp and division are less exact.
 constexpr double kMaxRel = 1e-4, kMeanRel = 2e-6;
 
-void runBoth(const std::vector<std::string>& settings, bool split, int frames, const std::string& what) {
+void runBoth(const std::vector<std::string>& settings, bool split, int frames, const std::string& what,
+             bool emission = false) {
   auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto cpu = cpuDevice->createDenoiser("svgf");
   auto gpu = vulkanDevice()->createDenoiser("svgf");
@@ -32,6 +33,16 @@ void runBoth(const std::vector<std::string>& settings, bool split, int frames, c
       for (auto& v : f[Buffer::Diffuse].pixels) v *= 0.7f;
       for (auto& v : f[Buffer::Specular].pixels) v *= 0.3f;
     }
+    if (emission) {  // a bright emitter, part of color and (as the renderer counts it) diffuse
+      f[Buffer::Emission] = Image(f.width, f.height, 3, 0.0f);
+      for (int y = 10; y < 20; ++y)
+        for (int x = 30; x < 40; ++x)
+          for (int c = 0; c < 3; ++c) {
+            f[Buffer::Emission].at(x, y, c) = 20.0f;
+            f[Buffer::Color].at(x, y, c) += 20.0f;
+            if (split) f[Buffer::Diffuse].at(x, y, c) += 20.0f;
+          }
+    }
     Image a(f.width, f.height, 3), b(f.width, f.height, 3);
     cpu->denoise(f.inputs(), a.view());
     gpu->denoise(f.inputs(), b.view());
@@ -42,6 +53,11 @@ void runBoth(const std::vector<std::string>& settings, bool split, int frames, c
 TEST(VulkanSvgf, MatchesCpuSchied) {
   RTD_REQUIRE_VULKAN();
   runBoth({}, false, 6, "schied");
+}
+TEST(VulkanSvgf, MatchesCpuWithSeparatedEmission) {
+  RTD_REQUIRE_VULKAN();
+  runBoth({}, false, 4, "emission", true);
+  runBoth({"variant=voorhuis"}, true, 4, "emission, diffuse/specular", true);
 }
 TEST(VulkanSvgf, MatchesCpuDundr) {
   RTD_REQUIRE_VULKAN();

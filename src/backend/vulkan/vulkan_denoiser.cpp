@@ -51,7 +51,7 @@ VulkanDenoiserBase::~VulkanDenoiserBase() {
 std::vector<Buffer> VulkanDenoiserBase::usedBuffers() const {
   std::vector<Buffer> used = requiredBuffers();
   for (Buffer b : {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Depth, Buffer::Position, Buffer::Motion,
-                   Buffer::ObjectId, Buffer::DepthGradient})
+                   Buffer::ObjectId, Buffer::DepthGradient, Buffer::Emission})
     if (std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
   return used;
 }
@@ -113,13 +113,25 @@ void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& 
     rec.dispatch("import", {im.source, f.planes[int(im.which)], counter_}, pc, width_, height_);
   }
 
+  const bool emission = f.present[int(Buffer::Emission)];
+  if (emission) {
+    // The renderer counts primary-hit emission in color, direct and diffuse (frame_data.cpp).
+    struct PC {
+      uint32_t width, height;
+    } pc{uint32_t(width_), uint32_t(height_)};
+    for (Buffer b : {Buffer::Color, Buffer::Direct, Buffer::Diffuse})
+      if (f.present[int(b)])
+        rec.dispatch("separate_emission", {f.planes[int(b)], f.planes[int(Buffer::Emission)]}, pc, width_, height_);
+  }
+
   const Planes& result = process(rec, f, hasPrevious_ ? &frames_[cur_ ^ 1] : nullptr);
 
   rec.pass("export");
   struct PC {
-    uint32_t width, height, dstOffset, pixelStride, rowStride, channels;
-  } pc{uint32_t(width_), uint32_t(height_), out.offsetWords, out.pixelStrideWords, out.rowStrideWords, out.channels};
-  rec.dispatch("export", {result, out.target}, pc, width_, height_);
+    uint32_t width, height, dstOffset, pixelStride, rowStride, channels, addEmission;
+  } pc{uint32_t(width_), uint32_t(height_), out.offsetWords, out.pixelStrideWords, out.rowStrideWords, out.channels,
+       emission};
+  rec.dispatch("export", {result, out.target, emission ? f.planes[int(Buffer::Emission)] : result}, pc, width_, height_);
   rec.endPasses();
 
   // Our writes are visible to whatever comes next: the host read-back or the application.
