@@ -105,6 +105,11 @@ struct AtrousLevel {
   bool propagateVariance = true;
   /// Luminance written to out.lum for the next level's w_l.
   MomentLuminance luminance = MomentLuminance::Rec709;
+  /// Sparse input (Dundr Sec. 5): pixels where `validIn` is 0 carry no data and weigh 0, the
+  /// centre included; a pixel that receives any weight becomes valid in `validOut` (so the
+  /// levels fill holes), one with none stays 0 with colour 0. Both null: dense.
+  const PaddedPlane* validIn = nullptr;
+  PaddedPlane* validOut = nullptr;
 };
 
 /// One level of the filter: out(p) = sum_q h(q) w(p,q) in(q) / sum_q h(q) w(p,q), with

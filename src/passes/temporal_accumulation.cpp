@@ -87,6 +87,23 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
     accumulatePlaneEma(rp, momentsAlpha, lum_, m1_[prev], m1_[cur_]);
     accumulatePlaneEma(rp, momentsAlpha, lum2_, m2_[prev], m2_[cur_]);
   }
+  if (options.sampleMask) carryUnsampled(rp, *options.sampleMask, prev);
+}
+
+void TemporalAccumulator::carryUnsampled(const Reprojection& rp, const Plane& mask, int prev) {
+  const int w = rp.width;
+  parallelRows(rp.height, [&](int y) {
+    const float* m = mask.row(y);
+    for (int x = 0; x < w; ++x) {
+      if (m[x] != 0.0f) continue;
+      const size_t i = size_t(y) * w + x;
+      const bool has = rp.kind[i] != Reprojection::None;
+      for (int c = 0; c < 3; ++c) color_[cur_][c].data[i] = has ? rp.gather(color_[prev][c], i) : 0.0f;
+      m1_[cur_].data[i] = has ? rp.gather(m1_[prev], i) : 0.0f;
+      m2_[cur_].data[i] = has ? rp.gather(m2_[prev], i) : 0.0f;
+      length_[cur_].data[i] = has ? std::round(rp.gather(length_[prev], i)) : 0.0f;
+    }
+  });
 }
 
 }  // namespace rtd

@@ -44,6 +44,10 @@ struct AccumulationOptions {
   /// histories, Voorhuis Sec. 6); false: w = momentsAlpha wherever there is history (plain
   /// EMA, Schied et al. 2017).
   bool cumulativeMoments = true;
+  /// Progressive rendering with fewer than one sample per pixel (Dundr Sec. 5): where this
+  /// plane (Buffer::SampleMask) is 0 the pixel got no sample, so colour, moments and history
+  /// length are the reprojected history unchanged (0 where there is none: still missing).
+  const Plane* sampleMask = nullptr;
 };
 
 /// Owns the history of one radiance stream: accumulated colour (three planes), the first and
@@ -72,6 +76,8 @@ class TemporalAccumulator {
   }
 
  private:
+  void carryUnsampled(const Reprojection& rp, const Plane& mask, int prev);
+
   Plane3 color_[2];
   Plane m1_[2], m2_[2], length_[2];
   Plane lum_, lum2_;
