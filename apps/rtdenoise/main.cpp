@@ -9,6 +9,15 @@ int main(int argc, char** argv) {
   rtd::cli::addDenoise(app);
   rtd::cli::addMethods(app);
   rtd::cli::addBench(app);
+#ifdef HAVE_RTDENOISE_EVAL
+  rtd::cli::addEval(app);
+  rtd::cli::addCompare(app);
+  rtd::cli::addDemo(app);
+#endif
+#ifdef HAVE_RTDENOISE_RENDER
+  rtd::cli::addRender(app);
+#endif
+  rtd::cli::addDevices(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -8,3 +8,4 @@
 #include "rtd/settings.h"
 #include "rtd/methods/accumulate.h"
 #include "rtd/methods/svgf.h"
+#include "rtd/methods/bmfr.h"

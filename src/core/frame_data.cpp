@@ -55,21 +55,37 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
       if (p.width != w || p.height != h) p.resize(w, h);
     const bool radiance = isRadianceBuffer(b);
     const bool ints = v.format == Format::Int32;
+    const size_t pixelStride = v.bytesPerPixel(), rowStride = v.bytesPerRow();
     parallelRows(h, [&](int y) {
+      const char* src = static_cast<const char*>(v.data) + size_t(y) * rowStride;
       uint64_t bad = 0;
       for (int c = 0; c < nc; ++c) {
         float* dst = planes[c].row(y);
-        for (int x = 0; x < w; ++x) {
-          float value = ints ? float(v.pixel<int32_t>(x, y)[c]) : v.pixel<float>(x, y)[c];
-          // Radiance must be finite and non-negative before it can reach history; a NaN
-          // would otherwise stay in the exponential average for ever.
-          bool ok = radiance ? (value >= 0.0f && value <= 3.0e38f) : std::isfinite(value);
-          if (!ok) { value = 0.0f; ++bad; }
-          dst[x] = value;
+        // De-interleave one channel of the row (strided loads, contiguous stores).
+        if (ints) {
+          for (int x = 0; x < w; ++x) dst[x] = float(*reinterpret_cast<const int32_t*>(src + x * pixelStride + c * 4));
+        } else {
+          for (int x = 0; x < w; ++x) dst[x] = *reinterpret_cast<const float*>(src + x * pixelStride + c * 4);
+        }
+        // Radiance must be finite and non-negative before it can reach history (a NaN would
+        // stay in the exponential average for ever); features only need to be finite.
+        // Branch-free so the loop vectorizes; the comparisons are false for NaN.
+        if (radiance) {
+          for (int x = 0; x < w; ++x) {
+            const bool ok = dst[x] >= 0.0f && dst[x] <= 3.0e38f;
+            bad += !ok;
+            dst[x] = ok ? dst[x] : 0.0f;
+          }
+        } else {
+          for (int x = 0; x < w; ++x) {
+            const bool ok = dst[x] >= -3.0e38f && dst[x] <= 3.0e38f;
+            bad += !ok;
+            dst[x] = ok ? dst[x] : 0.0f;
+          }
         }
       }
       if (bad) replaced += bad;
-    });
+    }, 16);
   }
   return replaced;
 }

@@ -274,6 +274,66 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   }
 }
 
+namespace {
+template <bool kLogNormal>
+void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const PaddedPlane& pb, const Plane& len,
+                         float shortHistory, int R, float sigmaZ, float epsZ, int e, PaddedPlane& var) {
+  const PaddedPlane& z = g.depth;
+  const int w = z.width;
+  const ptrdiff_t S = z.stride;
+  const float sigmaN = float(e);
+  const float* pz = z.data.data();
+  const float *pnx = g.normal[0].data.data(), *pny = g.normal[1].data.data(), *pnz = g.normal[2].data.data();
+  const float *pgx = g.gradX.data.data(), *pgy = g.gradY.data.data();
+  const float *A = pa.data.data(), *B = pb.data.data();
+  parallelRows(z.height, [&](int y) {
+    const float* n = len.row(y);
+    float* out = var.row(y);
+    for (int x = 0; x < w; x += kLanes) {
+      const int lanes = std::min(kLanes, w - x);
+      bool any = false;
+      for (int k = 0; k < lanes; ++k) any |= n[x + k] < shortHistory;
+      if (!any) continue;  // long histories keep the temporal variance
+      const size_t c = z.index(x, y);
+      const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
+      const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
+      vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
+      for (int dy = -R; dy <= R; ++dy)
+        for (int dx = -R; dx <= R; ++dx) {
+          if (!dx && !dy) continue;
+          const size_t q = c + ptrdiff_t(dy) * S + dx;
+          const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
+          vf expo = vabs(zc - load(pz + q)) * vrcp(vabs(gx * float(dx) + gy * float(dy)) + epsZ);
+          vf wt;
+          if constexpr (kLogNormal) {
+            const vf xx = 1.0f - d;
+            expo += sigmaN * (xx * (1.0f + xx * (0.5f + xx * (1.0f / 3.0f))));
+            wt = expNeg(expo);
+          } else {
+            wt = ipow<-1>(vmax(d, splat(0.0f)), e) * expNeg(expo);
+          }
+          sw += wt;
+          s1 += wt * load(A + q);
+          s2 += wt * load(B + q);
+        }
+      const vf m1 = s1 / sw, m2 = s2 / sw;
+      const vf v = vmax(m2 - m1 * m1, splat(0.0f));
+      for (int k = 0; k < lanes; ++k)
+        if (n[x + k] < shortHistory) out[x + k] = v[k];
+    }
+  }, 2);
+}
+}  // namespace
+
+void spatialVariance(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,
+                     float shortHistory, int radius, float sigmaDepth, float depthEpsilon, int normalExponent,
+                     PaddedPlane& var) {
+  const int R = std::min(radius, a.pad);
+  const int e = std::max(1, normalExponent);
+  if (e >= 16) spatialVarianceRows<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var);
+  else spatialVarianceRows<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var);
+}
+
 void gaussian3x3(const PaddedPlane& in, PaddedPlane& out) {
   const int w = in.width, h = in.height;
   parallelRows(h, [&](int y) {

@@ -116,6 +116,14 @@ struct AtrousLevel {
 /// w = w_z w_n w_l; the centre tap always has w = 1. `in` and `out` must differ.
 void atrousLevel(const AtrousGuide& guide, const AtrousLevel& level, const AtrousImage& in, AtrousImage& out);
 
+/// Spatial variance estimate (Schied Sec. 4.2): for each pixel whose historyLength is below
+/// `shortHistory`, var = E_w[b] - E_w[a]^2 over the (2 radius + 1)^2 window with weights
+/// w_z w_n (offsets in pixels, centre weight 1); a, b are the luminance and its square, or
+/// the accumulated moments (Voorhuis). Other pixels keep their `var`. radius <= a.pad.
+void spatialVariance(const AtrousGuide& guide, const PaddedPlane& a, const PaddedPlane& b, const Plane& historyLength,
+                     float shortHistory, int radius, float sigmaDepth, float depthEpsilon, int normalExponent,
+                     PaddedPlane& var);
+
 /// 3x3 Gaussian (binomial 1/16, 1/8, 1/4) of a plane, clamped to edge (SVGF's g3x3, run once
 /// in Dundr's variant). Inside atrousLevel the same kernel reads the zero border instead.
 /// `in` and `out` must differ.

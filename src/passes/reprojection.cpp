@@ -28,6 +28,28 @@ std::array<size_t, 3> Reprojection::counts() const {
   return c;
 }
 
+int Reprojection::taps(size_t i, Taps& out) const {
+  out.count = 0;
+  if (kind[i] == Bilinear) {
+    const int offsets[4] = {0, 1, width, width + 1};
+    for (int t = 0; t < 4; ++t)
+      if (weights[i][t] != 0.0f) {
+        out.index[out.count] = base[i] + offsets[t];
+        out.weight[out.count++] = weights[i][t];
+      }
+  } else if (kind[i] == Fallback3x3) {
+    float wsum = 0.0f;
+    for (int t = 0; t < 9; ++t)
+      if (mask3x3[i] & (1u << t)) {
+        out.index[out.count] = base[i] + (t / 3 - 1) * width + (t % 3 - 1);
+        out.weight[out.count++] = kFallbackKernel3x3[t];
+        wsum += kFallbackKernel3x3[t];
+      }
+    for (int t = 0; t < out.count; ++t) out.weight[t] /= wsum;
+  }
+  return out.count;
+}
+
 float Reprojection::gather3x3(const Plane& h, size_t i) const {
   const uint16_t m = mask3x3[i];
   float sum = 0.0f, wsum = 0.0f;
@@ -47,54 +69,82 @@ inline void transformPoint(const std::array<float, 16>& m, float x, float y, flo
   for (int r = 0; r < 4; ++r) out[r] = m[r * 4 + 0] * x + m[r * 4 + 1] * y + m[r * 4 + 2] * z + m[r * 4 + 3];
 }
 
+// Raw pointers to the planes the tests read, hoisted out of the per-pixel loop.
 struct TapTest {
-  const FrameData& cur;
-  const FrameData& prev;
   const ReprojectionSettings& s;
-  bool depth, normal, id, position;
+  const int width, height;  // of the previous frame
+  const float *z = nullptr, *zPrev = nullptr, *dzdx = nullptr, *dzdy = nullptr;
+  const float *n[3] = {}, *nPrev[3] = {};
+  const float *id = nullptr, *idPrev = nullptr;
+  const float *p[3] = {}, *pPrev[3] = {};
+  float positionTolerance2;
 
-  TapTest(const FrameData& c, const FrameData& p, const ReprojectionSettings& st)
-      : cur(c), prev(p), s(st),
-        depth(c.has(Buffer::Depth) && p.has(Buffer::Depth)),
-        normal(c.has(Buffer::Normal) && p.has(Buffer::Normal)),
-        id(st.testObjectId && c.has(Buffer::ObjectId) && p.has(Buffer::ObjectId)),
-        position(st.positionTolerance > 0 && c.has(Buffer::Position) && p.has(Buffer::Position)) {}
+  TapTest(const FrameData& cur, const FrameData& prev, const ReprojectionSettings& st)
+      : s(st), width(prev.width), height(prev.height),
+        positionTolerance2(st.positionTolerance * st.positionTolerance) {
+    if (cur.has(Buffer::Depth) && prev.has(Buffer::Depth)) {
+      z = cur.plane(Buffer::Depth).ptr();
+      zPrev = prev.plane(Buffer::Depth).ptr();
+      if (cur.has(Buffer::DepthGradient)) {
+        dzdx = cur.plane(Buffer::DepthGradient, 0).ptr();
+        dzdy = cur.plane(Buffer::DepthGradient, 1).ptr();
+      }
+    }
+    if (cur.has(Buffer::Normal) && prev.has(Buffer::Normal))
+      for (int c = 0; c < 3; ++c) { n[c] = cur.plane(Buffer::Normal, c).ptr(); nPrev[c] = prev.plane(Buffer::Normal, c).ptr(); }
+    if (st.testObjectId && cur.has(Buffer::ObjectId) && prev.has(Buffer::ObjectId)) {
+      id = cur.plane(Buffer::ObjectId).ptr();
+      idPrev = prev.plane(Buffer::ObjectId).ptr();
+    }
+    if (st.positionTolerance > 0 && cur.has(Buffer::Position) && prev.has(Buffer::Position))
+      for (int c = 0; c < 3; ++c) { p[c] = cur.plane(Buffer::Position, c).ptr(); pPrev[c] = prev.plane(Buffer::Position, c).ptr(); }
+  }
 
-  // Screen-space depth slope at pixel (x, y): the smaller one-sided difference per axis, so a
-  // depth edge next to the pixel does not widen the tolerance.
-  float depthSlope(int x, int y) const {
-    if (cur.has(Buffer::DepthGradient))
-      return std::max(std::abs(cur.plane(Buffer::DepthGradient, 0)(x, y)),
-                      std::abs(cur.plane(Buffer::DepthGradient, 1)(x, y)));
-    const Plane& z = cur.plane(Buffer::Depth);
-    const float c = z(x, y);
+  // Screen-space depth slope at pixel (x, y) of a w-wide frame: per axis the smaller one-sided
+  // difference, so a depth edge next to the pixel does not widen the tolerance.
+  float depthSlope(int x, int y, int w, int h) const {
+    const size_t i = size_t(y) * w + x;
+    if (dzdx) return std::max(std::abs(dzdx[i]), std::abs(dzdy[i]));
+    const float c = z[i];
     auto slope = [&](float a, float b) { return std::min(std::abs(a - c), std::abs(b - c)); };
-    float gx = slope(z(std::max(x - 1, 0), y), z(std::min(x + 1, z.width - 1), y));
-    float gy = slope(z(x, std::max(y - 1, 0)), z(x, std::min(y + 1, z.height - 1)));
+    const float gx = slope(z[i - (x > 0)], z[i + (x < w - 1)]);
+    const float gy = slope(z[i - (y > 0) * size_t(w)], z[i + (y < h - 1) * size_t(w)]);
     return std::max(gx, gy);
   }
 
-  // Is previous pixel (px, py) a valid history sample for current pixel i?
-  bool valid(size_t i, int px, int py, float depthTol) const {
-    if (px < 0 || py < 0 || px >= prev.width || py >= prev.height) return false;
-    const size_t j = size_t(py) * prev.width + px;
-    if (depth) {
-      const float z = cur.plane(Buffer::Depth).data[i], zp = prev.plane(Buffer::Depth).data[j];
-      if (!(std::abs(zp - z) <= depthTol)) return false;
-    }
-    if (normal) {
-      float d = 0.0f;
-      for (int c = 0; c < 3; ++c) d += cur.plane(Buffer::Normal, c).data[i] * prev.plane(Buffer::Normal, c).data[j];
-      if (!(d >= s.normalTolerance)) return false;
-    }
-    if (id && cur.plane(Buffer::ObjectId).data[i] != prev.plane(Buffer::ObjectId).data[j]) return false;
-    if (position) {
-      float d2 = 0.0f;
-      for (int c = 0; c < 3; ++c) {
-        float d = cur.plane(Buffer::Position, c).data[i] - prev.plane(Buffer::Position, c).data[j];
-        d2 += d * d;
+  // The current pixel's features, loaded once for its up to 13 tap tests.
+  struct Pixel {
+    float z, n[3], id, p[3], depthTol;
+    bool background;  // zero normal: a miss (sky) in Cycles' and our renderer's buffers
+  };
+  Pixel load(size_t i, float depthTol) const {
+    Pixel c{};
+    if (z) c.z = z[i];
+    if (n[0]) for (int k = 0; k < 3; ++k) c.n[k] = n[k][i];
+    c.background = n[0] && c.n[0] * c.n[0] + c.n[1] * c.n[1] + c.n[2] * c.n[2] < 0.25f;
+    if (id) c.id = id[i];
+    if (p[0]) for (int k = 0; k < 3; ++k) c.p[k] = p[k][i];
+    c.depthTol = depthTol;
+    return c;
+  }
+
+  // Is previous pixel (px, py) a valid history sample for the current pixel c?
+  bool valid(const Pixel& c, int px, int py) const {
+    if (px < 0 || py < 0 || px >= width || py >= height) return false;
+    const size_t j = size_t(py) * width + px;
+    if (z && !(std::abs(zPrev[j] - c.z) <= c.depthTol)) return false;
+    if (n[0]) {
+      // Background pixels (zero normal) match background pixels only.
+      if (c.background) {
+        if (!(nPrev[0][j] * nPrev[0][j] + nPrev[1][j] * nPrev[1][j] + nPrev[2][j] * nPrev[2][j] < 0.25f)) return false;
+      } else if (!(c.n[0] * nPrev[0][j] + c.n[1] * nPrev[1][j] + c.n[2] * nPrev[2][j] >= s.normalTolerance)) {
+        return false;
       }
-      if (!(d2 <= s.positionTolerance * s.positionTolerance)) return false;
+    }
+    if (id && c.id != idPrev[j]) return false;
+    if (p[0]) {
+      const float dx = c.p[0] - pPrev[0][j], dy = c.p[1] - pPrev[1][j], dz = c.p[2] - pPrev[2][j];
+      if (!(dx * dx + dy * dy + dz * dz <= positionTolerance2)) return false;
     }
     return true;
   }
@@ -116,6 +166,8 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
   const bool motion = cur.has(Buffer::Motion);
   const bool fromCamera = !motion && cur.camera.valid && prev.camera.valid && cur.has(Buffer::Position);
   const TapTest test(cur, prev, s);
+  const float* motionX = motion ? cur.plane(Buffer::Motion, 0).ptr() : nullptr;
+  const float* motionY = motion ? cur.plane(Buffer::Motion, 1).ptr() : nullptr;
 
   parallelRows(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
@@ -123,8 +175,8 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
       // Continuous previous position of this pixel's centre.
       float px = x + 0.5f, py = y + 0.5f;
       if (motion) {
-        px += cur.plane(Buffer::Motion, 0).data[i];
-        py += cur.plane(Buffer::Motion, 1).data[i];
+        px += motionX[i];
+        py += motionY[i];
       } else if (fromCamera) {
         float v[4], c[4];
         transformPoint(prev.camera.worldToCamera, cur.plane(Buffer::Position, 0).data[i],
@@ -140,9 +192,8 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
       out.prevX.data[i] = px;
       out.prevY.data[i] = py;
 
-      const float depthTol = test.depth ? s.depthTolerance * cur.plane(Buffer::Depth).data[i] +
-                                              s.depthGradientScale * test.depthSlope(x, y)
-                                        : 0.0f;
+      const TapTest::Pixel pixel =
+          test.load(i, test.z ? s.depthTolerance * test.z[i] + s.depthGradientScale * test.depthSlope(x, y, w, h) : 0.0f);
       // Bilinear footprint: taps are pixel centres, so the top-left tap is floor(p - 0.5).
       const float fx = px - 0.5f, fy = py - 0.5f;
       out.kind[i] = Reprojection::None;
@@ -154,13 +205,18 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
       float sum = 0.0f;
       std::array<float, 4> wt{0, 0, 0, 0};
       for (int t = 0; t < 4; ++t)
-        if (bw[t] > 0.0f && test.valid(i, tx[t], ty[t], depthTol)) { wt[t] = bw[t]; sum += bw[t]; }
-      if (sum > 1e-4f) {
+        if (bw[t] > 0.0f && test.valid(pixel, tx[t], ty[t])) { wt[t] = bw[t]; sum += bw[t]; }
+      if (sum > 1e-4f && w >= 2 && h >= 2) {
         for (auto& v : wt) v /= sum;
+        // Taps outside the image have weight 0; slide the 2x2 window inside (moving the weights
+        // with it) so gathers can read all four taps without bounds checks.
+        int bx = x0, by = y0;
+        if (bx < 0) { bx = 0; wt = {wt[1], 0.0f, wt[3], 0.0f}; }
+        if (bx > w - 2) { bx = w - 2; wt = {0.0f, wt[0], 0.0f, wt[2]}; }
+        if (by < 0) { by = 0; wt = {wt[2], wt[3], 0.0f, 0.0f}; }
+        if (by > h - 2) { by = h - 2; wt = {0.0f, 0.0f, wt[0], wt[1]}; }
         out.kind[i] = Reprojection::Bilinear;
-        // Taps of weight 0 may be outside; base stays the top-left tap index (may be negative
-        // offsets only through zero-weight taps, which gather() never reads).
-        out.base[i] = y0 * w + x0;
+        out.base[i] = by * w + bx;
         out.weights[i] = wt;
         continue;
       }
@@ -168,7 +224,7 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
       const int cx = int(std::floor(px)), cy = int(std::floor(py));
       uint16_t mask = 0;
       for (int t = 0; t < 9; ++t)
-        if (test.valid(i, cx + t % 3 - 1, cy + t / 3 - 1, depthTol)) mask |= uint16_t(1u << t);
+        if (test.valid(pixel, cx + t % 3 - 1, cy + t / 3 - 1)) mask |= uint16_t(1u << t);
       if (mask) {
         out.kind[i] = Reprojection::Fallback3x3;
         out.base[i] = cy * w + cx;

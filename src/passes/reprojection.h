@@ -16,7 +16,7 @@ struct Reprojection {
   enum Kind : uint8_t { None = 0, Bilinear = 1, Fallback3x3 = 2 };
   int width = 0, height = 0;
   std::vector<uint8_t> kind;                     ///< per pixel
-  std::vector<int32_t> base;                     ///< bilinear: index of the top-left tap; 3x3: of the centre
+  std::vector<int32_t> base;                     ///< bilinear: index of the top-left tap (always inside); 3x3: of the centre
   std::vector<std::array<float, 4>> weights;     ///< bilinear: renormalized weights of the 2x2 taps
   std::vector<uint16_t> mask3x3;                 ///< 3x3: bit (dy+1)*3+(dx+1) set where the tap is valid
   Plane prevX, prevY;                            ///< reprojected continuous position, pixel units (centre of pixel i at i + 0.5)
@@ -27,20 +27,32 @@ struct Reprojection {
   float gather(const Plane& h, size_t i) const {
     const float* p = h.ptr();
     switch (kind[i]) {
-      case Bilinear: {
-        const int b = base[i], w = h.width;
-        const auto& wt = weights[i];
-        // Taps with zero weight may lie outside the image; skip them without reading.
-        float v = 0.0f;
-        if (wt[0] != 0.0f) v += wt[0] * p[b];
-        if (wt[1] != 0.0f) v += wt[1] * p[b + 1];
-        if (wt[2] != 0.0f) v += wt[2] * p[b + w];
-        if (wt[3] != 0.0f) v += wt[3] * p[b + w + 1];
-        return v;
-      }
+      case Bilinear: return gatherBilinear(p, h.width, i);
       case Fallback3x3: return gather3x3(h, i);
       default: return 0.0f;
     }
+  }
+
+  /// The history taps of pixel i as (index, weight) pairs with weights summing to 1, so
+  /// several planes can be gathered with one decode. Returns the number of taps (0 for None).
+  struct Taps {
+    int32_t index[9];
+    float weight[9];
+    int count = 0;
+    float gather(const Plane& h) const {
+      float v = 0.0f;
+      for (int t = 0; t < count; ++t) v += weight[t] * h.ptr()[index[t]];
+      return v;
+    }
+  };
+  int taps(size_t i, Taps& out) const;
+
+  /// Bilinear history of a Bilinear pixel: all four taps lie inside the previous frame
+  /// (reproject() slides the footprint inside, taps outside having weight 0).
+  float gatherBilinear(const float* h, int width, size_t i) const {
+    const int b = base[i];
+    const auto& wt = weights[i];
+    return wt[0] * h[b] + wt[1] * h[b + 1] + wt[2] * h[b + width] + wt[3] * h[b + width + 1];
   }
 
   /// Number of pixels of each kind (for tests and statistics).

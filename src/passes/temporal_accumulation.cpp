@@ -1,5 +1,7 @@
 #include "passes/temporal_accumulation.h"
 
+#include <cmath>
+
 #include "core/parallel.h"
 
 namespace rtd {
@@ -28,8 +30,6 @@ void TemporalAccumulator::resize(int w, int h) {
     m2_[k].resize(w, h);
     length_[k].resize(w, h);
   }
-  lum_.resize(w, h);
-  lum2_.resize(w, h);
   cur_ = 0;
 }
 
@@ -44,64 +44,57 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
   run(rp, color, alpha, momentsAlpha, maxHistoryLength, AccumulationOptions{});
 }
 
-namespace {
-// Plain exponential moving average: w = alpha wherever the pixel has history.
-void accumulatePlaneEma(const Reprojection& rp, float alpha, const Plane& current, const Plane& history, Plane& out) {
-  const int w = rp.width;
-  parallelRows(rp.height, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      const float c = current.data[i];
-      out.data[i] = rp.kind[i] == Reprojection::None ? c : alpha * c + (1.0f - alpha) * rp.gather(history, i);
-    }
-  });
-}
-}  // namespace
-
 void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha,
                               int maxHistoryLength, const AccumulationOptions& options) {
   const int prev = cur_;
   cur_ ^= 1;
-  updateHistoryLength(rp, length_[prev], maxHistoryLength, length_[cur_]);
   const int w = rp.width;
+  const float maxLength = float(maxHistoryLength);
+  const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
+  // One fused pass per pixel: history length, colour and both moments from the same taps.
   parallelRows(rp.height, [&](int y) {
-    const float *r = color[0].row(y), *g = color[1].row(y), *b = color[2].row(y);
-    float *l = lum_.row(y), *l2 = lum2_.row(y);
-    if (options.luminance == MomentLuminance::Rec709) {
-      for (int x = 0; x < w; ++x) {
-        l[x] = luminance(r[x], g[x], b[x]);
-        l2[x] = l[x] * l[x];
-      }
-    } else {
-      for (int x = 0; x < w; ++x) {
-        l[x] = momentLuminance(options.luminance, r[x], g[x], b[x]);
-        l2[x] = l[x] * l[x];
-      }
-    }
-  });
-  for (int c = 0; c < 3; ++c) accumulatePlane(rp, length_[cur_], alpha, color[c], color_[prev][c], color_[cur_][c]);
-  if (options.cumulativeMoments) {
-    accumulatePlane(rp, length_[cur_], momentsAlpha, lum_, m1_[prev], m1_[cur_]);
-    accumulatePlane(rp, length_[cur_], momentsAlpha, lum2_, m2_[prev], m2_[cur_]);
-  } else {
-    accumulatePlaneEma(rp, momentsAlpha, lum_, m1_[prev], m1_[cur_]);
-    accumulatePlaneEma(rp, momentsAlpha, lum2_, m2_[prev], m2_[cur_]);
-  }
-  if (options.sampleMask) carryUnsampled(rp, *options.sampleMask, prev);
-}
-
-void TemporalAccumulator::carryUnsampled(const Reprojection& rp, const Plane& mask, int prev) {
-  const int w = rp.width;
-  parallelRows(rp.height, [&](int y) {
-    const float* m = mask.row(y);
+    Reprojection::Taps taps;
+    const float *lenPrev = length_[prev].ptr(), *m1Prev = m1_[prev].ptr(), *m2Prev = m2_[prev].ptr();
+    const float* cPrev[3] = {color_[prev][0].ptr(), color_[prev][1].ptr(), color_[prev][2].ptr()};
     for (int x = 0; x < w; ++x) {
-      if (m[x] != 0.0f) continue;
       const size_t i = size_t(y) * w + x;
-      const bool has = rp.kind[i] != Reprojection::None;
-      for (int c = 0; c < 3; ++c) color_[cur_][c].data[i] = has ? rp.gather(color_[prev][c], i) : 0.0f;
-      m1_[cur_].data[i] = has ? rp.gather(m1_[prev], i) : 0.0f;
-      m2_[cur_].data[i] = has ? rp.gather(m2_[prev], i) : 0.0f;
-      length_[cur_].data[i] = has ? std::round(rp.gather(length_[prev], i)) : 0.0f;
+      const float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
+      const float l = options.luminance == MomentLuminance::Rec709 ? luminance(c[0], c[1], c[2])
+                                                                   : momentLuminance(options.luminance, c[0], c[1], c[2]);
+      float histLength = 0.0f, hist[3] = {0, 0, 0}, hist1 = 0.0f, hist2 = 0.0f;
+      const uint8_t kind = rp.kind[i];
+      if (kind == Reprojection::Bilinear) {
+        histLength = rp.gatherBilinear(lenPrev, w, i);
+        for (int k = 0; k < 3; ++k) hist[k] = rp.gatherBilinear(cPrev[k], w, i);
+        hist1 = rp.gatherBilinear(m1Prev, w, i);
+        hist2 = rp.gatherBilinear(m2Prev, w, i);
+      } else if (kind == Reprojection::Fallback3x3) {
+        rp.taps(i, taps);
+        histLength = taps.gather(length_[prev]);
+        for (int k = 0; k < 3; ++k) hist[k] = taps.gather(color_[prev][k]);
+        hist1 = taps.gather(m1_[prev]);
+        hist2 = taps.gather(m2_[prev]);
+      }
+      // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
+      const bool none = kind == Reprojection::None;
+      const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
+      const float a = newSampleWeight(n, alpha);
+      // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
+      // wherever there is history (Schied et al. 2017).
+      const float am = options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
+      if (mask && mask[i] == 0.0f) {
+        // No sample this frame (Dundr Sec. 5): the history carries over unchanged; without
+        // history the pixel stays missing (length 0).
+        length_[cur_].data[i] = none ? 0.0f : std::round(histLength);
+        for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = hist[k];
+        m1_[cur_].data[i] = hist1;
+        m2_[cur_].data[i] = hist2;
+        continue;
+      }
+      length_[cur_].data[i] = n;
+      for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
+      m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;
+      m2_[cur_].data[i] = am * l * l + (1.0f - am) * hist2;
     }
   });
 }

@@ -76,11 +76,8 @@ class TemporalAccumulator {
   }
 
  private:
-  void carryUnsampled(const Reprojection& rp, const Plane& mask, int prev);
-
   Plane3 color_[2];
   Plane m1_[2], m2_[2], length_[2];
-  Plane lum_, lum2_;
   int cur_ = 0;
 };
 

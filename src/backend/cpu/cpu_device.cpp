@@ -1,5 +1,8 @@
 // Device::create and the CPU device: a oneTBB arena that every CPU denoiser runs in.
 #include <tbb/info.h>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <tbb/task_arena.h>
 
 #include "core/registry.h"
@@ -8,11 +11,23 @@
 namespace rtd {
 
 namespace {
+
+// Denoisers hold a reference to their device's arena and may outlive the Device object
+// (`Device::create()->createDenoiser(...)` is a natural thing to write), so arenas live for
+// the whole process: one per thread count, created on first use.
+tbb::task_arena& arenaFor(int threads) {
+  static std::mutex mutex;
+  static std::map<int, std::unique_ptr<tbb::task_arena>> arenas;
+  std::lock_guard lock(mutex);
+  auto& a = arenas[threads];
+  if (!a) a = std::make_unique<tbb::task_arena>(threads);
+  return *a;
+}
+
 class CpuDevice final : public Device {
  public:
   explicit CpuDevice(int threads)
-      : arena_(threads > 0 ? threads : tbb::info::default_concurrency()),
-        threads_(threads > 0 ? threads : tbb::info::default_concurrency()) {}
+      : threads_(threads > 0 ? threads : tbb::info::default_concurrency()), arena_(arenaFor(threads_)) {}
   Backend backend() const override { return Backend::Cpu; }
   std::string name() const override { return "CPU (" + std::to_string(threads_) + " threads, oneTBB)"; }
   std::unique_ptr<Denoiser> createDenoiser(std::string_view method) override {
@@ -23,14 +38,31 @@ class CpuDevice final : public Device {
   }
 
  private:
-  tbb::task_arena arena_;
   int threads_;
+  tbb::task_arena& arena_;
 };
 }  // namespace
 
 #ifdef RTD_HAS_VULKAN
 std::unique_ptr<Device> createVulkanDevice(const DeviceDesc& desc);
+std::vector<DeviceInfo> listVulkanDevices();
 #endif
+
+std::vector<DeviceInfo> listDevices(std::string* vulkanError) {
+  std::vector<DeviceInfo> out;
+  const int threads = tbb::info::default_concurrency();
+  out.push_back({Backend::Cpu, 0, "CPU", std::to_string(threads) + " threads, oneTBB"});
+#ifdef RTD_HAS_VULKAN
+  try {
+    for (auto& d : listVulkanDevices()) out.push_back(std::move(d));
+  } catch (const Error& e) {
+    if (vulkanError) *vulkanError = e.what();
+  }
+#else
+  if (vulkanError) *vulkanError = "this build of rtdenoise has no Vulkan backend (configure with -DRTD_VULKAN=ON)";
+#endif
+  return out;
+}
 
 std::unique_ptr<Device> Device::create(const DeviceDesc& desc) {
   if (desc.backend == Backend::Cpu) return std::make_unique<CpuDevice>(desc.threads);

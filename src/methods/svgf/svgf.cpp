@@ -63,6 +63,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     for (auto& im : levels_) im.resize(w, h, pad);
     sigmaScale_.resize(w, h, pad);
     for (auto& v : valid_) v.resize(w, h, pad);
+    for (auto& v : scratch_) v.resize(w, h, pad);
     for (auto& s : streams_) {
       rtd::resize(s.demod, w, h);
       s.accumulator.resize(w, h);
@@ -197,7 +198,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       p.depthEpsilon = s.depthEpsilon;
       p.normalExponent = normalExponent;
       p.luminance = lum;
-      svgf::estimateVariance(guide_, in, p, levels_[0]);
+      svgf::estimateVariance(guide_, in, p, levels_[0], scratch_);
       svgf::luminanceSigmaScale(st.accumulator.historyLength(), s, sigmaScale_);
       if (mask_) markValid(st.accumulator.historyLength(), valid_[0]);
       if (s.variancePrefilter == SvgfVariancePrefilter::once) {
@@ -298,7 +299,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   AtrousGuide guide_;
   AtrousImage levels_[3];
   PaddedPlane sigmaScale_;
-  PaddedPlane valid_[2];
+  PaddedPlane valid_[2], scratch_[2];
   const Plane* mask_ = nullptr;
   Stream streams_[kMaxStreams];
   Plane3 sum_, display_;

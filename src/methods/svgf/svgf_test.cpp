@@ -345,6 +345,8 @@ TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
   g.resize(w, h, 8);
   AtrousImage out;
   out.resize(w, h, 8);
+  PaddedPlane scratch[2];
+  for (auto& p : scratch) p.resize(w, h, 8);
   Plane len(w, h), m1(w, h), m2(w, h);
   Plane3 cur, acc;
   resize(cur, w, h);
@@ -361,7 +363,7 @@ TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
     }
   svgf::VarianceInputs in{&len, &m1, &m2, &cur, &acc};
   svgf::VarianceParams p;  // Schied: 7x7 from the current luminance, n < 4
-  const size_t spatial = svgf::estimateVariance(g, in, p, out);
+  const size_t spatial = svgf::estimateVariance(g, in, p, out, scratch);
   size_t expectedSpatial = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -389,12 +391,12 @@ TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
   // current luminance is a checkerboard; and > 0 when the current frame is black.
   for (auto& c : cur) c.fill(0.0f);
   p.fromMoments = true;
-  svgf::estimateVariance(g, in, p, out);
+  svgf::estimateVariance(g, in, p, out, scratch);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) ASSERT_NEAR(out.var.at(x, y), 0.09f, 1e-6);
   // Current-luminance estimate of a black frame is 0 where the history is short.
   p.fromMoments = false;
-  svgf::estimateVariance(g, in, p, out);
+  svgf::estimateVariance(g, in, p, out, scratch);
   EXPECT_EQ(out.var.at(0, 0), 0.0f);  // len(0,0) = 1
 }
 

@@ -1,0 +1,46 @@
+// rtdenoise eval: metrics of a denoised sequence (and optionally the noisy input) against a reference.
+#ifdef HAVE_RTDENOISE_EVAL
+#include <filesystem>
+
+#include "cli.h"
+#include "eval_options.h"
+
+namespace rtd::cli {
+
+namespace {
+struct Options {
+  std::string reference, result, input, json;
+  EvalOptions eval;
+};
+
+void run(const Options& o) {
+  const auto settings = o.eval.settings();
+  Progress progress("eval", 1);
+  std::unique_ptr<Progress> bar;
+  const auto streams = eval::evaluateDirectories(
+      o.reference, o.result, o.input.empty() ? std::nullopt : std::optional<std::filesystem::path>(o.input), settings,
+      [&](int done, int total) {
+        if (!bar) bar = std::make_unique<Progress>("eval", total);
+        bar->update(done);
+      });
+  if (bar) bar->finish();
+  std::printf("%s", eval::summaryTable(streams, settings).c_str());
+  const std::string json = o.json.empty() ? (std::filesystem::path(o.result) / "metrics.json").string() : o.json;
+  writeFileAtomic(json, eval::metricsJson(streams, settings));
+  std::printf("wrote %s\n", json.c_str());
+}
+}  // namespace
+
+void addEval(CLI::App& app) {
+  auto o = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("eval", "metrics of a result sequence against a reference (table + JSON)");
+  cmd->add_option("--reference,-r", o->reference, "reference directory (frame EXRs or a sequence)")->required();
+  cmd->add_option("--result", o->result, "result directory (e.g. `rtdenoise denoise` output)")->required();
+  cmd->add_option("--input,-i", o->input, "noisy input sequence, evaluated as a second row");
+  cmd->add_option("--json", o->json, "JSON output (default: <result>/metrics.json)");
+  o->eval.add(cmd);
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace rtd::cli
+#endif

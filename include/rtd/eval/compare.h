@@ -1,0 +1,91 @@
+// rtdenoise evaluation — run several methods (and backends) on one sequence, evaluate each
+// against the reference, keep per-pass timings, and write a self-contained HTML report.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "rtd/denoiser.h"
+#include "rtd/eval/evaluate.h"
+#include "rtd/sequence.h"
+
+namespace rtd::eval {
+
+/// Where frames come from: a sequence on disk, the analytic scene, or the renderer.
+/// `load(index, reference)` returns input frame `index` (0-based) and fills its linear HDR
+/// reference (RGB).
+struct FrameSource {
+  std::string description;
+  int frameCount = 0;
+  std::function<Frame(int index, Image& reference)> load;
+};
+
+/// Frame source reading an input sequence and a reference directory (RgbSequence), matched by
+/// frame number. Throws rtd::Error naming the missing or mismatched file.
+FrameSource directorySource(const std::filesystem::path& inputDir, const std::filesystem::path& referenceDir,
+                            int maxFrames = 0);
+
+struct CompareSettings {
+  std::vector<std::string> methods;           ///< method names; empty: every method with a CPU implementation
+  std::vector<Backend> backends{Backend::Cpu};
+  /// "method.setting=value" (or "setting=value" for every method that has it).
+  std::vector<std::string> settings;
+  int threads = 0;
+  EvalSettings eval;
+  bool includeInput = true;  ///< evaluate the noisy input as a row too
+  int shownFrame = -1;       ///< frame index shown in the report's images; -1: the last
+  /// Crop shown enlarged in the report (pixels); width 0: an automatic centred crop.
+  int cropX = 0, cropY = 0, cropWidth = 0, cropHeight = 0;
+};
+
+/// One evaluated stream: the input, or one method on one backend.
+struct MethodRun {
+  std::string label;    ///< "input", "svgf", "svgf (vulkan)"
+  std::string method;   ///< empty for the input
+  std::string backend;  ///< empty for the input
+  std::string device;
+  std::vector<SettingInfo> settings;
+  StreamMetrics metrics;
+  std::vector<std::string> passOrder;
+  std::map<std::string, std::vector<double>> passMs;  ///< per timed frame (after warm-up)
+  std::vector<double> totalMs;                        ///< per frame, all frames
+  Image shown;    ///< linear HDR output at the shown frame
+  Image flipMap;  ///< FLIP error map at the shown frame
+  double shownFlip = 0;
+  double medianTotalMs() const;
+  double medianPassMs(const std::string& pass) const;
+};
+
+struct Comparison {
+  std::string title = "rtdenoise comparison";
+  std::string source;
+  int width = 0, height = 0, frames = 0;
+  int shownFrameNumber = 0;
+  EvalSettings eval;
+  std::vector<MethodRun> runs;  ///< the input first (if included), then each method/backend
+  Image reference;              ///< linear HDR reference at the shown frame
+  int cropX = 0, cropY = 0, cropWidth = 0, cropHeight = 0;
+  double seconds = 0;  ///< wall time of the whole comparison
+  std::string machine; ///< CPU model
+};
+
+/// Runs every method over the source frame by frame (one denoiser per method and backend),
+/// evaluating each output as it comes. `progress(done, total, detail)` after each frame.
+Comparison runComparison(const FrameSource& source, const CompareSettings& settings,
+                         const std::function<void(int, int, const std::string&)>& progress = {});
+
+/// The comparison's metrics as a table, one row per run (steady-state means, median ms).
+std::string comparisonTable(const Comparison& c);
+/// JSON text of the comparison (settings, per-frame metrics, summaries, timings).
+std::string comparisonJson(const Comparison& c);
+/// A self-contained HTML report (images as PNG data URIs, plots as inline SVG).
+std::string comparisonHtml(const Comparison& c);
+/// Writes comparisonHtml() to `path` atomically.
+void writeHtmlReport(const Comparison& c, const std::filesystem::path& path);
+
+/// PNG encoding of an 8-bit image (sRGB-encoded floats in [0,1]); used by the report.
+std::string encodePng(const Image& srgb);
+
+}  // namespace rtd::eval

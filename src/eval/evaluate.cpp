@@ -1,0 +1,350 @@
+// Sequence evaluation: per-frame metrics, temporal error, warm-up split, directory matching.
+#include "rtd/eval/evaluate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "rtd/error.h"
+#include "rtd/sequence.h"
+#include "eval/json_util.h"
+
+namespace rtd::eval {
+
+namespace fs = std::filesystem;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+const std::vector<MetricInfo>& metricList() {
+  static const std::vector<MetricInfo> list = {
+      {"psnr", "PSNR [dB]", "tone-mapped sRGB", true, &FrameMetrics::psnr, false},
+      {"ssim", "SSIM", "tone-mapped sRGB", true, &FrameMetrics::ssim, false},
+      {"flip", "FLIP", "tone-mapped sRGB", false, &FrameMetrics::flip, false},
+      {"relMse", "relMSE", "linear HDR", false, &FrameMetrics::relMse, false},
+      {"rmse", "RMSE", "linear HDR", false, &FrameMetrics::rmse, false},
+      {"temporalError", "temporal", "tone-mapped sRGB luma", false, &FrameMetrics::temporalError, true},
+      {"temporalErrorVsReference", "temporal vs ref", "tone-mapped sRGB luma", false,
+       &FrameMetrics::temporalErrorVsReference, true},
+      {"referenceTemporalError", "ref temporal", "tone-mapped sRGB luma", false,
+       &FrameMetrics::referenceTemporalError, true},
+  };
+  return list;
+}
+
+MetricSummary summarize(const std::vector<FrameMetrics>& frames, bool warmup) {
+  MetricSummary s;
+  for (const auto& m : metricList()) {
+    double sum = 0;
+    int n = 0;
+    for (const auto& f : frames) {
+      if (f.warmup != warmup) continue;
+      const double v = f.*m.field;
+      if (std::isnan(v)) continue;
+      sum += v;
+      ++n;
+    }
+    s.mean.*m.field = n ? sum / n : kNaN;
+  }
+  for (const auto& f : frames) s.frames += f.warmup == warmup;
+  return s;
+}
+
+SequenceEvaluator::SequenceEvaluator(EvalSettings settings) : settings_(std::move(settings)) {}
+
+void SequenceEvaluator::resetTemporal() {
+  prevResultLuma_ = Image();
+  prevReferenceLuma_ = Image();
+}
+
+namespace {
+Image rgbOnly(const Image& img) {
+  if (img.channels == 3) return img;
+  if (img.channels < 3) throw Error("expected an RGB image, got " + std::to_string(img.channels) + " channel(s)");
+  Image out(img.width, img.height, 3);
+  for (size_t i = 0; i < size_t(img.width) * img.height; ++i)
+    for (int c = 0; c < 3; ++c) out.pixels[i * 3 + c] = img.pixels[i * img.channels + c];
+  return out;
+}
+}  // namespace
+
+PreparedReference prepareReference(int number, const Image& reference, const EvalSettings& settings) {
+  PreparedReference p;
+  p.number = number;
+  p.linear = rgbOnly(reference);
+  p.ldr = toneMap(p.linear, settings.toneMap);
+  p.luma = luminance(p.ldr);
+  if (settings.computeFlip) p.flip = FlipReference(p.ldr, settings.flip);
+  return p;
+}
+
+const FrameMetrics& SequenceEvaluator::add(int number, const Image& result, const Image& reference, Image* flipMap) {
+  if (result.width != reference.width || result.height != reference.height)
+    throw Error("frame " + std::to_string(number) + ": result is " + std::to_string(result.width) + "x" +
+                std::to_string(result.height) + " but reference is " + std::to_string(reference.width) + "x" +
+                std::to_string(reference.height));
+  return add(result, prepareReference(number, reference, settings_), flipMap);
+}
+
+const FrameMetrics& SequenceEvaluator::add(const Image& result, const PreparedReference& ref, Image* flipMap) {
+  if (result.width != ref.linear.width || result.height != ref.linear.height)
+    throw Error("frame " + std::to_string(ref.number) + ": result is " + std::to_string(result.width) + "x" +
+                std::to_string(result.height) + " but reference is " + std::to_string(ref.linear.width) + "x" +
+                std::to_string(ref.linear.height));
+  FrameMetrics m;
+  m.number = ref.number;
+  m.warmup = int(frames_.size()) < settings_.warmupFrames;
+  const Image resultHdr = rgbOnly(result);
+  const Image resultLdr = toneMap(resultHdr, settings_.toneMap);
+
+  m.psnr = psnr(resultLdr, ref.ldr);
+  m.ssim = ssim(resultLdr, ref.ldr);
+  m.flip = settings_.computeFlip && !ref.flip.empty() ? ref.flip.compare(resultLdr, flipMap) : kNaN;
+  m.relMse = relMse(resultHdr, ref.linear, settings_.relMseEpsilon);
+  m.rmse = rmse(resultHdr, ref.linear);
+
+  // Temporal error (Schied et al. 2017): mean absolute luma change between consecutive frames.
+  Image lr = luminance(resultLdr);
+  const Image& lf = ref.luma;
+  if (!prevResultLuma_.empty() && prevResultLuma_.width == lr.width && prevResultLuma_.height == lr.height) {
+    double raw = 0, refSum = 0, vs = 0;
+    for (size_t i = 0; i < lr.pixels.size(); ++i) {
+      const double dr = double(lr.pixels[i]) - prevResultLuma_.pixels[i];
+      const double df = double(lf.pixels[i]) - prevReferenceLuma_.pixels[i];
+      raw += std::abs(dr);
+      refSum += std::abs(df);
+      vs += std::abs(dr - df);
+    }
+    const double n = double(lr.pixels.size());
+    m.temporalError = raw / n;
+    m.referenceTemporalError = refSum / n;
+    m.temporalErrorVsReference = vs / n;
+  } else {
+    m.temporalError = m.referenceTemporalError = m.temporalErrorVsReference = kNaN;
+  }
+  prevResultLuma_ = std::move(lr);
+  prevReferenceLuma_ = lf;
+  frames_.push_back(m);
+  return frames_.back();
+}
+
+// ---------------------------------------------------------------------------------------------
+
+int RgbSequence::indexOf(int number) const {
+  for (int i = 0; i < frameCount(); ++i)
+    if (frameNumber(i) == number) return i;
+  return -1;
+}
+
+namespace {
+/// A native or Blender sequence: the color buffer.
+class ReaderSequence final : public RgbSequence {
+ public:
+  explicit ReaderSequence(std::unique_ptr<SequenceReader> r) : r_(std::move(r)) {}
+  int frameCount() const override { return r_->frameCount(); }
+  int frameNumber(int i) const override { return r_->frameNumber(i); }
+  fs::path framePath(int i) const override { return r_->framePath(i); }
+  Image read(int i) const override {
+    Frame f = r_->read(i);
+    if (!f.has(Buffer::Color)) throw Error("'" + framePath(i).string() + "' has no color buffer");
+    return std::move(f[Buffer::Color]);
+  }
+
+ private:
+  std::unique_ptr<SequenceReader> r_;
+};
+
+/// A directory of RGB EXR files named <anything><digits>.exr.
+class ExrFilesSequence final : public RgbSequence {
+ public:
+  explicit ExrFilesSequence(std::vector<std::pair<int, fs::path>> files) : files_(std::move(files)) {}
+  int frameCount() const override { return int(files_.size()); }
+  int frameNumber(int i) const override { return files_[i].first; }
+  fs::path framePath(int i) const override { return files_[i].second; }
+  Image read(int i) const override { return readRgbExr(files_[i].second); }
+
+ private:
+  std::vector<std::pair<int, fs::path>> files_;
+};
+
+std::optional<int> trailingNumber(const std::string& stem) {
+  size_t end = stem.size(), begin = end;
+  while (begin > 0 && std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) --begin;
+  if (begin == end || end - begin > 9) return std::nullopt;
+  return std::stoi(stem.substr(begin));
+}
+}  // namespace
+
+std::unique_ptr<RgbSequence> RgbSequence::open(const fs::path& dir, const std::string& role) {
+  if (!fs::is_directory(dir)) throw Error(role + " directory '" + dir.string() + "' does not exist");
+  if (fs::exists(dir / "sequence.json")) return std::make_unique<ReaderSequence>(SequenceReader::open(dir));
+  std::vector<std::pair<int, fs::path>> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (!e.is_regular_file() || e.path().extension() != ".exr") continue;
+    if (auto n = trailingNumber(e.path().stem().string())) files.emplace_back(*n, e.path());
+  }
+  if (files.empty()) throw Error(role + " directory '" + dir.string() + "' holds no frame EXR files (frame_NNNN.exr)");
+  std::sort(files.begin(), files.end());
+  for (size_t i = 1; i < files.size(); ++i)
+    if (files[i].first == files[i - 1].first)
+      throw Error(role + " directory '" + dir.string() + "': '" + files[i - 1].second.filename().string() + "' and '" +
+                  files[i].second.filename().string() + "' have the same frame number");
+  // Blender multilayer files have no top-level R, G, B: read them as a Blender sequence.
+  try {
+    (void)readRgbExr(files.front().second);
+  } catch (const Error&) {
+    return std::make_unique<ReaderSequence>(SequenceReader::open(dir));
+  }
+  return std::make_unique<ExrFilesSequence>(std::move(files));
+}
+
+std::vector<StreamMetrics> evaluateDirectories(const fs::path& referenceDir, const fs::path& resultDir,
+                                               const std::optional<fs::path>& inputDir, const EvalSettings& settings,
+                                               const std::function<void(int, int)>& progress) {
+  auto reference = RgbSequence::open(referenceDir, "reference");
+  auto result = RgbSequence::open(resultDir, "result");
+  std::unique_ptr<RgbSequence> input;
+  if (inputDir) input = RgbSequence::open(*inputDir, "input");
+
+  const int n = result->frameCount();
+  std::vector<int> refIndex(n), inIndex(n, -1);
+  for (int i = 0; i < n; ++i) {
+    const int number = result->frameNumber(i);
+    if (i > 0 && number != result->frameNumber(i - 1) + 1)
+      throw Error("result: frame " + std::to_string(result->frameNumber(i - 1) + 1) + " is missing between '" +
+                  result->framePath(i - 1).string() + "' and '" + result->framePath(i).string() + "'");
+    refIndex[i] = reference->indexOf(number);
+    if (refIndex[i] < 0)
+      throw Error("reference: no frame " + std::to_string(number) + " in '" + referenceDir.string() +
+                  "' for result frame '" + result->framePath(i).string() + "'");
+    if (input) {
+      inIndex[i] = input->indexOf(number);
+      if (inIndex[i] < 0)
+        throw Error("input: no frame " + std::to_string(number) + " in '" + inputDir->string() +
+                    "' for result frame '" + result->framePath(i).string() + "'");
+    }
+  }
+
+  SequenceEvaluator resultEval(settings), inputEval(settings);
+  for (int i = 0; i < n; ++i) {
+    const Image ref = reference->read(refIndex[i]);
+    const auto check = [&](const Image& img, const RgbSequence& seq, int index) {
+      if (img.width != ref.width || img.height != ref.height)
+        throw Error("'" + seq.framePath(index).string() + "' is " + std::to_string(img.width) + "x" +
+                    std::to_string(img.height) + " but reference '" + reference->framePath(refIndex[i]).string() +
+                    "' is " + std::to_string(ref.width) + "x" + std::to_string(ref.height));
+    };
+    const Image res = result->read(i);
+    check(res, *result, i);
+    const PreparedReference prepared = prepareReference(result->frameNumber(i), ref, settings);
+    resultEval.add(res, prepared);
+    if (input) {
+      const Image in = input->read(inIndex[i]);
+      check(in, *input, inIndex[i]);
+      inputEval.add(in, prepared);
+    }
+    if (progress) progress(i + 1, n);
+  }
+  std::vector<StreamMetrics> out;
+  out.push_back({"result", resultEval.frames(), resultEval.steady(), resultEval.warmup()});
+  if (input) out.push_back({"input", inputEval.frames(), inputEval.steady(), inputEval.warmup()});
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+std::string formatValue(double v, const MetricInfo& m) {
+  char buf[32];
+  if (std::isnan(v)) return "-";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  if (std::string(m.key) == "psnr")
+    std::snprintf(buf, sizeof buf, "%.2f", v);
+  else if (std::string(m.key) == "ssim" || std::string(m.key) == "flip")
+    std::snprintf(buf, sizeof buf, "%.4f", v);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+std::string tableFor(const std::vector<StreamMetrics>& streams, bool warmup) {
+  std::string out;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%-22s %6s", "", "frames");
+  out += buf;
+  for (const auto& m : metricList()) {
+    std::snprintf(buf, sizeof buf, " %15s", m.label);
+    out += buf;
+  }
+  out += "\n";
+  for (const auto& s : streams) {
+    const MetricSummary& sum = warmup ? s.warmup : s.steady;
+    std::snprintf(buf, sizeof buf, "%-22s %6d", s.name.substr(0, 22).c_str(), sum.frames);
+    out += buf;
+    for (const auto& m : metricList()) {
+      std::snprintf(buf, sizeof buf, " %15s", formatValue(sum.mean.*m.field, m).c_str());
+      out += buf;
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+nlohmann::json number(double v) {
+  if (std::isnan(v)) return nullptr;
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return v;
+}
+}  // namespace
+
+std::string summaryTable(const std::vector<StreamMetrics>& streams, const EvalSettings& settings) {
+  std::string out = "mean after " + std::to_string(settings.warmupFrames) + " warm-up frame(s):\n";
+  out += tableFor(streams, false);
+  if (settings.warmupFrames > 0) {
+    out += "mean over the warm-up frames:\n";
+    out += tableFor(streams, true);
+  }
+  out += "(PSNR, SSIM, FLIP and temporal errors on " + operatorName(settings.toneMap.op) +
+         "-tone-mapped sRGB; relMSE, RMSE on linear HDR; 'temporal' is the mean |luma change| between consecutive frames, 'temporal vs ref' its difference from the reference's own change)\n";
+  return out;
+}
+
+nlohmann::json summaryJson(const MetricSummary& s) {
+  nlohmann::json j = {{"frames", s.frames}};
+  for (const auto& m : metricList()) j[m.key] = number(s.mean.*m.field);
+  return j;
+}
+
+nlohmann::json framesJson(const std::vector<FrameMetrics>& frames) {
+  nlohmann::json arr = nlohmann::json::array();
+  for (const auto& f : frames) {
+    nlohmann::json j = {{"number", f.number}, {"warmup", f.warmup}};
+    for (const auto& m : metricList()) j[m.key] = number(f.*m.field);
+    arr.push_back(j);
+  }
+  return arr;
+}
+
+nlohmann::json settingsJson(const EvalSettings& s) {
+  nlohmann::json metrics = nlohmann::json::object();
+  for (const auto& m : metricList())
+    metrics[m.key] = {{"label", m.label}, {"space", m.space}, {"higherIsBetter", m.higherIsBetter}};
+  return {{"toneMap", operatorName(s.toneMap.op)},
+          {"exposure", s.toneMap.exposure},
+          {"warmupFrames", s.warmupFrames},
+          {"flipPixelsPerDegree", s.flip.pixelsPerDegree()},
+          {"relMseEpsilon", s.relMseEpsilon},
+          {"metrics", metrics}};
+}
+
+std::string metricsJson(const std::vector<StreamMetrics>& streams, const EvalSettings& settings) {
+  nlohmann::json j = {{"settings", settingsJson(settings)}, {"streams", nlohmann::json::array()}};
+  for (const auto& s : streams)
+    j["streams"].push_back({{"name", s.name},
+                            {"steady", summaryJson(s.steady)},
+                            {"warmup", summaryJson(s.warmup)},
+                            {"frames", framesJson(s.frames)}});
+  return j.dump(1);
+}
+
+}  // namespace rtd::eval

@@ -1,0 +1,166 @@
+// Reprojection: analytic camera motion, per-tap validity and renormalization, the 3x3
+// fallback, and disocclusion.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "passes/reprojection.h"
+#include "support/test_frames.h"
+#include "synthetic/synthetic.h"
+
+namespace rtd {
+namespace {
+
+// A camera translating by s along x shifts a point at view depth z by s * f / z pixels, f the
+// focal length in pixels (h / (2 tan(fov/2))); nothing moves vertically.
+TEST(Reprojection, KnownCameraTranslationGivesAnalyticPreviousPositions) {
+  synthetic::Scene scene;
+  scene.width = 96;
+  scene.height = 54;
+  scene.cameraSpeed = 0.05f;
+  Frame prev = synthetic::makeFrame(scene, 3), cur = synthetic::makeFrame(scene, 4);
+  // Remove the motion buffer: reprojection must then derive motion from the cameras.
+  cur[Buffer::Motion] = Image();
+  prev[Buffer::Motion] = Image();
+  const FrameData p = test::toFrameData(prev), c = test::toFrameData(cur);
+  Reprojection rp;
+  reproject(c, &p, ReprojectionSettings{}, rp);
+
+  const double focal = scene.height / (2.0 * std::tan(scene.verticalFov / 2.0));
+  int checked = 0;
+  for (int y = 0; y < scene.height; ++y)
+    for (int x = 0; x < scene.width; ++x) {
+      const float z = cur[Buffer::Depth].at(x, y);
+      if (cur[Buffer::ObjectId].at(x, y) == 0) continue;  // sky
+      const double expectedX = x + 0.5 + scene.cameraSpeed * focal / z;
+      EXPECT_NEAR(rp.prevX(x, y), expectedX, 2e-3) << x << "," << y;
+      EXPECT_NEAR(rp.prevY(x, y), y + 0.5, 2e-3) << x << "," << y;
+      ++checked;
+    }
+  EXPECT_GT(checked, scene.width * scene.height / 2);
+
+  // The motion buffer (computed by the scene independently) gives the same positions.
+  Frame withMotion = synthetic::makeFrame(scene, 4);
+  const FrameData cm = test::toFrameData(withMotion);
+  Reprojection rm;
+  reproject(cm, &p, ReprojectionSettings{}, rm);
+  for (size_t i = 0; i < rp.prevX.size(); ++i)
+    if (withMotion[Buffer::ObjectId].pixels[i] != 0) ASSERT_NEAR(rm.prevX.data[i], rp.prevX.data[i], 2e-3);
+}
+
+TEST(Reprojection, StaticCameraMapsEveryPixelToItselfWithFullWeight) {
+  const Frame f = test::flatFrame(13, 7, 0.5f);
+  const FrameData d = test::toFrameData(f);
+  Reprojection rp;
+  reproject(d, &d, ReprojectionSettings{}, rp);
+  Plane history(13, 7);
+  for (size_t i = 0; i < history.size(); ++i) history.data[i] = float(i);
+  for (size_t i = 0; i < rp.kind.size(); ++i) {
+    ASSERT_EQ(rp.kind[i], Reprojection::Bilinear);
+    EXPECT_FLOAT_EQ(rp.gather(history, i), float(i));  // exactly its own previous value
+  }
+}
+
+// Motion (+0.5, +0.5) puts the history position on the corner of four pixels: equal bilinear
+// weights. Making one tap fail the depth test leaves three taps of weight 1/3 each.
+TEST(Reprojection, InvalidTapsGetZeroWeightAndTheRestAreRenormalized) {
+  const int w = 8, h = 8;
+  Frame prev = test::flatFrame(w, h, 0.0f, 2.0f), cur = test::flatFrame(w, h, 0.0f, 2.0f);
+  for (int i = 0; i < w * h; ++i) {
+    cur[Buffer::Motion].pixels[size_t(i) * 2 + 0] = 0.5f;
+    cur[Buffer::Motion].pixels[size_t(i) * 2 + 1] = 0.5f;
+  }
+  // Pixel (3,3) reprojects to the corner between (3,3),(4,3),(3,4),(4,4) of the previous frame.
+  prev[Buffer::Depth].at(4, 4) = 10.0f;  // fails the depth test
+  const FrameData p = test::toFrameData(prev), c = test::toFrameData(cur);
+  Reprojection rp;
+  reproject(c, &p, ReprojectionSettings{}, rp);
+  const size_t i = 3 * w + 3;
+  ASSERT_EQ(rp.kind[i], Reprojection::Bilinear);
+  EXPECT_NEAR(rp.weights[i][0], 1.0f / 3, 1e-6);
+  EXPECT_NEAR(rp.weights[i][1], 1.0f / 3, 1e-6);
+  EXPECT_NEAR(rp.weights[i][2], 1.0f / 3, 1e-6);
+  EXPECT_EQ(rp.weights[i][3], 0.0f);
+
+  Plane history(w, h);
+  history(3, 3) = 3.0f;
+  history(4, 3) = 6.0f;
+  history(3, 4) = 9.0f;
+  history(4, 4) = 1000.0f;  // the rejected tap must not leak in
+  EXPECT_NEAR(rp.gather(history, i), (3.0f + 6.0f + 9.0f) / 3.0f, 1e-5);
+
+  // All four taps fail a normal test: no bilinear history; the 3x3 fallback finds valid
+  // neighbours around (4,4) and renormalizes the Gaussian kernel over them.
+  Frame prev2 = prev;
+  for (int y = 3; y <= 4; ++y)
+    for (int x = 3; x <= 4; ++x) {
+      prev2[Buffer::Depth].at(x, y) = 2.0f;
+      prev2[Buffer::Normal].at(x, y, 2) = -1.0f;
+    }
+  const FrameData p2 = test::toFrameData(prev2);
+  reproject(c, &p2, ReprojectionSettings{}, rp);
+  ASSERT_EQ(rp.kind[i], Reprojection::Fallback3x3);
+  // Centre is floor(3.5 + 0.5) = (4,4); valid taps: the 3x3 around it minus (3,3),(4,3),(3,4),(4,4).
+  Plane h2(w, h);
+  double sum = 0, wsum = 0;
+  for (int t = 0; t < 9; ++t) {
+    const int x = 4 + t % 3 - 1, y = 4 + t / 3 - 1;
+    h2(x, y) = float(t + 1);
+    if ((x == 3 || x == 4) && (y == 3 || y == 4)) continue;
+    sum += kFallbackKernel3x3[t] * (t + 1);
+    wsum += kFallbackKernel3x3[t];
+  }
+  EXPECT_NEAR(rp.gather(h2, i), sum / wsum, 1e-5);
+
+  ReprojectionSettings noFallback;
+  noFallback.fallback3x3 = false;
+  reproject(c, &p2, noFallback, rp);
+  EXPECT_EQ(rp.kind[i], Reprojection::None);
+}
+
+TEST(Reprojection, KernelOfTheFallbackIsTheHigginsonGaussian) {
+  double sum = 0;
+  for (float k : kFallbackKernel3x3) sum += k;
+  EXPECT_NEAR(sum, 0.9997, 1e-4);  // Higginson Eq. 1.4 (sums to 0.9997 as printed)
+  EXPECT_FLOAT_EQ(kFallbackKernel3x3[4], 0.1953f);
+}
+
+TEST(Reprojection, DisocclusionAndObjectChangeLeaveNoHistory) {
+  const int w = 10, h = 6;
+  Frame prev = test::flatFrame(w, h, 0.0f, 1.0f, 1.0f), cur = prev;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w / 2; ++x) cur[Buffer::ObjectId].at(x, y) = 2.0f;  // a new object on the left
+  const FrameData p = test::toFrameData(prev), c = test::toFrameData(cur);
+  Reprojection rp;
+  reproject(c, &p, ReprojectionSettings{}, rp);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      // Left-half pixels next to the boundary may find old-object taps only through the 3x3
+      // fallback if ids matched; they do not, so every left pixel is disoccluded.
+      if (x < w / 2) EXPECT_EQ(rp.kind[size_t(y) * w + x], Reprojection::None) << x;
+      else EXPECT_EQ(rp.kind[size_t(y) * w + x], Reprojection::Bilinear) << x;
+    }
+  // Motion pointing outside the image: no history.
+  for (float& m : cur[Buffer::Motion].pixels) m = -100.0f;
+  const FrameData c2 = test::toFrameData(cur);
+  reproject(c2, &p, ReprojectionSettings{}, rp);
+  EXPECT_EQ(rp.counts()[Reprojection::None], size_t(w * h));
+}
+
+TEST(Reprojection, HistoryLengthFollowsReprojectionAndResets) {
+  const Frame f = test::flatFrame(4, 4, 0.0f);
+  const FrameData d = test::toFrameData(f);
+  Reprojection rp;
+  reproject(d, &d, ReprojectionSettings{}, rp);
+  Plane prevLength(4, 4, 7.0f), length(4, 4);
+  updateHistoryLength(rp, prevLength, 255, length);
+  EXPECT_EQ(length(1, 1), 8.0f);
+  updateHistoryLength(rp, Plane(4, 4, 255.0f), 255, length);
+  EXPECT_EQ(length(1, 1), 255.0f);  // capped (8-bit counts)
+  reproject(d, nullptr, ReprojectionSettings{}, rp);
+  updateHistoryLength(rp, prevLength, 255, length);
+  EXPECT_EQ(length(1, 1), 1.0f);
+}
+
+}  // namespace
+}  // namespace rtd

@@ -1,0 +1,122 @@
+// The comparison report: every run and every metric appear; it renders in headless Chromium.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <unistd.h>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "rtd/eval/compare.h"
+#include "rtd/rtd.h"
+#include "synthetic/synthetic.h"
+
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#include <stb/stb_image.h>
+#pragma GCC diagnostic pop
+
+using namespace rtd;
+using namespace rtd::eval;
+namespace fs = std::filesystem;
+
+namespace {
+Comparison smallComparison() {
+  synthetic::Scene scene;
+  scene.width = 64;
+  scene.height = 40;
+  FrameSource src;
+  src.description = "synthetic 64x40";
+  src.frameCount = 5;
+  src.load = [scene](int i, Image& ref) { return synthetic::makeFrame(scene, i, &ref); };
+  CompareSettings cs;  // every CPU method
+  cs.eval.warmupFrames = 2;
+  return runComparison(src, cs);
+}
+}  // namespace
+
+TEST(Report, ContainsEveryMethodAndMetric) {
+  const Comparison c = smallComparison();
+  std::vector<std::string> expected = {"input"};
+  for (const auto& m : listMethods())
+    if (m.cpu) expected.push_back(m.name);
+  ASSERT_EQ(c.runs.size(), expected.size());
+  const std::string html = comparisonHtml(c);
+  const auto json = nlohmann::json::parse(comparisonJson(c));
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(c.runs[i].label, expected[i]);
+    EXPECT_NE(html.find("<td class='l'>" + expected[i] + "</td>"), std::string::npos) << expected[i];
+    EXPECT_NE(html.find("FLIP " + expected[i]), std::string::npos) << expected[i];  // its error map
+    EXPECT_EQ(json["runs"][i]["label"], expected[i]);
+    EXPECT_EQ(json["runs"][i]["frames"].size(), 5u);
+  }
+  for (const auto& m : metricList()) {
+    EXPECT_NE(html.find("<th title='" + std::string(m.space) + "'>" + m.label + "</th>"), std::string::npos) << m.key;
+    EXPECT_NE(html.find("aria-label='" + std::string(m.label) + " per frame'"), std::string::npos) << m.key;
+    EXPECT_TRUE(json["runs"][0]["steady"].contains(m.key)) << m.key;
+  }
+  // Self-contained: no external resources.
+  EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org/2000/svg"));
+  EXPECT_EQ(html.find("https://"), std::string::npos);
+  EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
+  // The methods improve on the noisy input after warm-up.
+  for (size_t i = 1; i < c.runs.size(); ++i)
+    EXPECT_LT(c.runs[i].metrics.steady.mean.relMse, c.runs[0].metrics.steady.mean.relMse) << c.runs[i].label;
+}
+
+TEST(Report, PngRoundTrips) {
+  Image img(7, 5, 3);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 7; ++x) img.at(x, y, 0) = float(x) / 6.0f, img.at(x, y, 1) = float(y) / 4.0f;
+  const std::string png = encodePng(img);
+  int w = 0, h = 0, n = 0;
+  unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()), int(png.size()), &w, &h, &n, 3);
+  ASSERT_NE(px, nullptr);
+  EXPECT_EQ(w, 7);
+  EXPECT_EQ(h, 5);
+  EXPECT_EQ(px[(4 * 7 + 6) * 3 + 0], 255);
+  EXPECT_EQ(px[(4 * 7 + 6) * 3 + 1], 255);
+  EXPECT_EQ(px[(2 * 7 + 3) * 3 + 0], 128);
+  stbi_image_free(px);
+}
+
+TEST(Report, RendersInHeadlessChromium) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!fs::exists(chromium))
+    GTEST_SKIP() << "headless Chromium check skipped: /usr/bin/chromium not installed (apt-get install chromium; "
+                    "or run tools/check_report.sh)";
+  const fs::path dir = fs::temp_directory_path() / ("rtd_report_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "profile");
+  const fs::path html = dir / "report.html", shot = dir / "shot.png";
+  writeHtmlReport(smallComparison(), html);
+  const std::string cmd = std::string("timeout 120 ") + chromium +
+                          " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+                          " --disable-background-networking --disable-component-update --disable-sync"
+                          " --user-data-dir=" + (dir / "profile").string() + " --screenshot=" + shot.string() +
+                          " --window-size=1400,1000 file://" + html.string() + " > " + (dir / "log.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << "chromium failed; see " << (dir / "log.txt");
+  int w = 0, h = 0, n = 0;
+  unsigned char* px = stbi_load(shot.string().c_str(), &w, &h, &n, 3);
+  ASSERT_NE(px, nullptr) << "no screenshot at " << shot;
+  EXPECT_EQ(w, 1400);
+  EXPECT_EQ(h, 1000);
+  // Rendered content: white page with dark text, table borders and images, i.e. many distinct
+  // colours and a good share of non-white pixels.
+  size_t nonWhite = 0;
+  std::vector<bool> seen(1 << 15);
+  size_t distinct = 0;
+  for (int i = 0; i < w * h; ++i) {
+    const unsigned char* p = px + 3 * i;
+    if (p[0] < 235 || p[1] < 235 || p[2] < 235) ++nonWhite;
+    const int key = (p[0] >> 3) << 10 | (p[1] >> 3) << 5 | (p[2] >> 3);
+    if (!seen[key]) seen[key] = true, ++distinct;
+  }
+  stbi_image_free(px);
+  EXPECT_GT(nonWhite, size_t(w) * h / 50);
+  EXPECT_GT(distinct, 200u);
+  fs::remove_all(dir);
+}
