@@ -93,7 +93,7 @@ struct Tap {
   float h;
 };
 
-template <bool kPropagate, bool kLogNormal>
+template <bool kPropagate, bool kLogNormal, bool kMasked>
 void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
                 const std::vector<Tap>& taps, float h0) {
   const PaddedPlane& z = g.depth;
@@ -113,6 +113,8 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
   float *qr = out.color[0].data.data(), *qg = out.color[1].data.data(), *qb = out.color[2].data.data();
   float *ql = out.lum.data.data(), *qv = out.var.data.data();
   const bool cie = lv.luminance == MomentLuminance::CieLightness;
+  const float* pvalid = kMasked ? lv.validIn->data.data() : nullptr;
+  float* qvalid = kMasked ? lv.validOut->data.data() : nullptr;
 
   parallelRows(z.height, [&](int y) {
     for (int x = 0; x < w; x += kLanes) {
@@ -132,8 +134,9 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
         const vf k = pscale ? load(pscale + c) : splat(1.0f);
         inv = k > 0.0f ? 1.0f / (sigmaL * k * sd + epsL) : splat(0.0f);
       }
-      vf sw = splat(h0), sr = h0 * load(pr + c), sg = h0 * load(pg + c), sb = h0 * load(pb + c);
-      vf sv = kPropagate ? h0 * h0 * load(pv + c) : splat(0.0f);
+      const vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
+      vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
+      vf sv = kPropagate ? w0 * w0 * load(pv + c) : splat(0.0f);
       for (const Tap& t : taps) {
         const size_t q = c + t.offset;
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
@@ -149,13 +152,23 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
         } else {
           wt = (t.h * ipow<-1>(vmax(d, splat(0.0f)), e)) * expNeg(expo);
         }
+        if constexpr (kMasked) wt *= load(pvalid + q);
         sw += wt;
         sr += wt * load(pr + q);
         sg += wt * load(pg + q);
         sb += wt * load(pb + q);
         if constexpr (kPropagate) sv += wt * wt * load(pv + q);
       }
-      const vf rcp = 1.0f / sw;
+      vf rcp;
+      if constexpr (kMasked) {
+        // Total weights this small are the exp clamp's e^-87 floor, not data: 1/sw would be inf.
+        const vi any = sw > 1e-20f;
+        const vf safe = any ? sw : splat(1.0f);
+        rcp = any ? 1.0f / safe : splat(0.0f);
+        store(qvalid + c, any ? splat(1.0f) : splat(0.0f));
+      } else {
+        rcp = 1.0f / sw;
+      }
       const vf r = sr * rcp, gg = sg * rcp, b = sb * rcp;
       store(qr + c, r);
       store(qg + c, gg);
@@ -252,8 +265,73 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   // ones use the exact power.
   const bool series = lv.normalExponent >= 16;
   const bool p = lv.propagateVariance;
-  if (series) p ? atrousRows<true, true>(g, lv, in, out, taps, h0) : atrousRows<false, true>(g, lv, in, out, taps, h0);
-  else p ? atrousRows<true, false>(g, lv, in, out, taps, h0) : atrousRows<false, false>(g, lv, in, out, taps, h0);
+  if (lv.validIn && lv.validOut) {
+    if (series) p ? atrousRows<true, true, true>(g, lv, in, out, taps, h0) : atrousRows<false, true, true>(g, lv, in, out, taps, h0);
+    else p ? atrousRows<true, false, true>(g, lv, in, out, taps, h0) : atrousRows<false, false, true>(g, lv, in, out, taps, h0);
+  } else {
+    if (series) p ? atrousRows<true, true, false>(g, lv, in, out, taps, h0) : atrousRows<false, true, false>(g, lv, in, out, taps, h0);
+    else p ? atrousRows<true, false, false>(g, lv, in, out, taps, h0) : atrousRows<false, false, false>(g, lv, in, out, taps, h0);
+  }
+}
+
+namespace {
+template <bool kLogNormal>
+void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const PaddedPlane& pb, const Plane& len,
+                         float shortHistory, int R, float sigmaZ, float epsZ, int e, PaddedPlane& var) {
+  const PaddedPlane& z = g.depth;
+  const int w = z.width;
+  const ptrdiff_t S = z.stride;
+  const float sigmaN = float(e);
+  const float* pz = z.data.data();
+  const float *pnx = g.normal[0].data.data(), *pny = g.normal[1].data.data(), *pnz = g.normal[2].data.data();
+  const float *pgx = g.gradX.data.data(), *pgy = g.gradY.data.data();
+  const float *A = pa.data.data(), *B = pb.data.data();
+  parallelRows(z.height, [&](int y) {
+    const float* n = len.row(y);
+    float* out = var.row(y);
+    for (int x = 0; x < w; x += kLanes) {
+      const int lanes = std::min(kLanes, w - x);
+      bool any = false;
+      for (int k = 0; k < lanes; ++k) any |= n[x + k] < shortHistory;
+      if (!any) continue;  // long histories keep the temporal variance
+      const size_t c = z.index(x, y);
+      const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
+      const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
+      vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
+      for (int dy = -R; dy <= R; ++dy)
+        for (int dx = -R; dx <= R; ++dx) {
+          if (!dx && !dy) continue;
+          const size_t q = c + ptrdiff_t(dy) * S + dx;
+          const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
+          vf expo = vabs(zc - load(pz + q)) * vrcp(vabs(gx * float(dx) + gy * float(dy)) + epsZ);
+          vf wt;
+          if constexpr (kLogNormal) {
+            const vf xx = 1.0f - d;
+            expo += sigmaN * (xx * (1.0f + xx * (0.5f + xx * (1.0f / 3.0f))));
+            wt = expNeg(expo);
+          } else {
+            wt = ipow<-1>(vmax(d, splat(0.0f)), e) * expNeg(expo);
+          }
+          sw += wt;
+          s1 += wt * load(A + q);
+          s2 += wt * load(B + q);
+        }
+      const vf m1 = s1 / sw, m2 = s2 / sw;
+      const vf v = vmax(m2 - m1 * m1, splat(0.0f));
+      for (int k = 0; k < lanes; ++k)
+        if (n[x + k] < shortHistory) out[x + k] = v[k];
+    }
+  }, 2);
+}
+}  // namespace
+
+void spatialVariance(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,
+                     float shortHistory, int radius, float sigmaDepth, float depthEpsilon, int normalExponent,
+                     PaddedPlane& var) {
+  const int R = std::min(radius, a.pad);
+  const int e = std::max(1, normalExponent);
+  if (e >= 16) spatialVarianceRows<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var);
+  else spatialVarianceRows<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var);
 }
 
 void gaussian3x3(const PaddedPlane& in, PaddedPlane& out) {

@@ -105,11 +105,24 @@ struct AtrousLevel {
   bool propagateVariance = true;
   /// Luminance written to out.lum for the next level's w_l.
   MomentLuminance luminance = MomentLuminance::Rec709;
+  /// Sparse input (Dundr Sec. 5): pixels where `validIn` is 0 carry no data and weigh 0, the
+  /// centre included; a pixel that receives any weight becomes valid in `validOut` (so the
+  /// levels fill holes), one with none stays 0 with colour 0. Both null: dense.
+  const PaddedPlane* validIn = nullptr;
+  PaddedPlane* validOut = nullptr;
 };
 
 /// One level of the filter: out(p) = sum_q h(q) w(p,q) in(q) / sum_q h(q) w(p,q), with
 /// w = w_z w_n w_l; the centre tap always has w = 1. `in` and `out` must differ.
 void atrousLevel(const AtrousGuide& guide, const AtrousLevel& level, const AtrousImage& in, AtrousImage& out);
+
+/// Spatial variance estimate (Schied Sec. 4.2): for each pixel whose historyLength is below
+/// `shortHistory`, var = E_w[b] - E_w[a]^2 over the (2 radius + 1)^2 window with weights
+/// w_z w_n (offsets in pixels, centre weight 1); a, b are the luminance and its square, or
+/// the accumulated moments (Voorhuis). Other pixels keep their `var`. radius <= a.pad.
+void spatialVariance(const AtrousGuide& guide, const PaddedPlane& a, const PaddedPlane& b, const Plane& historyLength,
+                     float shortHistory, int radius, float sigmaDepth, float depthEpsilon, int normalExponent,
+                     PaddedPlane& var);
 
 /// 3x3 Gaussian (binomial 1/16, 1/8, 1/4) of a plane, clamped to edge (SVGF's g3x3, run once
 /// in Dundr's variant). Inside atrousLevel the same kernel reads the zero border instead.

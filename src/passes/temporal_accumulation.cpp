@@ -76,6 +76,7 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
   cur_ ^= 1;
   const int w = rp.width;
   const float maxLength = float(maxHistoryLength);
+  const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
   // One fused pass per pixel: history length, colour and both moments from the same taps.
   parallelRows(rp.height, [&](int y) {
     Reprojection::Taps taps;
@@ -107,6 +108,15 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
       // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
       // wherever there is history (Schied et al. 2017).
       const float am = options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
+      if (mask && mask[i] == 0.0f) {
+        // No sample this frame (Dundr Sec. 5): the history carries over unchanged; without
+        // history the pixel stays missing (length 0).
+        length_[cur_].data[i] = none ? 0.0f : std::round(histLength);
+        for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = hist[k];
+        m1_[cur_].data[i] = hist1;
+        m2_[cur_].data[i] = hist2;
+        continue;
+      }
       length_[cur_].data[i] = n;
       for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
       m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;

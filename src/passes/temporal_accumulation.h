@@ -49,6 +49,10 @@ struct AccumulationOptions {
   /// histories, Voorhuis Sec. 6); false: w = momentsAlpha wherever there is history (plain
   /// EMA, Schied et al. 2017).
   bool cumulativeMoments = true;
+  /// Progressive rendering with fewer than one sample per pixel (Dundr Sec. 5): where this
+  /// plane (Buffer::SampleMask) is 0 the pixel got no sample, so colour, moments and history
+  /// length are the reprojected history unchanged (0 where there is none: still missing).
+  const Plane* sampleMask = nullptr;
 };
 
 /// Owns the history of one radiance stream: accumulated colour (three planes), the first and

@@ -92,6 +92,11 @@ struct SvgfSettings {
   /// displayed frame only. [variant]
   bool fireflyMedian = false;
 
+  /// Dundr Sec. 5, progressive rendering below 1 spp: where the frame has Buffer::SampleMask,
+  /// unsampled pixels keep their history, pixels without any data weigh 0 in the filter and
+  /// are filled by it, and the fed-back level replaces only this frame's sampled pixels.
+  bool useSampleMask = true;
+
   ReprojectionSettings reprojection;
   TaaSettings taa;
 
@@ -190,6 +195,7 @@ struct SvgfSettings {
     v("indirectVarianceFiltering", indirectVarianceFiltering, "[variant] per-level variance filtering for the indirect component (Voorhuis: off)");
     v("shortHistoryBandwidth", shortHistoryBandwidth, "[variant] sigma_l * (8 - min(7, h)) (Voorhuis Eq. 8)");
     v("fireflyMedian", fireflyMedian, "[variant] 3x3 median on diffuse pixels, display only (Voorhuis)");
+    v("useSampleMask", useSampleMask, "progressive sub-1-spp mode when the frame has sampleMask (Dundr Sec. 5)");
     reprojection.visit(v);
     taa.visit(v);
   }

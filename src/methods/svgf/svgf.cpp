@@ -62,6 +62,8 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     guide_.resize(w, h, pad);
     for (auto& im : levels_) im.resize(w, h, pad);
     sigmaScale_.resize(w, h, pad);
+    for (auto& v : valid_) v.resize(w, h, pad);
+    for (auto& v : scratch_) v.resize(w, h, pad);
     for (auto& s : streams_) {
       rtd::resize(s.demod, w, h);
       s.accumulator.resize(w, h);
@@ -83,6 +85,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       previous = nullptr;
     }
     const int nStreams = chooseStreams(frame);
+    mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame.plane(Buffer::SampleMask) : nullptr;
     const auto* albedo = frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
     {
       PassTimer t(stats, "reproject");
@@ -178,6 +181,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       AccumulationOptions opt;
       opt.luminance = lum;
       opt.cumulativeMoments = s.momentsTrueAverage;
+      opt.sampleMask = mask_;
       st.accumulator.run(reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
     }
     const int normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
@@ -194,8 +198,9 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       p.depthEpsilon = s.depthEpsilon;
       p.normalExponent = normalExponent;
       p.luminance = lum;
-      svgf::estimateVariance(guide_, in, p, levels_[0]);
+      svgf::estimateVariance(guide_, in, p, levels_[0], scratch_);
       svgf::luminanceSigmaScale(st.accumulator.historyLength(), s, sigmaScale_);
+      if (mask_) markValid(st.accumulator.historyLength(), valid_[0]);
       if (s.variancePrefilter == SvgfVariancePrefilter::once) {
         gaussian3x3(levels_[0].var, levels_[2].var);
         std::swap(levels_[0].var, levels_[2].var);
@@ -224,13 +229,18 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       // The last level's variance is not used any more.
       lv.propagateVariance = propagate && i + 1 < n;
       lv.luminance = lum;
+      if (mask_) {
+        lv.validIn = &valid_[cur];
+        lv.validOut = &valid_[cur ^ 1];
+      }
       atrousLevel(guide_, lv, src, dst);
       if (!lv.propagateVariance) std::swap(src.var, dst.var);  // keep the unfiltered variance
       cur ^= 1;
       if (i + 1 == s.feedbackLevel) {
         // The first level's output becomes next frame's colour history (Schied Sec. 4.3).
         Plane3& history = st.accumulator.color();
-        for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyTo(history[c]);
+        if (mask_) feedbackSampled(levels_[cur], *mask_, history);
+        else for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyTo(history[c]);
       }
     }
     // Result of this stream: levels_[cur].color (or the accumulation when n == 0).
@@ -258,12 +268,39 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     });
   }
 
+  // Level-0 validity: pixels with any accumulated data.
+  static void markValid(const Plane& length, PaddedPlane& valid) {
+    const int w = length.width;
+    parallelRows(length.height, [&](int y) {
+      const float* n = length.row(y);
+      float* v = valid.row(y);
+      for (int x = 0; x < w; ++x) v[x] = n[x] > 0.0f ? 1.0f : 0.0f;
+    });
+  }
+
+  // Dundr Sec. 5: feeding the filtered level back everywhere would blur untouched samples
+  // again every frame; only pixels sampled this frame take the filtered value.
+  static void feedbackSampled(const AtrousImage& level, const Plane& mask, Plane3& history) {
+    const int w = mask.width;
+    parallelRows(mask.height, [&](int y) {
+      const float* m = mask.row(y);
+      for (int c = 0; c < 3; ++c) {
+        const float* in = level.color[c].row(y);
+        float* o = history[c].row(y);
+        for (int x = 0; x < w; ++x)
+          if (m[x] != 0.0f) o[x] = in[x];
+      }
+    });
+  }
+
   void remodulateSum(Plane3& p, const std::vector<Plane>* albedo, int) { remodulate(p, albedo); }
 
   Reprojection reprojection_;
   AtrousGuide guide_;
   AtrousImage levels_[3];
   PaddedPlane sigmaScale_;
+  PaddedPlane valid_[2], scratch_[2];
+  const Plane* mask_ = nullptr;
   Stream streams_[kMaxStreams];
   Plane3 sum_, display_;
   Taa taa_;

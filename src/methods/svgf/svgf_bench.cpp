@@ -38,6 +38,26 @@ BENCHMARK_CAPTURE(BM_Svgf, voorhuis_2threads, "voorhuis", 2)->Unit(benchmark::kM
 BENCHMARK_CAPTURE(BM_Svgf, schied_1thread, "schied", 1)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Svgf, dundr_1thread, "dundr", 1)->Unit(benchmark::kMillisecond);
 
+// A frame right after a reset: every pixel has a short history, so the spatial variance
+// estimate (7x7 window) runs everywhere -- the worst case, e.g. after a camera cut.
+void BM_SvgfAfterReset(benchmark::State& state, const char* variant) {
+  rtd::synthetic::Scene scene;
+  scene.width = kW;
+  scene.height = kH;
+  const rtd::Frame f = rtd::synthetic::makeFrame(scene, 0);
+  auto device = rtd::Device::create({.threads = 1});
+  auto d = device->createDenoiser("svgf");
+  d->set("variant", variant);
+  rtd::Image out(kW, kH, 3);
+  d->denoise(f.inputs(), out.view());
+  for (auto _ : state) {
+    d->reset();
+    d->denoise(f.inputs(), out.view());
+    benchmark::DoNotOptimize(out.pixels.data());
+  }
+}
+BENCHMARK_CAPTURE(BM_SvgfAfterReset, schied_1thread, "schied")->Unit(benchmark::kMillisecond);
+
 // One a-trous level (with variance propagation) on flat-ish features and noisy colour.
 void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threads) {
   const int step = int(state.range(0));

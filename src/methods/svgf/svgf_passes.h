@@ -30,7 +30,9 @@ struct VarianceParams {
 /// and the mode is spatialEstimate, the depth/normal-weighted window estimate
 /// E_w[l^2] - E_w[l]^2 (l: current luminance, or the accumulated moments). Returns the number
 /// of pixels that used the spatial estimate.
-size_t estimateVariance(const AtrousGuide& guide, const VarianceInputs& in, const VarianceParams& p, AtrousImage& out);
+/// `scratch` (two planes of the guide's geometry) holds the window's inputs.
+size_t estimateVariance(const AtrousGuide& guide, const VarianceInputs& in, const VarianceParams& p, AtrousImage& out,
+                        PaddedPlane scratch[2]);
 
 /// Per-pixel multiplier of sigma_l: 0 where w_l is off (Dundr, short history), Voorhuis Eq. 8
 /// where enabled, else 1.

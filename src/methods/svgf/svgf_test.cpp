@@ -276,6 +276,67 @@ TEST(Atrous, VariancePropagationOfAnUnweightedLevel) {
   EXPECT_NEAR(s.b.var.at(20, 20), 2.0 * sumH2_1d * sumH2_1d, 1e-6);
 }
 
+TEST(Atrous, SparseInputSkipsMissingTapsAndFillsHoles) {
+  Scene s(48, 32, 32);
+  s.flat();
+  PaddedPlane validIn, validOut;
+  validIn.resize(s.w, s.h, 32);
+  validOut.resize(s.w, s.h, 32);
+  for (int y = 0; y < s.h; ++y)
+    for (int x = 0; x < s.w; ++x) {
+      // Left part valid with colour 0.25 except one hole; right of x = 30 all missing, with
+      // garbage colour that must not leak.
+      const bool valid = x < 30 && !(x == 10 && y == 10);
+      validIn.at(x, y) = valid ? 1.0f : 0.0f;
+      for (int c = 0; c < 3; ++c) s.a.color[c].at(x, y) = valid ? 0.25f : 100.0f;
+      s.a.lum.at(x, y) = valid ? 0.25f : 100.0f;
+    }
+  AtrousLevel lv = level(AtrousKernel::B3Spline5x5, 1, &s.inv);
+  lv.validIn = &validIn;
+  lv.validOut = &validOut;
+  atrousLevel(s.guide, lv, s.a, s.b);
+  EXPECT_NEAR(s.b.color[0].at(10, 10), 0.25f, 1e-6);  // the hole is filled from its neighbours
+  EXPECT_EQ(validOut.at(10, 10), 1.0f);
+  EXPECT_NEAR(s.b.color[1].at(29, 5), 0.25f, 1e-6);   // no garbage from the missing side
+  EXPECT_NEAR(s.b.color[2].at(31, 5), 0.25f, 1e-6);   // a missing pixel next to data is filled
+  EXPECT_EQ(validOut.at(31, 5), 1.0f);
+  EXPECT_EQ(s.b.color[0].at(40, 5), 0.0f);            // nothing within reach: stays missing
+  EXPECT_EQ(validOut.at(40, 5), 0.0f);
+}
+
+TEST(SvgfProgressive, UnsampledPixelsKeepTheirHistory) {
+  const int w = 8, h = 8;
+  Reprojection rp;
+  rp.resize(w, h);
+  TemporalAccumulator acc;
+  acc.resize(w, h);
+  Plane3 frame;
+  resize(frame, w, h, 0.4f);
+  Plane mask(w, h, 1.0f);
+  AccumulationOptions opt;
+  opt.sampleMask = &mask;
+  mask(2, 2) = 0.0f;  // never sampled in the first frame: missing
+  acc.run(rp, frame, 0.2f, 0.2f, 255, opt);
+  EXPECT_EQ(acc.historyLength()(2, 2), 0.0f);
+  EXPECT_EQ(acc.color()[0](2, 2), 0.0f);
+  for (int i = 0; i < w * h; ++i) {  // identity reprojection
+    rp.kind[i] = Reprojection::Bilinear;
+    rp.base[i] = i;
+    rp.weights[i] = {1, 0, 0, 0};
+  }
+  for (auto& c : frame) c.fill(0.8f);
+  mask.fill(1.0f);
+  mask(5, 5) = 0.0f;  // unsampled now: keeps 0.4, length 1, moments of 0.4
+  acc.run(rp, frame, 0.2f, 0.2f, 255, opt);
+  EXPECT_FLOAT_EQ(acc.color()[0](5, 5), 0.4f);
+  EXPECT_EQ(acc.historyLength()(5, 5), 1.0f);
+  EXPECT_NEAR(acc.moment1()(5, 5), 0.4f, 1e-6);
+  EXPECT_NEAR(acc.color()[0](4, 5), 0.6f, 1e-6);  // sampled: mean of 0.4 and 0.8
+  EXPECT_EQ(acc.historyLength()(4, 5), 2.0f);
+  EXPECT_NEAR(acc.color()[0](2, 2), 0.8f, 1e-6);  // first sample of the missing pixel
+  EXPECT_EQ(acc.historyLength()(2, 2), 1.0f);
+}
+
 // ---------------------------------------------------------------- variance estimate
 
 TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
@@ -284,6 +345,8 @@ TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
   g.resize(w, h, 8);
   AtrousImage out;
   out.resize(w, h, 8);
+  PaddedPlane scratch[2];
+  for (auto& p : scratch) p.resize(w, h, 8);
   Plane len(w, h), m1(w, h), m2(w, h);
   Plane3 cur, acc;
   resize(cur, w, h);
@@ -300,7 +363,7 @@ TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
     }
   svgf::VarianceInputs in{&len, &m1, &m2, &cur, &acc};
   svgf::VarianceParams p;  // Schied: 7x7 from the current luminance, n < 4
-  const size_t spatial = svgf::estimateVariance(g, in, p, out);
+  const size_t spatial = svgf::estimateVariance(g, in, p, out, scratch);
   size_t expectedSpatial = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -328,12 +391,12 @@ TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
   // current luminance is a checkerboard; and > 0 when the current frame is black.
   for (auto& c : cur) c.fill(0.0f);
   p.fromMoments = true;
-  svgf::estimateVariance(g, in, p, out);
+  svgf::estimateVariance(g, in, p, out, scratch);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) ASSERT_NEAR(out.var.at(x, y), 0.09f, 1e-6);
   // Current-luminance estimate of a black frame is 0 where the history is short.
   p.fromMoments = false;
-  svgf::estimateVariance(g, in, p, out);
+  svgf::estimateVariance(g, in, p, out, scratch);
   EXPECT_EQ(out.var.at(0, 0), 0.0f);  // len(0,0) = 1
 }
 
@@ -501,6 +564,8 @@ TEST(SvgfEndToEnd, MuchCloserToReferenceThanInputAndAccumulation) {
   const SeqRun r = runSequence(svgf.get(), scene);
   ASSERT_TRUE(allFinite(r.last));
   std::printf("RMSE after %d frames: input %.4f, accumulate %.4f, svgf %.4f\n", kFrames, input, accumulated, r.rmse);
+  // Measured (128x72, 12 frames): input 0.678, accumulate 0.188, svgf 0.082, i.e. svgf is at
+  // 0.12x the input and 0.44x plain accumulation; asserted with some room.
   EXPECT_LT(r.rmse, 0.25 * input);
   EXPECT_LT(r.rmse, 0.6 * accumulated);
 }
@@ -517,6 +582,7 @@ TEST(SvgfEndToEnd, EachVariantRunsAndDiffers) {
     const SeqRun r = runSequence(d.get(), scene);
     ASSERT_TRUE(allFinite(r.last)) << v;
     std::printf("variant %-10s RMSE %.4f (schied %.4f)\n", v, r.rmse, ref.rmse);
+    // Measured: dundr 0.078, gersthofer 0.081, voorhuis 0.083 (input 0.678).
     EXPECT_LT(r.rmse, 0.4 * input) << v;
     EXPECT_GT(rmse(r.last, ref.last), 1e-4) << v;  // differs from the default
   }
@@ -536,6 +602,41 @@ TEST(SvgfEndToEnd, SplitStreamWithZeroIndirectEqualsColorStream) {
     return n;
   }();
   EXPECT_NE(std::find(names.begin(), names.end(), "atrous1.indirect"), names.end());
+}
+
+TEST(SvgfEndToEnd, ProgressiveQuarterSampleRate) {
+  // Dundr Sec. 5: each frame traces a random quarter of the pixels; the rest are empty.
+  auto device = Device::create();
+  auto d = device->createDenoiser("svgf");
+  d->set("variant", "dundr");
+  auto scene = smallScene();
+  scene.cameraSpeed = 0.0f;  // progressive rendering of a still view
+  Image ref, out(scene.width, scene.height, 3), sparse;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int i = 0; i < 16; ++i) {
+    Frame f = synthetic::makeFrame(scene, i, &ref);
+    Image mask(scene.width, scene.height, 1);
+    for (int y = 0; y < scene.height; ++y)
+      for (int x = 0; x < scene.width; ++x) {
+        const bool traced = u(rng) < 0.25f;
+        mask.at(x, y) = traced ? 1.0f : 0.0f;
+        if (!traced)
+          for (int c = 0; c < 3; ++c) f[Buffer::Color].at(x, y, c) = 0.0f;
+      }
+    f[Buffer::SampleMask] = mask;
+    d->denoise(f.inputs(), out.view());
+    if (i == 0) sparse = f[Buffer::Color];
+  }
+  ASSERT_TRUE(allFinite(out));
+  const double first = rmse(sparse, ref), result = rmse(out, ref);
+  std::printf("progressive 1/4 spp: RMSE sparse frame %.4f, svgf after 16 frames %.4f\n", first, result);
+  // Measured: 0.704 for one sparse frame, 0.050 after 16 frames (0.07x).
+  EXPECT_LT(result, 0.15 * first);
+  int empty = 0;  // every pixel has a value after the hole filling
+  for (int y = 0; y < scene.height; ++y)
+    for (int x = 0; x < scene.width; ++x) empty += out.at(x, y, 0) == 0.0f && out.at(x, y, 1) == 0.0f;
+  EXPECT_EQ(empty, 0);
 }
 
 TEST(SvgfEndToEnd, MissingSplitBufferIsAnError) {
