@@ -71,7 +71,9 @@ TEST(VulkanSvgfPasses, VarianceMatchesCpu) {
     if (cs.disable) p.shortHistory = SvgfShortHistory::disableLuminanceWeight;
     AtrousImage cpuOut;
     cpuOut.resize(w, h, 8);
-    const size_t spatial = svgf::estimateVariance(guide, {&len, &m1, &m2, &cur, &acc}, p, cpuOut);
+    PaddedPlane scratch[2];
+    for (auto& sp : scratch) sp.resize(w, h, 8);
+    const size_t spatial = svgf::estimateVariance(guide, {&len, &m1, &m2, &cur, &acc}, p, cpuOut, scratch);
     if (!cs.disable) EXPECT_GT(spatial, n / 4) << "the spatial estimate must be exercised";
     SvgfSettings s;
     s.shortHistoryBandwidth = cs.bandwidth;
