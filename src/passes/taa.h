@@ -18,6 +18,7 @@ class Taa {
 
  private:
   Plane3 history_;
+  Plane3 ycocg_, rowMin_, rowMax_, lo_, hi_;  // the 3x3 box, separably, in YCoCg
   bool valid_ = false;
 };
 
