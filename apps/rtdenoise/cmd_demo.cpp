@@ -89,7 +89,7 @@ void run(const DemoOptions& o) {
 void addDemo(CLI::App& app) {
   auto o = std::make_shared<DemoOptions>();
   auto* cmd = app.add_subcommand("demo", "render the built-in scene, run every method, evaluate, write the HTML report");
-  cmd->add_option("--out,-o", o->out, "output directory (report.html, metrics.json)")->capture_default_str();
+  cmd->add_option("--out,--output,-o", o->out, "output directory (report.html, metrics.json)")->capture_default_str();
   cmd->add_option("--size", o->size, "WIDTHxHEIGHT")->capture_default_str();
   cmd->add_option("--frames", o->frames, "number of frames")->capture_default_str();
   cmd->add_option("--methods,-m", o->methods, "comma-separated methods (default: every CPU method)");
