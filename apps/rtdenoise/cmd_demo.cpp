@@ -20,8 +20,8 @@ std::vector<std::string> splitList(const std::string& s);
 namespace {
 struct DemoOptions {
   std::string out = "rtdenoise-demo";
-  std::string size = "480x270";
-  int frames = 40;
+  std::string size = "640x360";
+  int frames = 48;
   int threads = 0;
   std::string methods;
   bool saveScene = false;
@@ -82,6 +82,7 @@ void run(const DemoOptions& o) {
                o.size.c_str(), list.c_str());
   auto c = runComparisonWithProgress(source, cs, "demo: denoise + evaluate");
   c.title = "rtdenoise demo";
+  std::fprintf(stderr, "writing the report...\n");
   writeComparison(c, o.out);
 }
 }  // namespace
