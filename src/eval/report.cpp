@@ -230,7 +230,10 @@ std::string comparisonHtml(const Comparison& c) {
     }
     for (const auto& r : c.runs) {
       const MetricSummary& s = warmup ? r.metrics.warmup : r.metrics.steady;
-      h << "<tr><td class='l'>" << esc(r.label) << "</td><td>" << s.frames << "</td>";
+      h << "<tr><td class='l'>" << esc(r.label);
+      if (s.mean.nonFiniteValues)
+        h << " <span title='NaN/Inf output values, counted as 0'>&#9888; " << s.mean.nonFiniteValues << " NaN/Inf</span>";
+      h << "</td><td>" << s.frames << "</td>";
       for (size_t k = 0; k < metrics.size(); ++k) {
         const double v = s.mean.*metrics[k].field;
         h << "<td" << (!std::isnan(v) && v == best[k] ? " class='best'" : "") << ">" << metricFormat(metrics[k], v) << "</td>";
