@@ -19,6 +19,9 @@ void addEval(CLI::App& app);
 void addCompare(CLI::App& app);
 void addDemo(CLI::App& app);
 #endif
+/// `render` (only when built with the renderer, HAVE_RTDENOISE_RENDER).
+void addRender(CLI::App& app);
+void addDevices(CLI::App& app);
 
 /// Applies "key=value" strings to a denoiser; throws rtd::Error on a malformed one.
 void applySettings(Denoiser& d, const std::vector<std::string>& assignments);

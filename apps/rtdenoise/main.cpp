@@ -14,6 +14,10 @@ int main(int argc, char** argv) {
   rtd::cli::addCompare(app);
   rtd::cli::addDemo(app);
 #endif
+#ifdef HAVE_RTDENOISE_RENDER
+  rtd::cli::addRender(app);
+#endif
+  rtd::cli::addDevices(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -102,6 +102,18 @@ class Device {
   }
 };
 
+/// A device `rtdenoise devices` lists.
+struct DeviceInfo {
+  Backend backend = Backend::Cpu;
+  int index = 0;            ///< Vulkan: the index DeviceDesc::vulkanDevice accepts
+  std::string name;         ///< Vulkan: the name DeviceDesc::vulkanDevice matches (substring)
+  std::string description;  ///< type, API version, driver
+};
+
+/// Every device this build can run on: the CPU, then each Vulkan device. Where Vulkan is not
+/// available, `vulkanError` (if not null) receives the reason.
+std::vector<DeviceInfo> listDevices(std::string* vulkanError = nullptr);
+
 /// Every registered method with its settings' defaults.
 std::vector<MethodInfo> listMethods();
 

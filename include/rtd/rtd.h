@@ -7,3 +7,5 @@
 #include "rtd/sequence.h"
 #include "rtd/settings.h"
 #include "rtd/methods/accumulate.h"
+#include "rtd/methods/svgf.h"
+#include "rtd/methods/bmfr.h"

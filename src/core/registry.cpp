@@ -3,17 +3,33 @@
 
 #include "core/settings_reflect.h"
 #include "rtd/methods/accumulate.h"
+#include "rtd/methods/svgf.h"
+#include "rtd/methods/bmfr.h"
 
 namespace rtd {
 
 std::unique_ptr<Denoiser> createAccumulateCpu(tbb::task_arena&);
+std::unique_ptr<Denoiser> createSvgfCpu(tbb::task_arena&);
+std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena&);
+
+// Vulkan factories (src/methods/<name>/<name>_vulkan.cpp); null where the build has no Vulkan.
+#ifdef RTD_HAS_VULKAN
+#define RTD_VULKAN_FACTORY(f) &f
+std::unique_ptr<Denoiser> createAccumulateVulkan(vk::Context&);
+#else
+#define RTD_VULKAN_FACTORY(f) nullptr
+#endif
 
 template <class S> static std::vector<SettingInfo> defaultsOf() { return detail::listSettings(S{}); }
 
 const std::vector<MethodEntry>& methodRegistry() {
   static const std::vector<MethodEntry> entries = {
       {"accumulate", "temporal accumulation with robust reprojection (baseline of SVGF/BMFR)",
-       &defaultsOf<AccumulateSettings>, &createAccumulateCpu, nullptr},
+       &defaultsOf<AccumulateSettings>, &createAccumulateCpu, RTD_VULKAN_FACTORY(createAccumulateVulkan)},
+      {"svgf", "spatiotemporal variance-guided filtering (Schied 2017; Dundr, Gersthofer, Voorhuis variants)",
+       &defaultsOf<SvgfSettings>, &createSvgfCpu, nullptr},
+      {"bmfr", "blockwise multi-order feature regression (Koskela et al. 2019)", &defaultsOf<BmfrSettings>,
+       &createBmfrCpu, nullptr},
   };
   return entries;
 }

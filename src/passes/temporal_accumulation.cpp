@@ -41,6 +41,11 @@ void TemporalAccumulator::reset() {
 
 void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha,
                               int maxHistoryLength) {
+  run(rp, color, alpha, momentsAlpha, maxHistoryLength, AccumulationOptions{});
+}
+
+void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha,
+                              int maxHistoryLength, const AccumulationOptions& options) {
   const int prev = cur_;
   cur_ ^= 1;
   const int w = rp.width;
@@ -53,7 +58,8 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       const float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
-      const float l = luminance(c[0], c[1], c[2]);
+      const float l = options.luminance == MomentLuminance::Rec709 ? luminance(c[0], c[1], c[2])
+                                                                   : momentLuminance(options.luminance, c[0], c[1], c[2]);
       float histLength = 0.0f, hist[3] = {0, 0, 0}, hist1 = 0.0f, hist2 = 0.0f;
       const uint8_t kind = rp.kind[i];
       if (kind == Reprojection::Bilinear) {
@@ -69,8 +75,12 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
         hist2 = taps.gather(m2_[prev]);
       }
       // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
-      const float n = kind == Reprojection::None ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
-      const float a = newSampleWeight(n, alpha), am = newSampleWeight(n, momentsAlpha);
+      const bool none = kind == Reprojection::None;
+      const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
+      const float a = newSampleWeight(n, alpha);
+      // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
+      // wherever there is history (Schied et al. 2017).
+      const float am = options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
       length_[cur_].data[i] = n;
       for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
       m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;

@@ -2,6 +2,9 @@
 // (Schied et al. 2017 Sec. 4.1 / Eq. 1.2-1.3 of Higginson), with the cumulative-then-
 // exponential weight w = max(1/n, alpha) of Koskela et al. 2019 Sec. 4.1.
 #pragma once
+#include <cmath>
+#include <cstdint>
+
 #include "core/frame_data.h"
 #include "passes/reprojection.h"
 
@@ -15,6 +18,34 @@ inline float newSampleWeight(float n, float alpha) { return std::max(1.0f / n, a
 void accumulatePlane(const Reprojection& rp, const Plane& length, float alpha, const Plane& current,
                      const Plane& history, Plane& out);
 
+/// CIE 1976 lightness L* of relative luminance y (reference white Y_n = 1; HDR values above 1
+/// continue the cube-root branch). Gersthofer Sec. 3.4.1 accumulates moments of L*.
+inline float cieLightness(float y) {
+  constexpr float kDelta3 = 216.0f / 24389.0f;  // (6/29)^3
+  const float f = y > kDelta3 ? std::cbrt(y) : y * (841.0f / 108.0f) + 4.0f / 29.0f;
+  return 116.0f * f - 16.0f;
+}
+
+/// Which luminance the moments accumulate (added for the SVGF variants).
+enum class MomentLuminance : uint8_t { Rec709, Rec601, CieLightness };
+
+inline float momentLuminance(MomentLuminance m, float r, float g, float b) {
+  switch (m) {
+    case MomentLuminance::Rec601: return 0.299f * r + 0.587f * g + 0.114f * b;
+    case MomentLuminance::CieLightness: return cieLightness(std::max(0.0f, luminance(r, g, b)));
+    default: return luminance(r, g, b);
+  }
+}
+
+/// Options of TemporalAccumulator::run beyond the blend weights.
+struct AccumulationOptions {
+  MomentLuminance luminance = MomentLuminance::Rec709;
+  /// true: moments use w = max(1/n, momentsAlpha) like the colour (exact averages for short
+  /// histories, Voorhuis Sec. 6); false: w = momentsAlpha wherever there is history (plain
+  /// EMA, Schied et al. 2017).
+  bool cumulativeMoments = true;
+};
+
 /// Owns the history of one radiance stream: accumulated colour (three planes), the first and
 /// second raw moments of its luminance, and the history length, double-buffered.
 class TemporalAccumulator {
@@ -25,6 +56,8 @@ class TemporalAccumulator {
   /// Accumulates `color` (demodulated) with reprojection `rp`, shared between streams.
   /// Moments use `momentsAlpha`; both use the same history length.
   void run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha, int maxHistoryLength);
+  void run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha, int maxHistoryLength,
+           const AccumulationOptions& options);
 
   const Plane3& color() const { return color_[cur_]; }
   /// Methods that feed a filtered result back as history (SVGF: first a-trous level) write here.

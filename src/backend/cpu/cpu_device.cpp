@@ -45,7 +45,24 @@ class CpuDevice final : public Device {
 
 #ifdef RTD_HAS_VULKAN
 std::unique_ptr<Device> createVulkanDevice(const DeviceDesc& desc);
+std::vector<DeviceInfo> listVulkanDevices();
 #endif
+
+std::vector<DeviceInfo> listDevices(std::string* vulkanError) {
+  std::vector<DeviceInfo> out;
+  const int threads = tbb::info::default_concurrency();
+  out.push_back({Backend::Cpu, 0, "CPU", std::to_string(threads) + " threads, oneTBB"});
+#ifdef RTD_HAS_VULKAN
+  try {
+    for (auto& d : listVulkanDevices()) out.push_back(std::move(d));
+  } catch (const Error& e) {
+    if (vulkanError) *vulkanError = e.what();
+  }
+#else
+  if (vulkanError) *vulkanError = "this build of rtdenoise has no Vulkan backend (configure with -DRTD_VULKAN=ON)";
+#endif
+  return out;
+}
 
 std::unique_ptr<Device> Device::create(const DeviceDesc& desc) {
   if (desc.backend == Backend::Cpu) return std::make_unique<CpuDevice>(desc.threads);

@@ -1,0 +1,199 @@
+// rtdenoise render: path-trace a scene's animation into a native sequence (1-spp color plus
+// every feature buffer) and, optionally, cached high-sample references (docs/renderer.md).
+#ifdef HAVE_RTDENOISE_RENDER
+#include <tbb/global_control.h>
+
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli.h"
+#include "rtd/render/render.h"
+
+namespace rtd::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using render::Eye;
+
+struct RenderOptions {
+  std::string scene;
+  std::string output;
+  std::string size;
+  int frames = 0;
+  int spp = 1;
+  int referenceSpp = 0;
+  double referenceSeconds = 0;
+  int maxDepth = 0;
+  int seed = -1;
+  float sampleFraction = 1.0f;
+  bool stereo = false;
+  float eyeDistance = -1;
+  bool jitter = false;
+  bool minimal = false;
+  int threads = 0;
+  std::string cacheDir;
+  bool noCache = false;
+  std::string printScene;
+};
+
+/// Renders (or fetches from the cache) the reference of one frame.
+Image reference(render::Renderer& r, const render::Scene& scene, const RenderOptions& o, const render::ReferenceCache& cache,
+                int index, Eye eye, int& sppTaken, bool& cached) {
+  const fs::path entry = cache.dir.empty() ? fs::path() : cache.entry(scene, r.settings(), index, o.referenceSpp, eye, o.referenceSeconds);
+  if (!entry.empty() && fs::exists(entry)) {
+    try {
+      Image img = readRgbExr(entry);
+      if (img.width == r.settings().width && img.height == r.settings().height) {
+        cached = true;
+        sppTaken = -1;
+        return img;
+      }
+    } catch (const Error&) {
+      // A damaged cache entry is rendered again and overwritten.
+    }
+  }
+  cached = false;
+  Image img = r.renderReference(index, o.referenceSpp, o.referenceSeconds, eye);
+  sppTaken = r.stats().samplesPerPixel;
+  if (!entry.empty()) {
+    fs::create_directories(entry.parent_path());
+    writeRgbExr(entry, img);
+  }
+  return img;
+}
+
+void runRender(const RenderOptions& o) {
+  if (!o.printScene.empty()) {
+    const std::string text = render::Scene::builtinDescription(o.printScene);
+    if (text.empty()) throw Error("--print-scene '" + o.printScene + "': not a built-in scene");
+    std::printf("%s\n", text.c_str());
+    return;
+  }
+  if (o.scene.empty()) throw Error("render: --scene is required");
+  if (o.output.empty()) throw Error("render: --output is required");
+  if (o.frames < 0) throw Error("--frames: must be >= 1");
+  if (o.referenceSpp < 0) throw Error("--reference-spp: must be >= 0");
+  if (o.referenceSeconds < 0) throw Error("--reference-seconds: must be >= 0");
+  std::unique_ptr<tbb::global_control> threads;
+  if (o.threads > 0) threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
+
+  auto scene = render::Scene::load(o.scene);
+  render::RenderSettings s = scene->suggestedSettings();
+  if (!o.size.empty()) std::tie(s.width, s.height) = parseSize(o.size);
+  s.spp = o.spp;
+  if (o.maxDepth > 0) s.maxDepth = o.maxDepth;
+  if (o.seed >= 0) s.seed = uint32_t(o.seed);
+  s.sampleFraction = o.sampleFraction;
+  if (o.eyeDistance >= 0) s.eyeDistance = o.eyeDistance;
+  s.pixelJitter = s.pixelJitter || o.jitter;
+  s.allBuffers = !o.minimal;
+  const int frames = o.frames > 0 ? o.frames : scene->frameCount();
+  render::Renderer renderer(scene, s);
+  render::ReferenceCache cache;
+  if (!o.noCache) cache.dir = o.cacheDir.empty() ? render::ReferenceCache::defaultDir() : fs::path(o.cacheDir);
+
+  const fs::path out(o.output);
+  std::vector<std::pair<Eye, fs::path>> eyes;
+  if (o.stereo) eyes = {{Eye::Left, out / "left"}, {Eye::Right, out / "right"}};
+  else eyes = {{Eye::Center, out}};
+
+  const int steps = frames * int(eyes.size()) * (o.referenceSpp > 0 ? 2 : 1);
+  Progress progress("render " + scene->name(), steps);
+  int done = 0;
+  double renderSeconds = 0;
+  uint64_t rays = 0;
+  for (const auto& [eye, dir] : eyes) {
+    fs::create_directories(dir);
+    SequenceWriter writer(dir);
+    std::unique_ptr<SequenceWriter> refWriter;
+    if (o.referenceSpp > 0) {
+      fs::create_directories(dir / "reference");
+      refWriter = std::make_unique<SequenceWriter>(dir / "reference");
+    }
+    nlohmann::json refSpp = nlohmann::json::array();
+    int cachedCount = 0;
+    for (int i = 0; i < frames; ++i) {
+      Frame f = renderer.render(i, eye);
+      renderSeconds += renderer.stats().seconds;
+      rays += renderer.stats().rays;
+      writer.write(f);
+      writer.finish();
+      progress.update(++done, "frame " + std::to_string(i + 1) + (o.stereo ? std::string(" ") + render::eyeName(eye) : ""));
+      if (refWriter) {
+        int taken = 0;
+        bool cached = false;
+        Frame ref;
+        ref.number = f.number;
+        ref.width = f.width;
+        ref.height = f.height;
+        ref.camera = f.camera;
+        ref[Buffer::Color] = reference(renderer, *scene, o, cache, i, eye, taken, cached);
+        cachedCount += cached;
+        refSpp.push_back(taken);
+        refWriter->write(ref);
+        refWriter->finish();
+        progress.update(++done, std::string("reference ") + std::to_string(i + 1) + (cached ? " (cached)" : ""));
+      }
+    }
+    nlohmann::json meta = {{"generator", "rtdenoise render"},
+                           {"scene", o.scene},
+                           {"sceneName", scene->name()},
+                           {"eye", render::eyeName(eye)},
+                           {"eyeDistance", o.stereo ? s.eyeDistance : 0.0f},
+                           {"frames", frames},
+                           {"width", s.width},
+                           {"height", s.height},
+                           {"spp", s.spp},
+                           {"maxDepth", s.maxDepth},
+                           {"seed", s.seed},
+                           {"pixelJitter", s.pixelJitter},
+                           {"sampleFraction", s.sampleFraction},
+                           {"seedBits", 24}};
+    if (refWriter)
+      meta["reference"] = {{"dir", "reference"}, {"spp", o.referenceSpp}, {"secondsBudget", o.referenceSeconds},
+                           {"samplesTaken", refSpp}, {"note", "samplesTaken -1: read from the reference cache"}};
+    writeFileAtomic(dir / "render.json", meta.dump(1) + "\n");
+  }
+  if (o.stereo) {
+    nlohmann::json top = {{"generator", "rtdenoise render"}, {"stereo", true}, {"left", "left"}, {"right", "right"},
+                          {"eyeDistance", s.eyeDistance}, {"frames", frames}};
+    writeFileAtomic(out / "render.json", top.dump(1) + "\n");
+  }
+  const double rps = renderSeconds > 0 ? double(rays) / renderSeconds : 0.0;
+  progress.finish();
+  std::printf("rendered %d frame(s) of '%s' at %dx%d, %d spp%s: %.3f s/frame, %.2f Mrays/s -> %s\n", frames * int(eyes.size()),
+              scene->name().c_str(), s.width, s.height, s.spp, o.stereo ? " (stereo)" : "",
+              renderSeconds / (frames * eyes.size()), rps * 1e-6, out.string().c_str());
+}
+
+}  // namespace
+
+void addRender(CLI::App& app) {
+  auto o = std::make_shared<RenderOptions>();
+  auto* cmd = app.add_subcommand("render", "path-trace a scene into a native sequence (1-spp input, features, references)");
+  cmd->add_option("--scene", o->scene, "built-in scene (cornell, pillars, glossy, dynamic), .gltf/.glb or .json description");
+  cmd->add_option("--output,-o", o->output, "output directory (a native sequence; stereo: <dir>/left and <dir>/right)");
+  cmd->add_option("--frames", o->frames, "number of frames (default: the scene's)");
+  cmd->add_option("--size", o->size, "WxH (default: the scene's, 320x180 for built-in scenes)");
+  cmd->add_option("--spp", o->spp, "samples per pixel of the noisy color")->default_val(1);
+  cmd->add_option("--reference-spp", o->referenceSpp, "also render references with this many samples per pixel (0: none)");
+  cmd->add_option("--reference-seconds", o->referenceSeconds, "time budget per reference frame in seconds (0: none)");
+  cmd->add_option("--max-depth", o->maxDepth, "maximum path depth (default 8)");
+  cmd->add_option("--seed", o->seed, "global random seed (default: the scene's, 1)");
+  cmd->add_option("--sample-fraction", o->sampleFraction, "fraction of pixels traced per frame (sparse, blue-noise mask)")->default_val(1.0f);
+  cmd->add_flag("--stereo", o->stereo, "render left and right eyes into <output>/left and <output>/right");
+  cmd->add_option("--eye-distance", o->eyeDistance, "stereo eye distance in world units (default 0.064)");
+  cmd->add_flag("--jitter", o->jitter, "jitter primary rays within the pixel (default: pixel centres)");
+  cmd->add_flag("--minimal", o->minimal, "write only color and the standard feature buffers");
+  cmd->add_option("--threads", o->threads, "worker threads (default: all cores)");
+  cmd->add_option("--reference-cache", o->cacheDir, "reference cache directory (default $RTD_CACHE_DIR or ~/.cache/rtdenoise/references)");
+  cmd->add_flag("--no-reference-cache", o->noCache, "do not read or write the reference cache");
+  cmd->add_option("--print-scene", o->printScene, "print a built-in scene's JSON description and exit");
+  cmd->callback([o] { runRender(*o); });
+}
+
+}  // namespace rtd::cli
+
+#endif  // HAVE_RTDENOISE_RENDER

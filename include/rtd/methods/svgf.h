@@ -1,0 +1,198 @@
+// rtdenoise — method "svgf": spatiotemporal variance-guided filtering (Schied et al. 2017) with
+// the variants of Dundr (progressive SVGF), Gersthofer (VR stereo) and Voorhuis (reflections).
+// docs/methods/svgf.md describes the pipeline, every setting's source and every unclear point.
+#pragma once
+#include "rtd/methods/reprojection.h"
+#include "rtd/methods/taa.h"
+
+namespace rtd {
+
+/// Which paper's choices the variant-controlled settings start from.
+enum class SvgfVariant { schied, dundr, gersthofer, voorhuis };
+/// A-trous kernel: 5x5 B3 spline (Schied, Dammertz) or 3x3 binomial (Dundr Fig. 4).
+enum class SvgfKernel { b3spline5x5, binomial3x3 };
+/// Which radiance streams are filtered separately and summed.
+enum class SvgfComponents { automatic, color, directIndirect, diffuseSpecular };
+/// Order of the a-trous steps: 1,2,4,... (Schied) or 1 then coarse to fine 16,8,4,2 (Dundr Sec. 4.4).
+enum class SvgfLevelOrder { fineToCoarse, firstThenCoarseToFine, coarseToFine };
+/// What scales the luminance difference in w_l: sigma_l * sqrt(Var) (Schied) or sigma_l * Var (Dundr).
+enum class SvgfLuminanceScale { standardDeviation, variance };
+/// Variance while the history is short: 7x7 spatial estimate (Schied), luminance weight off
+/// (Dundr's "turn off the weight entirely"), or the temporal moments regardless.
+enum class SvgfShortHistory { spatialEstimate, disableLuminanceWeight, temporal };
+/// The luminance of moments, variance and w_l.
+enum class SvgfLuminance { rec709, rec601, cieLightness };
+/// When the 3x3 Gaussian prefilter g3x3 of the variance runs: before every level (Schied Eq. 5),
+/// once before the first level (Dundr Sec. 4.3), or never.
+enum class SvgfVariancePrefilter { everyLevel, once, off };
+
+struct SvgfSettings {
+  static constexpr const char* kMethod = "svgf";
+
+  /// Preset of the paper-specific fields below (marked "variant"); setting it by name resets
+  /// them to that paper's defaults, individual fields set afterwards override the preset.
+  SvgfVariant variant = SvgfVariant::schied;
+  /// auto: Direct+Indirect if the frame has both, else Diffuse+Specular, else Color.
+  SvgfComponents components = SvgfComponents::automatic;
+
+  // --- temporal accumulation (Schied Sec. 4.1) ---
+  /// Colour blend floor, w = max(1/n, alpha) (Schied 0.2; Dundr "around 0.1"). [variant]
+  float alphaColor = 0.2f;
+  /// Moments blend (Schied 0.2). [variant]
+  float alphaMoments = 0.2f;
+  /// Moments averaged exactly while 1/n > alpha (Voorhuis Sec. 6; Dundr's r = max(a, 1/age));
+  /// off: EMA from the second frame on (Schied). [variant]
+  bool momentsTrueAverage = false;
+  /// History length cap.
+  int maxHistoryLength = 255;
+  /// Luminance used for moments, variance and w_l (Schied Rec.709; Dundr Rec.601; Gersthofer CIE L*). [variant]
+  SvgfLuminance luminance = SvgfLuminance::rec709;
+
+  // --- variance estimation (Schied Sec. 4.2) ---
+  /// Below this history length (frames, including the current one) the variance is not
+  /// temporal (Schied: "less than 4 frames").
+  int shortHistoryFrames = 4;
+  /// What replaces the temporal variance while the history is short. [variant]
+  SvgfShortHistory shortHistory = SvgfShortHistory::spatialEstimate;
+  /// Radius of the spatial estimate: 3 = 7x7 (Schied), 1 = 3x3 (Gersthofer Sec. 3.4.3). [variant]
+  int spatialVarianceRadius = 3;
+  /// Spatial estimate from the accumulated moments of the window (Voorhuis Sec. 6) instead of
+  /// the current frame's luminance (Schied). [variant]
+  bool spatialVarianceFromMoments = false;
+  /// 3x3 Gaussian prefilter of the variance. [variant]
+  SvgfVariancePrefilter variancePrefilter = SvgfVariancePrefilter::everyLevel;
+
+  // --- edge-avoiding a-trous wavelet filter (Schied Sec. 4.3, Dammertz et al. 2010) ---
+  SvgfKernel kernel = SvgfKernel::b3spline5x5;  ///< [variant]
+  /// Number of a-trous levels (Schied 5; Dundr 5, "6 if smoother results are needed").
+  int atrousIterations = 5;
+  SvgfLevelOrder levelOrder = SvgfLevelOrder::fineToCoarse;  ///< [variant]
+  /// 1-based executed level whose output becomes the colour history; 0 = none (Gersthofer). [variant]
+  int feedbackLevel = 1;
+  /// sigma_z of w_z = exp(-|z(p)-z(q)| / (sigma_z |grad z(p).(p-q)| + eps)) (Schied 1; Dundr 1; Voorhuis 1).
+  float sigmaDepth = 1.0f;
+  /// Exponent of w_n = max(0, n(p).n(q))^sigma_n, rounded to an integer (Schied 128; Dundr, Voorhuis 64). [variant]
+  float sigmaNormal = 128.0f;
+  /// sigma_l of w_l = exp(-|l(p)-l(q)| / (sigma_l sqrt(g3x3(Var)) + eps)) (Schied 4; Dundr 4; Voorhuis 5). [variant]
+  float sigmaLuminance = 4.0f;
+  /// eps of w_z, in depth units (not given by Schied; Dundr 0.005 for normalized depth).
+  float depthEpsilon = 1e-2f;
+  /// eps of w_l (Falcor-style 1e-10; Dundr "0.01 to 0.1" with the variance scale). [variant]
+  float luminanceEpsilon = 1e-10f;
+  /// Dundr Sec. 4.4.2: w_z = 1 where |grad z| > maxDepthSlope * z (very steep surfaces); 0 = off.
+  float maxDepthSlope = 0.0f;
+  SvgfLuminanceScale luminanceScale = SvgfLuminanceScale::standardDeviation;  ///< [variant]
+  /// Propagate the variance through the levels, Var' = sum h^2 w^2 Var / (sum h w)^2 (Schied Eq. 4).
+  bool varianceFiltering = true;
+  /// Voorhuis Sec. 6: no per-level variance filtering for the indirect component. [variant]
+  bool indirectVarianceFiltering = true;
+  /// Voorhuis Eq. 8: sigma_l' = sigma_l (8 - min(7, h)), h = successful reprojections. [variant]
+  bool shortHistoryBandwidth = false;
+  /// Voorhuis Sec. 6: 3x3 median on diffuse pixels (roughness >= 0.9 or no roughness buffer),
+  /// displayed frame only. [variant]
+  bool fireflyMedian = false;
+
+  ReprojectionSettings reprojection;
+  TaaSettings taa;
+
+  /// Resets the [variant] fields to the papers' defaults.
+  void applyVariant(SvgfVariant v) {
+    const SvgfSettings base;  // Schied et al. 2017
+    variant = v;
+    alphaColor = base.alphaColor;
+    alphaMoments = base.alphaMoments;
+    momentsTrueAverage = base.momentsTrueAverage;
+    luminance = base.luminance;
+    shortHistory = base.shortHistory;
+    spatialVarianceRadius = base.spatialVarianceRadius;
+    spatialVarianceFromMoments = base.spatialVarianceFromMoments;
+    variancePrefilter = base.variancePrefilter;
+    kernel = base.kernel;
+    levelOrder = base.levelOrder;
+    feedbackLevel = base.feedbackLevel;
+    sigmaNormal = base.sigmaNormal;
+    sigmaLuminance = base.sigmaLuminance;
+    luminanceEpsilon = base.luminanceEpsilon;
+    luminanceScale = base.luminanceScale;
+    indirectVarianceFiltering = base.indirectVarianceFiltering;
+    shortHistoryBandwidth = base.shortHistoryBandwidth;
+    fireflyMedian = base.fireflyMedian;
+    taa.taaAlpha = TaaSettings{}.taaAlpha;
+    switch (v) {
+      case SvgfVariant::schied: break;
+      case SvgfVariant::dundr:  // Dundr, "Progressive SVGF", Sec. 4
+        alphaColor = alphaMoments = 0.1f;        // "values around 0.1"
+        momentsTrueAverage = true;               // r = max(a, 1/age) for light and moments
+        luminance = SvgfLuminance::rec601;       // 0.299R + 0.587G + 0.114B
+        shortHistory = SvgfShortHistory::disableLuminanceWeight;  // spatial estimate omitted
+        variancePrefilter = SvgfVariancePrefilter::once;          // Sec. 4.3, stage 3
+        kernel = SvgfKernel::binomial3x3;        // Fig. 4 kernel
+        levelOrder = SvgfLevelOrder::firstThenCoarseToFine;
+        sigmaNormal = 64.0f;
+        luminanceEpsilon = 0.05f;                // "between 0.01 and 0.1"
+        luminanceScale = SvgfLuminanceScale::variance;
+        taa.taaAlpha = 0.1f;                     // "the same ratio r"
+        break;
+      case SvgfVariant::gersthofer:  // Gersthofer, VR stereo, Sec. 3.4
+        luminance = SvgfLuminance::cieLightness;
+        feedbackLevel = 0;                       // "not fed back ... due to correlated sampling"
+        spatialVarianceRadius = 1;               // 3x3 cross-bilateral
+        break;
+      case SvgfVariant::voorhuis:  // Voorhuis, Sec. 6 and 7
+        momentsTrueAverage = true;
+        spatialVarianceFromMoments = true;
+        sigmaNormal = 64.0f;
+        sigmaLuminance = 5.0f;
+        indirectVarianceFiltering = false;
+        shortHistoryBandwidth = true;
+        fireflyMedian = true;
+        break;
+    }
+  }
+  static SvgfSettings forVariant(SvgfVariant v) {
+    SvgfSettings s;
+    s.applyVariant(v);
+    return s;
+  }
+
+  template <class V> void visit(V& v) {
+    v("variant", variant, "preset of the [variant] settings: schied, dundr, gersthofer, voorhuis (set it first)",
+      {"schied", "dundr", "gersthofer", "voorhuis"});
+    v("components", components, "radiance streams filtered separately and summed",
+      {"auto", "color", "directIndirect", "diffuseSpecular"});
+    v("alphaColor", alphaColor, "[variant] colour blend floor w = max(1/n, alpha) (Schied 0.2, Dundr 0.1)", Range{0.001, 1});
+    v("alphaMoments", alphaMoments, "[variant] moments blend (Schied 0.2, Dundr 0.1)", Range{0.001, 1});
+    v("momentsTrueAverage", momentsTrueAverage, "[variant] moments averaged exactly for short histories (Voorhuis, Dundr)");
+    v("maxHistoryLength", maxHistoryLength, "history length cap", Range{1, 65535});
+    v("luminance", luminance, "[variant] luminance of moments/variance/w_l (Schied rec709, Dundr rec601, Gersthofer CIE L*)",
+      {"rec709", "rec601", "cieLightness"});
+    v("shortHistoryFrames", shortHistoryFrames, "history length below which the variance is not temporal (Schied 4)", Range{0, 65535});
+    v("shortHistory", shortHistory, "[variant] variance for short histories (Schied spatial, Dundr weight off)",
+      {"spatialEstimate", "disableLuminanceWeight", "temporal"});
+    v("spatialVarianceRadius", spatialVarianceRadius, "[variant] spatial variance window radius (Schied 3 = 7x7, Gersthofer 1 = 3x3)", Range{1, 7});
+    v("spatialVarianceFromMoments", spatialVarianceFromMoments, "[variant] spatial variance from accumulated moments (Voorhuis)");
+    v("variancePrefilter", variancePrefilter, "[variant] 3x3 Gaussian of the variance: every level (Schied), once (Dundr), off",
+      {"everyLevel", "once", "off"});
+    v("kernel", kernel, "[variant] a-trous kernel (Schied 5x5 B3 spline, Dundr 3x3 binomial)", {"5x5", "3x3"});
+    v("atrousIterations", atrousIterations, "a-trous levels (Schied 5)", Range{0, 8});
+    v("levelOrder", levelOrder, "[variant] step order: 1,2,4,.. (Schied); 1 then ..,4,2 (Dundr); coarse to fine",
+      {"fineToCoarse", "firstThenCoarseToFine", "coarseToFine"});
+    v("feedbackLevel", feedbackLevel, "[variant] executed level fed back as colour history, 0 = none (Schied 1, Gersthofer 0)", Range{0, 8});
+    v("sigmaDepth", sigmaDepth, "sigma_z of the depth weight (Schied 1)", Range{0, 1e9});
+    v("sigmaNormal", sigmaNormal, "[variant] normal weight exponent (Schied 128, Dundr/Voorhuis 64)", Range{0, 4096});
+    v("sigmaLuminance", sigmaLuminance, "[variant] sigma_l of the luminance weight (Schied 4, Voorhuis 5)", Range{0, 1e9});
+    v("depthEpsilon", depthEpsilon, "eps of the depth weight, depth units", Range{1e-9, 1e9});
+    v("luminanceEpsilon", luminanceEpsilon, "[variant] eps of the luminance weight (Dundr 0.05)", Range{1e-12, 1e9});
+    v("maxDepthSlope", maxDepthSlope, "depth weight off where |grad z| > maxDepthSlope * z (Dundr); 0 = off", Range{0, 1e9});
+    v("luminanceScale", luminanceScale, "[variant] w_l scaled by std deviation (Schied) or variance (Dundr)",
+      {"standardDeviation", "variance"});
+    v("varianceFiltering", varianceFiltering, "propagate variance through the levels (Schied Eq. 4)");
+    v("indirectVarianceFiltering", indirectVarianceFiltering, "[variant] per-level variance filtering for the indirect component (Voorhuis: off)");
+    v("shortHistoryBandwidth", shortHistoryBandwidth, "[variant] sigma_l * (8 - min(7, h)) (Voorhuis Eq. 8)");
+    v("fireflyMedian", fireflyMedian, "[variant] 3x3 median on diffuse pixels, display only (Voorhuis)");
+    reprojection.visit(v);
+    taa.visit(v);
+  }
+};
+
+}  // namespace rtd

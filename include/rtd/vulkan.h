@@ -1,0 +1,72 @@
+// rtdenoise — Vulkan interop: run the denoisers on the application's own Vulkan device and
+// pass GPU-resident buffers, so an engine keeps its frame on the GPU. Only this header needs
+// <vulkan/vulkan.h>; see docs/vulkan.md.
+//
+//   auto device = rtd::createVulkanDevice({instance, physicalDevice, vkDevice, queue, family});
+//   auto denoiser = device->createDenoiser("svgf");
+//   rtd::VulkanFrameInputs in{.width = w, .height = h};
+//   in[rtd::Buffer::Color] = {colorBuffer, 0, rtd::Format::Float4};
+//   ...
+//   rtd::denoiseVulkan(*denoiser, in, {outputBuffer, 0, rtd::Format::Float4}, commandBuffer);
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <memory>
+
+#include "rtd/denoiser.h"
+
+namespace rtd {
+
+/// The application's device. rtdenoise creates its pipelines, buffers and query pools on
+/// `device` and submits (when it submits at all) on `queue`, which must belong to
+/// `queueFamily` and support compute. Vulkan 1.2; no extension or optional feature is needed.
+/// The handles must outlive the rtd::Device and its denoisers.
+struct VulkanDeviceDesc {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  uint32_t queueFamily = 0;
+};
+
+/// A Vulkan rtd::Device on the application's device. Throws rtd::Error on a bad handle set.
+std::unique_ptr<Device> createVulkanDevice(const VulkanDeviceDesc& desc);
+
+/// Pixels in one of the application's VkBuffers (created with VK_BUFFER_USAGE_STORAGE_BUFFER_BIT
+/// on the same device). Pixel (x, y), channel c, is the 32-bit value at byte
+/// offset + y * rowStride + x * pixelStride + 4 * c; rows from the top. Strides 0 mean tightly
+/// packed. `offset` and the strides must be multiples of 4. Formats as in rtd::ImageView.
+struct VulkanBufferView {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceSize offset = 0;
+  Format format = Format::Undefined;
+  uint32_t pixelStride = 0;
+  uint32_t rowStride = 0;
+  bool empty() const { return buffer == VK_NULL_HANDLE; }
+};
+
+/// One frame whose buffers live on the GPU (the twin of rtd::FrameInputs).
+struct VulkanFrameInputs {
+  int width = 0;
+  int height = 0;
+  std::array<VulkanBufferView, kBufferCount> buffers{};
+  Camera camera;
+  bool cameraCut = false;
+
+  VulkanBufferView& operator[](Buffer b) { return buffers[int(b)]; }
+  const VulkanBufferView& operator[](Buffer b) const { return buffers[int(b)]; }
+  bool has(Buffer b) const { return !buffers[int(b)].empty(); }
+};
+
+/// Denoises a GPU-resident frame into `output` (Float3 or Float4) with a denoiser created on a
+/// Vulkan device. With `commandBuffer` (recording, from a pool of the device's queue family) the
+/// work is recorded there and the application submits it: rtdenoise starts with a barrier that
+/// makes all earlier writes visible to its reads and ends with one that makes its writes visible
+/// to all later commands; denoiser.stats() then report the latest frame whose GPU timestamps are
+/// available. Without it, rtdenoise submits on the device's queue and waits. Throws rtd::Error
+/// for a denoiser of another backend or bad views.
+void denoiseVulkan(Denoiser& denoiser, const VulkanFrameInputs& frame, const VulkanBufferView& output,
+                   VkCommandBuffer commandBuffer = VK_NULL_HANDLE);
+
+}  // namespace rtd

@@ -1,0 +1,141 @@
+#include "backend/vulkan/passes.h"
+
+#include <algorithm>
+
+namespace rtd::vk {
+
+Binding GpuFrame::bindingOf(Buffer b, const Context& ctx) const {
+  return has(b) ? Binding(planes[int(b)]) : Binding(ctx.dummy());
+}
+
+namespace {
+struct ModulatePC {
+  uint32_t width, height, hasAlbedo;
+};
+}  // namespace
+
+void demodulate(Recorder& rec, const Planes& color, const Planes* albedo, Planes& out) {
+  ModulatePC pc{uint32_t(color.width), uint32_t(color.height), albedo != nullptr};
+  rec.dispatch("demodulate", {color, albedo ? Binding(*albedo) : Binding(rec.context().dummy()), out}, pc,
+               color.width, color.height);
+}
+
+void remodulate(Recorder& rec, const Planes& illumination, const Planes* albedo, Planes& out) {
+  ModulatePC pc{uint32_t(out.width), uint32_t(out.height), albedo != nullptr};
+  rec.dispatch("remodulate", {illumination, albedo ? Binding(*albedo) : Binding(rec.context().dummy()), out}, pc,
+               out.width, out.height);
+}
+
+void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const ReprojectionSettings& s, Planes& rp) {
+  enum : uint32_t {
+    kPrevious = 1, kDepth = 2, kNormal = 4, kId = 8, kPosition = 16, kMotion = 32, kFromCamera = 64,
+    kDepthGradient = 128, kFallback = 256
+  };
+  struct PC {
+    uint32_t width, height, flags;
+    float depthTolerance, depthGradientScale, normalTolerance, positionTolerance;
+  } pc{uint32_t(cur.width), uint32_t(cur.height), 0, s.depthTolerance, s.depthGradientScale, s.normalTolerance,
+       s.positionTolerance};
+  // Same rules as reproject() on the CPU: a test runs when both frames have its buffer.
+  const bool usable = prev && prev->width == cur.width && prev->height == cur.height;
+  const GpuFrame& p = usable ? *prev : cur;
+  if (usable) {
+    pc.flags |= kPrevious;
+    auto both = [&](Buffer b) { return cur.has(b) && p.has(b); };
+    if (both(Buffer::Depth)) pc.flags |= kDepth;
+    if (both(Buffer::Normal)) pc.flags |= kNormal;
+    if (s.testObjectId && both(Buffer::ObjectId)) pc.flags |= kId;
+    if (s.positionTolerance > 0 && both(Buffer::Position)) pc.flags |= kPosition;
+    if (cur.has(Buffer::Motion)) pc.flags |= kMotion;
+    else if (cur.cameraValue.valid && p.cameraValue.valid && cur.has(Buffer::Position)) pc.flags |= kFromCamera;
+    if (cur.has(Buffer::DepthGradient)) pc.flags |= kDepthGradient;
+    if (s.fallback3x3) pc.flags |= kFallback;
+  }
+  const Context& ctx = rec.context();
+  rec.dispatch("reproject",
+               {cur.bindingOf(Buffer::Depth, ctx), p.bindingOf(Buffer::Depth, ctx), cur.bindingOf(Buffer::Normal, ctx),
+                p.bindingOf(Buffer::Normal, ctx), cur.bindingOf(Buffer::ObjectId, ctx),
+                p.bindingOf(Buffer::ObjectId, ctx), cur.bindingOf(Buffer::Position, ctx),
+                p.bindingOf(Buffer::Position, ctx), cur.bindingOf(Buffer::Motion, ctx),
+                cur.bindingOf(Buffer::DepthGradient, ctx), p.camera, rp},
+               pc, cur.width, cur.height);
+}
+
+void GpuTemporalAccumulator::resize(Context& ctx, int w, int h) {
+  for (auto& p : history_) p.allocate(ctx, w, h, 6);
+  cur_ = 0;
+}
+
+void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
+                                 int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments) {
+  const int prev = cur_;
+  cur_ ^= 1;
+  if (clear_) {
+    rec.fill(history_[prev].buffer, 0);
+    clear_ = false;
+  }
+  struct PC {
+    uint32_t width, height;
+    float alpha, momentsAlpha, maxHistoryLength;
+    uint32_t luminanceMode, cumulativeMoments;
+  } pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength), luminanceMode,
+       cumulativeMoments};
+  rec.dispatch("temporal_accumulation", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
+}
+
+void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient) {
+  struct PC {
+    uint32_t width, height, hasGradient;
+    float maxDepthSlope;
+  } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::DepthGradient), maxDepthSlope};
+  rec.dispatch("atrous_guide",
+               {frame[Buffer::Depth], frame.bindingOf(Buffer::DepthGradient, rec.context()), gradient}, pc,
+               frame.width, frame.height);
+}
+
+void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& lv,
+                 const Planes& in, Planes& out) {
+  struct PC {
+    uint32_t width, height;
+    int32_t step, radius;
+    float sigmaDepth, depthEpsilon;
+    int32_t normalExponent;
+    float sigmaLuminance, luminanceEpsilon;
+    uint32_t flags, luminanceMode;
+  } pc{uint32_t(in.width), uint32_t(in.height), lv.step, lv.radius, lv.sigmaDepth, lv.depthEpsilon,
+       std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
+       (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
+           (lv.propagateVariance ? 8u : 0u),
+       lv.luminanceMode};
+  rec.dispatch("atrous",
+               {frame[Buffer::Depth], frame[Buffer::Normal], gradient, in, out,
+                lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())},
+               pc, in.width, in.height);
+}
+
+void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int dstPlane) {
+  struct PC {
+    uint32_t width, height, srcPlane, dstPlane;
+  } pc{uint32_t(in.width), uint32_t(in.height), uint32_t(srcPlane), uint32_t(dstPlane)};
+  rec.dispatch("gaussian3x3", {in, out}, pc, in.width, in.height);
+}
+
+void GpuTaa::resize(Context& ctx, int w, int h) {
+  for (auto& p : history_) p.allocate(ctx, w, h, 3);
+  valid_ = false;
+}
+
+const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha) {
+  const int prev = cur_;
+  cur_ ^= 1;
+  struct PC {
+    uint32_t width, height;
+    float alpha;
+    uint32_t valid;
+  } pc{uint32_t(color.width), uint32_t(color.height), alpha, valid_};
+  rec.dispatch("taa", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
+  valid_ = true;
+  return history_[cur_];
+}
+
+}  // namespace rtd::vk

@@ -1,0 +1,92 @@
+// The shared passes on the GPU (twins of src/passes/): demodulation, reprojection, temporal
+// accumulation and TAA, recorded through a vk::Recorder. Every method's Vulkan implementation
+// reuses these, as the CPU methods reuse src/passes/.
+#pragma once
+#include <array>
+
+#include "backend/vulkan/context.h"
+#include "rtd/frame.h"
+#include "rtd/methods/reprojection.h"
+
+namespace rtd::vk {
+
+/// One frame on the GPU: each imported buffer as planes (allocated on first use, kept), which
+/// of them this frame has, and its camera (32 floats: worldToCamera then projection).
+struct GpuFrame {
+  int width = 0, height = 0;
+  std::array<Planes, kBufferCount> planes;
+  std::array<bool, kBufferCount> present{};
+  DeviceBuffer camera;
+  Camera cameraValue;
+
+  bool has(Buffer b) const { return present[int(b)]; }
+  const Planes& operator[](Buffer b) const { return planes[int(b)]; }
+  /// The planes of `b`, or the context's dummy buffer where the frame lacks it.
+  Binding bindingOf(Buffer b, const Context& ctx) const;
+};
+
+/// out = radiance / albedo' (albedo may be null: a copy).
+void demodulate(Recorder& rec, const Planes& color, const Planes* albedo, Planes& out);
+/// out = illumination * albedo' (first three planes of `illumination`).
+void remodulate(Recorder& rec, const Planes& illumination, const Planes* albedo, Planes& out);
+
+/// Reprojection records (8 planes, see shaders/reprojection.glsl) for `cur`; with no previous
+/// frame every pixel is None.
+void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const ReprojectionSettings& s, Planes& rp);
+
+/// Colour, luminance moments and history length, double-buffered (6 planes each: R, G, B,
+/// moment 1, moment 2, length), like TemporalAccumulator.
+class GpuTemporalAccumulator {
+ public:
+  void resize(Context& ctx, int w, int h);
+  /// Zeroes the history (lengths 0) before the next run, as TemporalAccumulator::reset does:
+  /// needed when the reprojection still has a previous frame (a stream switched buffers).
+  void reset() { clear_ = true; }
+  /// luminanceMode: MomentLuminance (0 Rec709, 1 Rec601, 2 CIE L*); cumulativeMoments: moments
+  /// weighted max(1/n, momentsAlpha) like the colour, else a plain EMA (AccumulationOptions).
+  void run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha, int maxHistoryLength,
+           uint32_t luminanceMode = 0, bool cumulativeMoments = true);
+  /// This frame's result; methods that feed a filtered colour back (SVGF) write its planes 0-2.
+  Planes& current() { return history_[cur_]; }
+  const Planes& current() const { return history_[cur_]; }
+
+ private:
+  Planes history_[2];
+  int cur_ = 0;
+  bool clear_ = false;
+};
+
+/// Parameters of one a-trous level (twin of AtrousLevel, src/passes/atrous.h).
+struct GpuAtrousLevel {
+  int radius = 2;  ///< 2: 5x5 B3 spline; 1: 3x3 binomial
+  int step = 1;
+  float sigmaDepth = 1.0f, depthEpsilon = 1e-2f;
+  int normalExponent = 128;
+  float sigmaLuminance = 4.0f, luminanceEpsilon = 1e-10f;
+  bool prefilterVariance = true, varianceScale = false, propagateVariance = true;
+  const Planes* sigmaScale = nullptr;
+  uint32_t luminanceMode = 0;
+};
+
+/// The a-trous guide's depth gradient (2 planes) from the frame's depth (AtrousGuide::build).
+void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient);
+/// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`.
+void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& level,
+                 const Planes& in, Planes& out);
+/// Clamped 3x3 Gaussian of plane `srcPlane` of `in` into plane `dstPlane` of `out`.
+void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int dstPlane);
+
+/// Karis TAA on the remodulated output; its result is the next frame's history.
+class GpuTaa {
+ public:
+  void resize(Context& ctx, int w, int h);
+  void reset() { valid_ = false; }
+  const Planes& run(Recorder& rec, const Planes& rp, const Planes& color, float alpha);
+
+ private:
+  Planes history_[2];
+  int cur_ = 0;
+  bool valid_ = false;
+};
+
+}  // namespace rtd::vk

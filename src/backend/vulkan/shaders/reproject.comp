@@ -1,0 +1,163 @@
+#version 450
+// Pass "reproject": where each pixel's history comes from (Schied et al. 2017 Sec. 4.1;
+// Higginson Sec. 1.3.1, Eq. 1.4): the bilinear taps around the reprojected position that pass
+// the depth, normal, object-id and position tests, renormalized; else the valid taps of the
+// 3x3 neighbourhood with the Gaussian of Eq. 1.4. Port of src/passes/reprojection.cpp.
+#include "common.glsl"
+#include "reprojection.glsl"
+RTD_LOCAL_SIZE
+
+layout(std430, binding = 0) readonly buffer CurDepth { float curDepth[]; };
+layout(std430, binding = 1) readonly buffer PrevDepth { float prevDepth[]; };
+layout(std430, binding = 2) readonly buffer CurNormal { float curNormal[]; };
+layout(std430, binding = 3) readonly buffer PrevNormal { float prevNormal[]; };
+layout(std430, binding = 4) readonly buffer CurId { float curId[]; };
+layout(std430, binding = 5) readonly buffer PrevId { float prevId[]; };
+layout(std430, binding = 6) readonly buffer CurPos { float curPos[]; };
+layout(std430, binding = 7) readonly buffer PrevPos { float prevPos[]; };
+layout(std430, binding = 8) readonly buffer Motion { float motion[]; };
+layout(std430, binding = 9) readonly buffer DepthGrad { float depthGrad[]; };
+// Previous camera: worldToCamera then projection, row-major (rtd::Camera).
+layout(std430, binding = 10) readonly buffer PrevCamera { float prevCamera[]; };
+layout(std430, binding = 11) writeonly buffer Rp { uint rp[]; };
+
+#define F_PREVIOUS 1u
+#define F_DEPTH 2u
+#define F_NORMAL 4u
+#define F_ID 8u
+#define F_POSITION 16u
+#define F_MOTION 32u
+#define F_FROM_CAMERA 64u
+#define F_DEPTH_GRADIENT 128u
+#define F_FALLBACK 256u
+
+layout(push_constant) uniform PC {
+  uint width, height, flags;
+  float depthTolerance, depthGradientScale, normalTolerance, positionTolerance;
+} pc;
+
+bool has(uint f) { return (pc.flags & f) != 0u; }
+
+float depthSlope(int x, int y, uint plane) {
+  const uint w = pc.width;
+  if (has(F_DEPTH_GRADIENT)) {
+    const uint i = uint(y) * w + uint(x);
+    return max(abs(depthGrad[i]), abs(depthGrad[plane + i]));
+  }
+  const float c = curDepth[uint(y) * w + uint(x)];
+  const int W = int(pc.width), H = int(pc.height);
+  const float l = curDepth[uint(y) * w + uint(max(x - 1, 0))], r = curDepth[uint(y) * w + uint(min(x + 1, W - 1))];
+  const float u = curDepth[uint(max(y - 1, 0)) * w + uint(x)], d = curDepth[uint(min(y + 1, H - 1)) * w + uint(x)];
+  const float gx = min(abs(l - c), abs(r - c)), gy = min(abs(u - c), abs(d - c));
+  return max(gx, gy);
+}
+
+bool tapValid(uint i, int px, int py, float depthTol, uint plane) {
+  if (px < 0 || py < 0 || px >= int(pc.width) || py >= int(pc.height)) return false;
+  const uint j = uint(py) * pc.width + uint(px);
+  if (has(F_DEPTH)) {
+    const float z = curDepth[i], zp = prevDepth[j];
+    if (!(abs(zp - z) <= depthTol)) return false;
+  }
+  if (has(F_NORMAL)) {
+    precise float d = 0.0;
+    for (uint c = 0; c < 3; ++c) d += curNormal[c * plane + i] * prevNormal[c * plane + j];
+    if (!(d >= pc.normalTolerance)) return false;
+  }
+  if (has(F_ID) && curId[i] != prevId[j]) return false;
+  if (has(F_POSITION)) {
+    precise float d2 = 0.0;
+    for (uint c = 0; c < 3; ++c) {
+      precise float d = curPos[c * plane + i] - prevPos[c * plane + j];
+      d2 += d * d;
+    }
+    precise float tol2 = pc.positionTolerance * pc.positionTolerance;
+    if (!(d2 <= tol2)) return false;
+  }
+  return true;
+}
+
+// Row-major 4x4 (at element m of prevCamera) times (x, y, z, 1), without contraction.
+vec4 transformPoint(uint m, vec3 p) {
+  precise vec4 r;
+  for (uint k = 0; k < 4; ++k)
+    r[k] = prevCamera[m + k * 4] * p.x + prevCamera[m + k * 4 + 1] * p.y + prevCamera[m + k * 4 + 2] * p.z +
+           prevCamera[m + k * 4 + 3];
+  return r;
+}
+
+void store(uint i, uint plane, uint kindMask, int base, vec4 wt, float px, float py) {
+  rp[i] = kindMask;
+  rp[plane + i] = uint(base);
+  for (uint t = 0; t < 4; ++t) rp[(2u + t) * plane + i] = floatBitsToUint(wt[t]);
+  rp[6u * plane + i] = floatBitsToUint(px);
+  rp[7u * plane + i] = floatBitsToUint(py);
+}
+
+void main() {
+  const uvec2 p = gl_GlobalInvocationID.xy;
+  if (outside(p, pc.width, pc.height)) return;
+  const int x = int(p.x), y = int(p.y);
+  const uint w = pc.width, plane = pc.width * pc.height;
+  const uint i = p.y * w + p.x;
+  precise float px = float(x) + 0.5, py = float(y) + 0.5;
+  if (!has(F_PREVIOUS)) {
+    store(i, plane, RP_NONE, 0, vec4(0.0), px, py);
+    return;
+  }
+  if (has(F_MOTION)) {
+    px += motion[i];
+    py += motion[plane + i];
+  } else if (has(F_FROM_CAMERA)) {
+    const vec3 pos = vec3(curPos[i], curPos[plane + i], curPos[2u * plane + i]);
+    const vec4 v = transformPoint(0u, pos);
+    const vec4 c = transformPoint(16u, v.xyz);
+    if (c.w > 0.0) {
+      precise float nx = c.x / c.w * 0.5 + 0.5, ny = 0.5 - c.y / c.w * 0.5;
+      px = nx * float(pc.width);
+      py = ny * float(pc.height);  // NDC y is up, rows go down
+    } else {
+      px = -1e6;  // behind the previous camera
+      py = -1e6;
+    }
+  }
+
+  precise float depthTol = 0.0;
+  if (has(F_DEPTH)) {
+    precise float a = pc.depthTolerance * curDepth[i];
+    precise float b = pc.depthGradientScale * depthSlope(x, y, plane);
+    depthTol = a + b;
+  }
+  precise float fx = px - 0.5, fy = py - 0.5;
+  if (!(abs(fx) < 1e6 && abs(fy) < 1e6)) {
+    store(i, plane, RP_NONE, 0, vec4(0.0), px, py);
+    return;
+  }
+  const int x0 = int(floor(fx)), y0 = int(floor(fy));
+  precise float ax = fx - float(x0), ay = fy - float(y0);
+  precise float bw[4] = float[4]((1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay);
+  const int tx[4] = int[4](x0, x0 + 1, x0, x0 + 1), ty[4] = int[4](y0, y0, y0 + 1, y0 + 1);
+  precise float sum = 0.0;
+  precise vec4 wt = vec4(0.0);
+  for (int t = 0; t < 4; ++t)
+    if (bw[t] > 0.0 && tapValid(i, tx[t], ty[t], depthTol, plane)) {
+      wt[t] = bw[t];
+      sum += bw[t];
+    }
+  if (sum > 1e-4) {
+    for (int t = 0; t < 4; ++t) wt[t] /= sum;
+    store(i, plane, RP_BILINEAR, y0 * int(w) + x0, wt, px, py);
+    return;
+  }
+  if (has(F_FALLBACK)) {
+    const int cx = int(floor(px)), cy = int(floor(py));
+    uint mask = 0u;
+    for (int t = 0; t < 9; ++t)
+      if (tapValid(i, cx + t % 3 - 1, cy + t / 3 - 1, depthTol, plane)) mask |= 1u << t;
+    if (mask != 0u) {
+      store(i, plane, RP_FALLBACK | (mask << 2), cy * int(w) + cx, vec4(0.0), px, py);
+      return;
+    }
+  }
+  store(i, plane, RP_NONE, 0, vec4(0.0), px, py);
+}

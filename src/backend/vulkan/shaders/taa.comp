@@ -1,0 +1,89 @@
+#version 450
+// Pass "taa": temporal anti-aliasing with neighbourhood clamping (Karis 2014): the previous
+// output, fetched bilinearly at the reprojected position, is clamped to the YCoCg min/max box of
+// the current 3x3 neighbourhood and blended. Port of src/passes/taa.cpp. The 3x3 neighbourhood
+// is read through shared memory (an 18x18 tile per 16x16 workgroup: 1.27 loads per pixel
+// instead of 9).
+#include "common.glsl"
+#include "reprojection.glsl"
+RTD_LOCAL_SIZE
+
+layout(std430, binding = 0) readonly buffer Rp { uint rp[]; };
+layout(std430, binding = 1) readonly buffer Color { float color[]; };
+layout(std430, binding = 2) readonly buffer Hist { float hist[]; };
+layout(std430, binding = 3) writeonly buffer Out { float outp[]; };
+
+layout(push_constant) uniform PC {
+  uint width, height;
+  float alpha;
+  uint valid;  // 0: first frame, output = input
+} pc;
+
+vec3 toYCoCg(vec3 c) {
+  precise vec3 r;
+  r.x = 0.25 * c.r + 0.5 * c.g + 0.25 * c.b;
+  r.y = 0.5 * c.r - 0.5 * c.b;
+  r.z = -0.25 * c.r + 0.5 * c.g - 0.25 * c.b;
+  return r;
+}
+vec3 fromYCoCg(vec3 c) {
+  precise vec3 r;
+  r.r = c.x + c.y - c.z;
+  r.g = c.x + c.z;
+  r.b = c.x - c.y - c.z;
+  return r;
+}
+
+shared vec3 tile[18][18];
+
+vec3 loadColor(ivec2 q, uint plane) {
+  q = clamp(q, ivec2(0), ivec2(pc.width, pc.height) - 1);
+  const uint j = uint(q.y) * pc.width + uint(q.x);
+  return vec3(color[j], color[plane + j], color[2u * plane + j]);
+}
+
+void main() {
+  const uint plane = pc.width * pc.height;
+  const ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16 - 1;
+  for (uint k = gl_LocalInvocationIndex; k < 18u * 18u; k += 256u) {
+    const ivec2 t = ivec2(k % 18u, k / 18u);
+    tile[t.y][t.x] = toYCoCg(loadColor(origin + t, plane));
+  }
+  barrier();
+
+  const uvec2 p = gl_GlobalInvocationID.xy;
+  if (outside(p, pc.width, pc.height)) return;
+  const uint i = p.y * pc.width + p.x;
+  const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
+  if (pc.valid == 0u) {
+    for (uint k = 0; k < 3; ++k) outp[k * plane + i] = c[k];
+    return;
+  }
+  const ivec2 l = ivec2(gl_LocalInvocationID.xy) + 1;
+  const vec3 cur = tile[l.y][l.x];
+  vec3 lo = cur, hi = cur;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const vec3 n = tile[l.y + dy][l.x + dx];
+      lo = min(lo, n);
+      hi = max(hi, n);
+    }
+  precise float px = uintBitsToFloat(rp[6u * plane + i]) - 0.5, py = uintBitsToFloat(rp[7u * plane + i]) - 0.5;
+  vec3 result = c;
+  if (px > -1.0 && py > -1.0 && px < float(pc.width) && py < float(pc.height)) {
+    const int x0 = int(floor(px)), y0 = int(floor(py));
+    precise float ax = px - float(x0), ay = py - float(y0);
+    precise vec3 h = vec3(0.0);
+    for (int t = 0; t < 4; ++t) {
+      const int tx = clamp(x0 + (t & 1), 0, int(pc.width) - 1), ty = clamp(y0 + (t >> 1), 0, int(pc.height) - 1);
+      precise float wt = ((t & 1) != 0 ? ax : 1.0 - ax) * ((t >> 1) != 0 ? ay : 1.0 - ay);
+      const uint j = uint(ty) * pc.width + uint(tx);
+      h += wt * vec3(hist[j], hist[plane + j], hist[2u * plane + j]);
+    }
+    vec3 hy = clamp(toYCoCg(h), lo, hi);
+    precise vec3 blended = pc.alpha * cur + (1.0 - pc.alpha) * hy;
+    result = fromYCoCg(blended);
+  }
+  result = max(result, vec3(0.0));
+  for (uint k = 0; k < 3; ++k) outp[k * plane + i] = result[k];
+}

@@ -1,0 +1,326 @@
+#include "backend/vulkan/vulkan_denoiser.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
+#include "core/frame_data.h"
+#include "core/timer.h"
+
+namespace rtd::vk {
+
+namespace {
+
+constexpr uint32_t kMaxQueries = 64;
+
+std::string describe(Buffer b) { return "buffer '" + std::string(bufferName(b)) + "'"; }
+
+std::string sizeText(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+}  // namespace
+
+VulkanDenoiserBase::VulkanDenoiserBase(Context& ctx) : keepAlive_(ctx.weak_from_this().lock()), ctx_(ctx), descriptors_(ctx) {
+  VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pi.queueFamilyIndex = ctx.queueFamily();
+  check(vkCreateCommandPool(ctx.device(), &pi, nullptr, &pool_), "vkCreateCommandPool");
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = pool_;
+  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ai.commandBufferCount = 1;
+  check(vkAllocateCommandBuffers(ctx.device(), &ai, &cmd_), "vkAllocateCommandBuffers");
+  VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  check(vkCreateFence(ctx.device(), &fi, nullptr, &fence_), "vkCreateFence");
+  if (ctx.timestamps()) {
+    VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qi.queryCount = kMaxQueries;
+    check(vkCreateQueryPool(ctx.device(), &qi, nullptr, &queries_), "vkCreateQueryPool");
+  }
+  counter_ = DeviceBuffer(ctx, 16, true);
+  for (auto& f : frames_) f.camera = DeviceBuffer(ctx, 32 * sizeof(float), false);
+}
+
+VulkanDenoiserBase::~VulkanDenoiserBase() {
+  vkDeviceWaitIdle(ctx_.device());
+  if (queries_) vkDestroyQueryPool(ctx_.device(), queries_, nullptr);
+  vkDestroyFence(ctx_.device(), fence_, nullptr);
+  vkDestroyCommandPool(ctx_.device(), pool_, nullptr);
+}
+
+std::vector<Buffer> VulkanDenoiserBase::usedBuffers() const {
+  std::vector<Buffer> used = requiredBuffers();
+  for (Buffer b : {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Depth, Buffer::Position, Buffer::Motion,
+                   Buffer::ObjectId, Buffer::DepthGradient})
+    if (std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
+  return used;
+}
+
+void VulkanDenoiserBase::prepare(int w, int h, bool cameraCut) {
+  if (w != width_ || h != height_) {
+    // Old buffers may still be in flight (commands recorded into the application's buffer).
+    vkDeviceWaitIdle(ctx_.device());
+    descriptors_.clear();
+    for (auto& f : frames_) {
+      for (auto& p : f.planes) p = Planes{};
+      f.present.fill(false);
+    }
+    width_ = w;
+    height_ = h;
+    resizeHistory(w, h);
+    reset();
+  } else if (cameraCut) {
+    reset();
+  }
+}
+
+void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
+                                const Export& out) {
+  GpuFrame& f = frames_[cur_];
+  f.width = width_;
+  f.height = height_;
+  f.present.fill(false);
+  f.cameraValue = camera;
+  for (const auto& im : imports) {
+    Planes& p = f.planes[int(im.which)];
+    if (p.width != width_ || p.height != height_) p.allocate(ctx_, width_, height_, bufferChannelCount(im.which));
+    f.present[int(im.which)] = true;
+  }
+
+  // Whatever the application wrote before (its input buffers) is visible to our reads.
+  VkMemoryBarrier in{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  in.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+  in.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &in, 0, nullptr, 0,
+                       nullptr);
+  if (queries_) vkCmdResetQueryPool(cmd, queries_, 0, kMaxQueries);
+
+  Recorder rec(ctx_, descriptors_, cmd, queries_, kMaxQueries);
+  rec.fill(counter_, 0);
+  float matrices[32];
+  std::memcpy(matrices, camera.worldToCamera.data(), 16 * sizeof(float));
+  std::memcpy(matrices + 16, camera.projection.data(), 16 * sizeof(float));
+  vkCmdUpdateBuffer(cmd, f.camera.handle(), 0, sizeof matrices, matrices);
+  rec.barrier();
+
+  rec.pass("import");
+  for (const auto& im : imports) {
+    struct PC {
+      uint32_t width, height, srcOffset, pixelStride, rowStride, channels, isInt, radiance;
+    } pc{uint32_t(width_), uint32_t(height_), im.offsetWords, im.pixelStrideWords, im.rowStrideWords,
+         uint32_t(bufferChannelCount(im.which)), im.isInt, isRadianceBuffer(im.which)};
+    rec.dispatch("import", {im.source, f.planes[int(im.which)], counter_}, pc, width_, height_);
+  }
+
+  const Planes& result = process(rec, f, hasPrevious_ ? &frames_[cur_ ^ 1] : nullptr);
+
+  rec.pass("export");
+  struct PC {
+    uint32_t width, height, dstOffset, pixelStride, rowStride, channels;
+  } pc{uint32_t(width_), uint32_t(height_), out.offsetWords, out.pixelStrideWords, out.rowStrideWords, out.channels};
+  rec.dispatch("export", {result, out.target}, pc, width_, height_);
+  rec.endPasses();
+
+  // Our writes are visible to whatever comes next: the host read-back or the application.
+  VkMemoryBarrier done{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  done.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  done.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &done, 0, nullptr, 0,
+                       nullptr);
+  recordedPasses_ = rec.passNames();
+  recordedQueries_ = rec.queriesWritten();
+  cur_ ^= 1;
+  hasPrevious_ = true;
+}
+
+void VulkanDenoiserBase::submitAndWait() {
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd_;
+  check(vkQueueSubmit(ctx_.queue(), 1, &si, fence_), "vkQueueSubmit");
+  VkResult r = vkWaitForFences(ctx_.device(), 1, &fence_, VK_TRUE, UINT64_MAX);
+  vkResetFences(ctx_.device(), 1, &fence_);
+  check(r, "vkWaitForFences");
+}
+
+bool VulkanDenoiserBase::readTimings(FrameStats& stats, bool wait) {
+  if (!queries_ || recordedQueries_ < 2) return false;
+  uint64_t t[kMaxQueries];
+  VkResult r = vkGetQueryPoolResults(ctx_.device(), queries_, 0, recordedQueries_, sizeof t, t, sizeof(uint64_t),
+                                     VK_QUERY_RESULT_64_BIT | (wait ? VK_QUERY_RESULT_WAIT_BIT : 0));
+  if (r != VK_SUCCESS) return false;
+  const double toMs = ctx_.timestampPeriod() * 1e-6;
+  for (uint32_t k = 0; k + 1 < recordedQueries_ && k < recordedPasses_.size(); ++k)
+    stats.passes.push_back({recordedPasses_[k], double(t[k + 1] - t[k]) * toMs});
+  stats.passes.push_back({"gpu total", double(t[recordedQueries_ - 1] - t[0]) * toMs});
+  // What an engine with its buffers already on the GPU pays: everything between the import of
+  // the frame and the export of the result (on a discrete GPU the host path's import reads
+  // host memory over PCIe, which says nothing about the filter).
+  const size_t last = recordedPasses_.size() - 1;
+  if (recordedPasses_.size() >= 3 && recordedPasses_.front() == "import" && recordedPasses_[last] == "export" &&
+      last + 1 < recordedQueries_)
+    stats.passes.push_back({"gpu filter", double(t[last] - t[1]) * toMs});
+  return true;
+}
+
+void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output) {
+  const auto start = std::chrono::steady_clock::now();
+  FrameStats stats;
+  const ImageView& color = in[Buffer::Color];
+  if (color.empty()) throw Error("missing required " + describe(Buffer::Color));
+  const int w = color.width, h = color.height;
+  if (w <= 0 || h <= 0) throw Error("buffer 'color' has an empty size");
+  if (output.empty() || output.width != w || output.height != h)
+    throw Error("output view must be non-empty and the size of buffer 'color'");
+  if (output.format != Format::Float3 && output.format != Format::Float4)
+    throw Error("output view must be Float3 or Float4");
+  for (Buffer b : requiredBuffers())
+    if (!in.has(b)) throw Error("missing required " + describe(b));
+
+  // Validate every used buffer before touching history, then pack them into the staging buffer
+  // row by row, keeping each view's pixel layout (the import shader applies the strides).
+  // Each buffer gets its own aligned range of the staging buffer, so no binding is larger than
+  // one image (maxStorageBufferRange is 128 MiB on some devices).
+  const size_t align = std::max<size_t>(ctx_.limits().minStorageBufferOffsetAlignment, 16);
+  auto alignUp = [](size_t n, size_t a) { return (n + a - 1) / a * a; };
+  std::vector<Buffer> used;
+  size_t bytes = 0;
+  for (Buffer b : usedBuffers()) {
+    const ImageView& v = in[b];
+    if (v.empty()) continue;
+    if (v.width != w || v.height != h)
+      throw Error(describe(b) + " is " + sizeText(v.width, v.height) + " but color is " + sizeText(w, h));
+    if (v.channels() < bufferChannelCount(b))
+      throw Error(describe(b) + " needs " + std::to_string(bufferChannelCount(b)) + " channels, the view has " +
+                  std::to_string(v.channels()));
+    if (v.bytesPerPixel() % 4) throw Error(describe(b) + ": pixel stride must be a multiple of 4 bytes");
+    used.push_back(b);
+    bytes += alignUp(v.bytesPerPixel() * size_t(w) * h, align);
+  }
+  std::vector<Import> imports;
+  {
+    PassTimer t(stats, "upload (host)");
+    if (upload_.size() < bytes) {
+      vkDeviceWaitIdle(ctx_.device());
+      descriptors_.clear();
+      upload_ = DeviceBuffer(ctx_, bytes, true);
+    }
+    size_t offset = 0;
+    for (Buffer b : used) {
+      const ImageView& v = in[b];
+      const size_t rowBytes = v.bytesPerPixel() * size_t(w);
+      char* dst = static_cast<char*>(upload_.mapped()) + offset;
+      for (int y = 0; y < h; ++y) std::memcpy(dst + size_t(y) * rowBytes, v.pixel<char>(0, y), rowBytes);
+      imports.push_back({b, Binding(upload_.handle(), offset, rowBytes * h), 0, uint32_t(v.bytesPerPixel() / 4),
+                         uint32_t(rowBytes / 4), v.format == Format::Int32});
+      offset += alignUp(rowBytes * h, align);
+    }
+  }
+  prepare(w, h, in.cameraCut);
+  const uint32_t outChannels = uint32_t(output.channels());
+  const size_t outBytes = size_t(w) * h * outChannels * 4;
+  if (readback_.size() < outBytes) {
+    vkDeviceWaitIdle(ctx_.device());
+    descriptors_.clear();
+    readback_ = DeviceBuffer(ctx_, outBytes, true);
+  }
+
+  check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
+  record(cmd_, imports, in.camera, {Binding(readback_), 0, outChannels, outChannels * uint32_t(w), outChannels});
+  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
+  submitAndWait();
+  readTimings(stats, true);
+  {
+    PassTimer t(stats, "download (host)");
+    const float* src = static_cast<const float*>(readback_.mapped());
+    for (int y = 0; y < h; ++y) {
+      const float* row = src + size_t(y) * w * outChannels;
+      if (output.bytesPerPixel() == outChannels * 4) {
+        std::memcpy(output.pixel<float>(0, y), row, size_t(w) * outChannels * 4);
+      } else {
+        for (int x = 0; x < w; ++x) std::memcpy(output.pixel<float>(x, y), row + size_t(x) * outChannels, outChannels * 4);
+      }
+    }
+  }
+  stats.sanitizedValues = *static_cast<const uint32_t*>(counter_.mapped());
+  stats.pixels = uint64_t(w) * h;
+  stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats_ = std::move(stats);
+}
+
+void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanBufferView& output, VkCommandBuffer cmd) {
+  const int w = in.width, h = in.height;
+  if (w <= 0 || h <= 0) throw Error("VulkanFrameInputs: width and height must be positive");
+  if (!in.has(Buffer::Color)) throw Error("missing required " + describe(Buffer::Color));
+  for (Buffer b : requiredBuffers())
+    if (!in.has(b)) throw Error("missing required " + describe(b));
+  if (output.empty() || (output.format != Format::Float3 && output.format != Format::Float4))
+    throw Error("output VkBuffer view must be set and Float3 or Float4");
+
+  const VkDeviceSize align = std::max<VkDeviceSize>(ctx_.limits().minStorageBufferOffsetAlignment, 4);
+  // A view as a binding: the offset rounded down to the alignment the device needs, the rest
+  // passed to the shader in words; the range covers exactly the pixels read or written.
+  auto bind = [&](const VulkanBufferView& v, const std::string& what, uint32_t channels, Binding& binding,
+                  uint32_t& offsetWords, uint32_t& pixelWords, uint32_t& rowWords) {
+    const uint32_t pixel = v.pixelStride ? v.pixelStride : uint32_t(channelCount(v.format)) * 4;
+    const uint32_t row = v.rowStride ? v.rowStride : pixel * uint32_t(w);
+    if (v.offset % 4 || pixel % 4 || row % 4) throw Error(what + ": offset and strides must be multiples of 4 bytes");
+    const VkDeviceSize base = v.offset / align * align;
+    binding = Binding(v.buffer, base, VkDeviceSize(v.offset - base) + VkDeviceSize(h - 1) * row +
+                                          VkDeviceSize(w - 1) * pixel + channels * 4);
+    offsetWords = uint32_t((v.offset - base) / 4);
+    pixelWords = pixel / 4;
+    rowWords = row / 4;
+  };
+
+  std::vector<Import> imports;
+  for (Buffer b : usedBuffers()) {
+    const VulkanBufferView& v = in[b];
+    if (v.empty()) continue;
+    if (channelCount(v.format) < bufferChannelCount(b))
+      throw Error(describe(b) + " needs " + std::to_string(bufferChannelCount(b)) + " channels, the view has " +
+                  std::to_string(channelCount(v.format)));
+    Import im{b, {}, 0, 0, 0, v.format == Format::Int32};
+    bind(v, describe(b), uint32_t(bufferChannelCount(b)), im.source, im.offsetWords, im.pixelStrideWords,
+         im.rowStrideWords);
+    imports.push_back(im);
+  }
+  Export ex{};
+  ex.channels = uint32_t(channelCount(output.format));
+  bind(output, "output", ex.channels, ex.target, ex.offsetWords, ex.pixelStrideWords, ex.rowStrideWords);
+
+  const auto start = std::chrono::steady_clock::now();
+  if (cmd) {
+    // The previous frame recorded into the application's command buffer may have run by now.
+    FrameStats previous;
+    if (readTimings(previous, false)) {
+      previous.pixels = uint64_t(width_) * height_;
+      previous.sanitizedValues = *static_cast<const uint32_t*>(counter_.mapped());
+      stats_ = std::move(previous);
+    }
+    prepare(w, h, in.cameraCut);
+    record(cmd, imports, in.camera, ex);
+    return;
+  }
+  FrameStats stats;
+  prepare(w, h, in.cameraCut);
+  check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
+  record(cmd_, imports, in.camera, ex);
+  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
+  submitAndWait();
+  readTimings(stats, true);
+  stats.sanitizedValues = *static_cast<const uint32_t*>(counter_.mapped());
+  stats.pixels = uint64_t(w) * h;
+  stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats_ = std::move(stats);
+}
+
+}  // namespace rtd::vk

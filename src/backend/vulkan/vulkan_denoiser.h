@@ -1,0 +1,105 @@
+// Base of every Vulkan denoiser (the twin of CpuDenoiser): validates and imports the frame
+// (host memory through a staging buffer, or the application's VkBuffers), keeps the current and
+// previous frame on the GPU, records the method's passes, exports the result and turns the
+// timestamp queries into per-pass GPU times. A method implements process().
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <string>
+#include <vector>
+
+#include "backend/vulkan/context.h"
+#include "backend/vulkan/passes.h"
+#include "core/settings_reflect.h"
+#include "rtd/denoiser.h"
+#include "rtd/vulkan.h"
+
+namespace rtd::vk {
+
+class VulkanDenoiserBase : public Denoiser {
+ public:
+  explicit VulkanDenoiserBase(Context& ctx);
+  ~VulkanDenoiserBase() override;
+
+  Backend backend() const override { return Backend::Vulkan; }
+  const FrameStats& stats() const override { return stats_; }
+  void reset() override {
+    hasPrevious_ = false;
+    resetHistory();
+  }
+  void denoise(const FrameInputs& frame, const ImageView& output) final;
+  /// rtd::denoiseVulkan (rtd/vulkan.h).
+  void denoiseGpu(const VulkanFrameInputs& frame, const VulkanBufferView& output, VkCommandBuffer cmd);
+
+ protected:
+  /// Buffers imported when the frame has them: the required ones and every feature the shared
+  /// reprojection uses. A method that reads more adds them.
+  virtual std::vector<Buffer> usedBuffers() const;
+  /// (Re)allocate history for a new size (the GPU is idle); called before the first frame.
+  virtual void resizeHistory(int width, int height) = 0;
+  /// Forget history (allocations stay).
+  virtual void resetHistory() = 0;
+  /// Record the method's passes (rec.pass("name") before each) for `frame`; `previous` is the
+  /// last frame or null after a reset. Returns the planes (RGB) to export.
+  virtual const Planes& process(Recorder& rec, const GpuFrame& frame, const GpuFrame* previous) = 0;
+
+  // Keeps the device alive while a denoiser exists, even after its rtd::Device is gone (as
+  // CPU denoisers keep their arena); null for a Context not owned by a shared_ptr (tests).
+  std::shared_ptr<Context> keepAlive_;
+  Context& ctx_;
+  int width_ = 0, height_ = 0;
+
+ private:
+  struct Import {
+    Buffer which;
+    Binding source;
+    uint32_t offsetWords, pixelStrideWords, rowStrideWords;
+    bool isInt;
+  };
+  struct Export {
+    Binding target;
+    uint32_t offsetWords, pixelStrideWords, rowStrideWords, channels;
+  };
+  void prepare(int w, int h, bool cameraCut);
+  void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera, const Export& out);
+  void submitAndWait();
+  /// GPU pass times of the last recorded frame into `stats`; false if not available yet.
+  bool readTimings(FrameStats& stats, bool wait);
+
+  DescriptorCache descriptors_;
+  GpuFrame frames_[2];
+  int cur_ = 0;
+  bool hasPrevious_ = false;
+  DeviceBuffer upload_, readback_, counter_;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+  std::vector<std::string> recordedPasses_;
+  uint32_t recordedQueries_ = 0;
+  FrameStats stats_;
+};
+
+/// Settings by name and by type, as CpuDenoiser does.
+template <class S> class VulkanDenoiser : public VulkanDenoiserBase {
+ public:
+  using VulkanDenoiserBase::VulkanDenoiserBase;
+  std::string_view method() const override { return S::kMethod; }
+  std::vector<SettingInfo> settings() const override { return detail::listSettings(settings_); }
+  void set(std::string_view name, std::string_view value) override {
+    S copy = settings_;
+    detail::setSetting(copy, S::kMethod, name, value);
+    settings_ = copy;
+    settingsChanged();
+  }
+
+ protected:
+  void* settingsStorage(std::string_view m) override {
+    if (m != S::kMethod)
+      throw Error("settings of method '" + std::string(m) + "' given to a '" + std::string(S::kMethod) + "' denoiser");
+    return &settings_;
+  }
+  S settings_;
+};
+
+}  // namespace rtd::vk

@@ -1,0 +1,481 @@
+// Method "bmfr" (Koskela et al. 2019): phase I accumulates the demodulated 1-spp input with
+// the shared reprojection, phase II fits every block of it as a least-squares combination of
+// noise-free features (augmented Householder QR with stochastic regularization, qr.h), and
+// phase III accumulates the fit again with phase I's taps and counts, remodulates, and applies
+// TAA. docs/methods/bmfr.md describes every choice.
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "backend/cpu/cpu_denoiser.h"
+#include "core/parallel.h"
+#include "methods/bmfr/blocks.h"
+#include "methods/bmfr/qr.h"
+#include "passes/demodulation.h"
+#include "passes/reprojection.h"
+#include "passes/taa.h"
+#include "passes/temporal_accumulation.h"
+#include "rtd/methods/bmfr.h"
+
+namespace rtd {
+
+namespace {
+
+using bmfr::kMaxChannels;
+using bmfr::kMaxFeatures;
+
+/// Where a feature column comes from. Positions enter the squares centred on the block
+/// (w - c)^2, which spans the same space as {1, w, w^2} but keeps float precision when the
+/// scene is far from the origin.
+enum class FeatureKind : uint8_t { Constant, Normal, Position, PositionSquared, MaterialId, Roughness };
+
+struct Feature {
+  FeatureKind kind;
+  int channel;
+};
+
+/// What phase II leaves per block for the synthesis: the weights and the normalization that
+/// maps a raw feature f to (f - centre) * scale in [-1, 1].
+struct BlockFit {
+  float alpha[kMaxChannels][kMaxFeatures];
+  float centre[kMaxFeatures];
+  float scale[kMaxFeatures];
+  float positionCentre[3];
+};
+
+/// Per-thread work space of one block: column-major [T | z_R z_G z_B] and pixel indices.
+struct BlockScratch {
+  std::vector<float> columns;
+  std::vector<int32_t> index;
+};
+
+constexpr int kMaxBlock = 64;
+constexpr size_t kMaxStride = size_t(kMaxBlock) * kMaxBlock;
+
+// Integer hash (a PCG output permutation) to a uniform float in [0, 1).
+inline float hashUniform(uint32_t a, uint32_t b, uint32_t c) {
+  uint32_t h = a * 747796405u + b * 2891336453u + c * 3266489917u + 0x9e3779b9u;
+  h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
+  h = (h >> 22u) ^ h;
+  return float(h >> 8) * (1.0f / 16777216.0f);
+}
+
+// Eight-wide float vectors (GCC/Clang vector extensions: AVX where available, SSE pairs
+// otherwise), for reductions the compiler will not vectorize on its own without -ffast-math.
+typedef float Float8 __attribute__((vector_size(32), aligned(4)));
+
+// Minimum and maximum of v[0..n).
+inline void minMax(const float* v, int n, float& lo, float& hi) {
+  Float8 l, h;
+  for (int k = 0; k < 8; ++k) { l[k] = INFINITY; h[k] = -INFINITY; }
+  int i = 0;
+  for (; i + 8 <= n; i += 8) {
+    const Float8 x = *reinterpret_cast<const Float8*>(v + i);
+    l = x < l ? x : l;
+    h = x > h ? x : h;
+  }
+  lo = l[0];
+  hi = h[0];
+  for (int k = 1; k < 8; ++k) { lo = std::min(lo, l[k]); hi = std::max(hi, h[k]); }
+  for (; i < n; ++i) { lo = std::min(lo, v[i]); hi = std::max(hi, v[i]); }
+}
+
+// The block's normalization of one feature: (f - centre) * scale spans [-1, 1] (Sec. 4.2:
+// "T within every block is scaled to be in range [-1, 1]"). A feature that is constant on
+// the block (to rounding) becomes a zero column, which the regularization noise fills.
+inline void normalization(float lo, float hi, float& centre, float& scale) {
+  centre = 0.5f * (lo + hi);
+  const float half = 0.5f * (hi - lo);
+  scale = half > 1e-6f * std::max({std::abs(lo), std::abs(hi), 1e-30f}) ? 1.0f / half : 0.0f;
+}
+
+class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
+ public:
+  using CpuDenoiser::CpuDenoiser;
+
+  std::vector<Buffer> requiredBuffers() const override {
+    std::vector<Buffer> b{Buffer::Color};
+    if (settings_.featureNormal) b.push_back(Buffer::Normal);
+    if (settings_.featurePosition || settings_.featurePositionSquared) b.push_back(Buffer::Position);
+    return b;
+  }
+
+ protected:
+  void resizeHistory(int w, int h) override {
+    resize(demodulated_, w, h);
+    for (int k = 0; k < 2; ++k) {
+      length_[k].resize(w, h);
+      resize(noisy_[k], w, h);
+      resize(filtered_[k], w, h);
+    }
+    resize(fitted_, w, h);
+    resize(remodulated_, w, h);
+    reprojection_.resize(w, h);
+    taa_.resize(w, h);
+    // The 32x32 grid has the most blocks; allocate for it whatever the current setting.
+    const bmfr::BlockGrid g = bmfr::makeBlockGrid(w, h, 32, 0, true);
+    fits_.assign(size_t(g.count()), BlockFit{});
+    noise_.assign(size_t(kMaxFeatures) * kMaxStride, 0.0f);
+  }
+
+  void resetHistory() override {
+    for (auto& l : length_) l.fill(0.0f);
+    taa_.reset();
+    frameIndex_ = 0;
+  }
+
+  void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
+    const BmfrSettings& s = settings_;
+    const auto* albedo = s.demodulate && frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
+    const int prev = cur_;
+    cur_ ^= 1;
+    {
+      PassTimer t(stats, "demodulate");
+      demodulate(frame.planes(Buffer::Color), albedo, demodulated_);
+    }
+    {
+      PassTimer t(stats, "reproject");
+      reproject(frame, previous, s.reprojection, reprojection_);
+    }
+    {
+      // Phase I: cumulative then exponential average, w = max(1/n, 0.2) (Sec. 4.1).
+      PassTimer t(stats, "accumulateNoisy");
+      updateHistoryLength(reprojection_, length_[prev], s.maxHistoryLength, length_[cur_]);
+      for (int c = 0; c < 3; ++c)
+        accumulatePlane(reprojection_, length_[cur_], s.alphaNoisy, demodulated_[c], noisy_[prev][c], noisy_[cur_][c]);
+    }
+    const Plane3* fitted = &noisy_[cur_];
+    if (s.fit) {
+      selectFeatures(frame);
+      const int size = s.blockSize == BmfrBlockSize::Block64 ? 64 : 32;
+      grid_ = bmfr::makeBlockGrid(frame.width, frame.height, size, frameIndex_, s.blockOffsets);
+      {
+        PassTimer t(stats, "fit");
+        fitBlocks(frame, noisy_[cur_]);
+      }
+      {
+        PassTimer t(stats, "synthesize");
+        synthesize(frame);
+      }
+      fitted = &fitted_;
+    }
+    const Plane3* filtered = fitted;
+    if (s.accumulateFiltered) {
+      // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
+      PassTimer t(stats, "accumulateFiltered");
+      for (int c = 0; c < 3; ++c)
+        accumulatePlane(reprojection_, length_[cur_], s.alphaFiltered, (*fitted)[c], filtered_[prev][c],
+                        filtered_[cur_][c]);
+      filtered = &filtered_[cur_];
+    }
+    {
+      PassTimer t(stats, "remodulate");
+      remodulateInto(*filtered, albedo, s.taa.taa ? remodulated_ : out);
+    }
+    if (s.taa.taa) {
+      PassTimer t(stats, "taa");
+      taa_.run(reprojection_, remodulated_, s.taa.taaAlpha, out);
+    }
+    ++frameIndex_;
+  }
+
+ private:
+  // out = illumination * albedo' (the shared remodulation's factor), without a copy first.
+  static void remodulateInto(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out) {
+    const int w = illumination[0].width;
+    parallelRows(illumination[0].height, [&](int y) {
+      for (int c = 0; c < 3; ++c) {
+        const float* in = illumination[c].row(y);
+        float* o = out[c].row(y);
+        if (!albedo) {
+          std::copy(in, in + w, o);
+          continue;
+        }
+        const float* a = (*albedo)[c].row(y);
+        for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(a[x]);
+      }
+    });
+  }
+
+  void selectFeatures(const FrameData& frame) {
+    const BmfrSettings& s = settings_;
+    features_.clear();
+    features_.push_back({FeatureKind::Constant, 0});
+    auto add = [&](bool on, Buffer b, FeatureKind kind, int channels) {
+      if (!on || !frame.has(b)) return;
+      for (int c = 0; c < channels; ++c) features_.push_back({kind, c});
+    };
+    add(s.featureNormal, Buffer::Normal, FeatureKind::Normal, 3);
+    add(s.featurePosition, Buffer::Position, FeatureKind::Position, 3);
+    add(s.featurePositionSquared, Buffer::Position, FeatureKind::PositionSquared, 3);
+    add(s.featureMaterialId, Buffer::MaterialId, FeatureKind::MaterialId, 1);
+    add(s.featureRoughness, Buffer::Roughness, FeatureKind::Roughness, 1);
+  }
+
+  const Plane& rawPlane(const FrameData& frame, const Feature& f) const {
+    switch (f.kind) {
+      case FeatureKind::Normal: return frame.plane(Buffer::Normal, f.channel);
+      case FeatureKind::Position:
+      case FeatureKind::PositionSquared: return frame.plane(Buffer::Position, f.channel);
+      case FeatureKind::MaterialId: return frame.plane(Buffer::MaterialId);
+      default: return frame.plane(Buffer::Roughness);
+    }
+  }
+
+  int rowsPerBlock() const {
+    const int all = grid_.size * grid_.size;
+    return settings_.samplesPerBlock > 0 ? std::min(settings_.samplesPerBlock, all) : all;
+  }
+
+  // The image pixel of each least-squares row of block (bx, by): every pixel of the block,
+  // or `samplesPerBlock` jittered-stratified ones (per frame and block), mirrored at borders.
+  void blockPixels(int bx, int by, int rows, int32_t* index) const {
+    const int size = grid_.size, x0 = grid_.x0(bx), y0 = grid_.y0(by), w = grid_.width, h = grid_.height;
+    if (rows == size * size) {
+      for (int ly = 0; ly < size; ++ly) {
+        const int y = bmfr::mirror(y0 + ly, h);
+        for (int lx = 0; lx < size; ++lx) index[ly * size + lx] = y * w + bmfr::mirror(x0 + lx, w);
+      }
+      return;
+    }
+    int cellsX = 1;
+    while (cellsX * cellsX < rows) ++cellsX;
+    const int cellsY = (rows + cellsX - 1) / cellsX;
+    const uint32_t block = uint32_t(by * grid_.blocksX + bx);
+    for (int k = 0; k < rows; ++k) {
+      const float jx = hashUniform(uint32_t(k), block, uint32_t(frameIndex_) * 2u);
+      const float jy = hashUniform(uint32_t(k), block, uint32_t(frameIndex_) * 2u + 1u);
+      const int lx = std::min(int((float(k % cellsX) + jx) * float(size) / float(cellsX)), size - 1);
+      const int ly = std::min(int((float(k / cellsX) + jy) * float(size) / float(cellsY)), size - 1);
+      index[k] = bmfr::mirror(y0 + ly, h) * w + bmfr::mirror(x0 + lx, w);
+    }
+  }
+
+  // Uniform noise on [-eps, eps] per (row, feature), deterministic per frame and shared by
+  // all blocks of the frame, as in the authors' code. Row r of feature k: noise_[k * kMaxStride + r].
+  // The regularization's strength is the noise column's energy, rows * eps^2 / 3; the paper
+  // tuned eps for 32x32 = 1024 rows, so fits with fewer rows (sub-sampled blocks) scale eps
+  // by sqrt(1024 / rows) to keep that energy (docs/methods/bmfr.md).
+  void makeNoise(int rows) {
+    const float eps = settings_.noiseAmount * std::sqrt(std::max(1.0f, 1024.0f / float(rows)));
+    const int m = int(features_.size());
+    for (int k = 1; k < m; ++k)
+      for (int r = 0; r < rows; ++r)
+        noise_[size_t(k) * kMaxStride + r] = eps * (2.0f * hashUniform(uint32_t(r), uint32_t(k), uint32_t(frameIndex_)) - 1.0f);
+  }
+
+  // The block's rows in tiles of kTileRows (whole block rows), each tile's columns contiguous,
+  // for bmfr::householderQrTiled: a tile of 256 rows x 13 columns fits in L1.
+  struct Tiling {
+    int rows, tileRows, tileCount, columns;
+    size_t tileStride;
+    float* column(float* base, int t, int c) const { return base + (size_t(t) * columns + c) * tileStride; }
+    int rowsIn(int t) const { return std::min(tileRows, rows - t * tileRows); }
+  };
+  static constexpr int kTileRows = 256;
+
+  void fitBlocks(const FrameData& frame, const Plane3& noisy) {
+    const int rows = rowsPerBlock(), m = int(features_.size());
+    Tiling tiling;
+    tiling.rows = rows;
+    tiling.tileRows = std::min(rows, kTileRows);
+    tiling.tileCount = (rows + tiling.tileRows - 1) / tiling.tileRows;
+    tiling.columns = m + 3;
+    tiling.tileStride = (size_t(tiling.tileRows) + 15) & ~size_t(15);
+    if (settings_.noiseAmount > 0.0f) makeNoise(rows);
+    tbb::parallel_for(tbb::blocked_range<int>(0, grid_.count(), 1), [&](const tbb::blocked_range<int>& range) {
+      BlockScratch& scratch = scratch_.local();
+      if (scratch.columns.size() < size_t(kMaxFeatures + kMaxChannels) * kMaxStride) {
+        scratch.columns.assign(size_t(kMaxFeatures + kMaxChannels) * kMaxStride, 0.0f);
+        scratch.index.assign(kMaxStride, 0);
+      }
+      for (int b = range.begin(); b != range.end(); ++b) {
+        const int bx = b % grid_.blocksX, by = b / grid_.blocksX;
+        if (!grid_.inImage(bx, by)) continue;
+        fitBlock(frame, noisy, bx, by, tiling, scratch, fits_[size_t(b)]);
+      }
+    });
+  }
+
+  // Copies plane p over the block's rows into column c: whole block rows at once where the
+  // block lies inside the image, mirrored pixel by pixel at the borders; through the sample
+  // indices when the block is sub-sampled.
+  void gatherColumn(const Plane& p, int bx, int by, const Tiling& tiling, const int32_t* index, float* base,
+                    int c) const {
+    const float* src = p.ptr();
+    const int size = grid_.size;
+    if (tiling.rows != size * size) {
+      for (int r = 0; r < tiling.rows; ++r)
+        tiling.column(base, r / tiling.tileRows, c)[r % tiling.tileRows] = src[index[r]];
+      return;
+    }
+    const int x0 = grid_.x0(bx), y0 = grid_.y0(by), w = grid_.width, h = grid_.height;
+    const bool inside = x0 >= 0 && x0 + size <= w;
+    for (int ly = 0; ly < size; ++ly) {
+      const float* row = src + size_t(bmfr::mirror(y0 + ly, h)) * w;
+      const int r0 = ly * size;  // a block row never straddles two tiles (kTileRows % size == 0)
+      float* d = tiling.column(base, r0 / tiling.tileRows, c) + r0 % tiling.tileRows;
+      if (inside) std::copy(row + x0, row + x0 + size, d);
+      else
+        for (int lx = 0; lx < size; ++lx) d[lx] = row[bmfr::mirror(x0 + lx, w)];
+    }
+  }
+
+  // Widens [lo, hi] to cover plane p (or (p - centre)^2) over the block's image pixels.
+  void extendOverBlock(const Plane& p, int bx, int by, float centre, bool squared, float& lo, float& hi) const {
+    const int x0 = std::max(grid_.x0(bx), 0), x1 = std::min(grid_.x0(bx) + grid_.size, grid_.width);
+    const int y0 = std::max(grid_.y0(by), 0), y1 = std::min(grid_.y0(by) + grid_.size, grid_.height);
+    float row[kMaxBlock];
+    for (int y = y0; y < y1; ++y) {
+      const float* src = p.row(y) + x0;
+      const int n = x1 - x0;
+      for (int i = 0; i < n; ++i) row[i] = squared ? (src[i] - centre) * (src[i] - centre) : src[i];
+      float l, h;
+      minMax(row, n, l, h);
+      lo = std::min(lo, l);
+      hi = std::max(hi, h);
+    }
+  }
+
+  void fitBlock(const FrameData& frame, const Plane3& noisy, int bx, int by, const Tiling& tiling,
+                BlockScratch& scratch, BlockFit& fit) const {
+    int32_t* index = scratch.index.data();
+    float* base = scratch.columns.data();
+    const int m = tiling.columns - 3;
+    // Sub-sampled blocks take each feature's range over the samples and every image pixel
+    // of the block, so the synthesis never meets a feature outside [-1, 1] (no extrapolation
+    // beyond the normalized range; with all pixels as rows this holds by construction).
+    const bool sampled = tiling.rows != grid_.size * grid_.size;
+    if (sampled) blockPixels(bx, by, tiling.rows, index);
+    auto columnMinMax = [&](int k, float& lo, float& hi) {
+      lo = INFINITY;
+      hi = -INFINITY;
+      for (int t = 0; t < tiling.tileCount; ++t) {
+        float l, h;
+        minMax(tiling.column(base, t, k), tiling.rowsIn(t), l, h);
+        lo = std::min(lo, l);
+        hi = std::max(hi, h);
+      }
+    };
+    // Raw feature columns and their block range. The squares are taken about the block's
+    // position mid-range (same span as w^2 with the constant and w, better conditioned).
+    int positionColumn[3] = {-1, -1, -1};
+    for (int k = 0; k < m; ++k) {
+      const Feature& f = features_[size_t(k)];
+      if (f.kind == FeatureKind::Constant) {
+        for (int t = 0; t < tiling.tileCount; ++t) std::fill_n(tiling.column(base, t, k), tiling.rowsIn(t), 1.0f);
+        fit.centre[k] = 0.0f;
+        fit.scale[k] = 1.0f;
+        continue;
+      }
+      if (f.kind == FeatureKind::PositionSquared) {
+        if (positionColumn[f.channel] >= 0) {
+          for (int t = 0; t < tiling.tileCount; ++t)
+            std::copy_n(tiling.column(base, t, positionColumn[f.channel]), tiling.rowsIn(t), tiling.column(base, t, k));
+        } else {
+          gatherColumn(rawPlane(frame, f), bx, by, tiling, index, base, k);
+        }
+        float lo, hi;
+        columnMinMax(k, lo, hi);
+        if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, 0.0f, false, lo, hi);
+        const float pc = 0.5f * (lo + hi);
+        fit.positionCentre[f.channel] = pc;
+        for (int t = 0; t < tiling.tileCount; ++t) {
+          float* col = tiling.column(base, t, k);
+          for (int r = 0, n = tiling.rowsIn(t); r < n; ++r) col[r] = (col[r] - pc) * (col[r] - pc);
+        }
+      } else {
+        gatherColumn(rawPlane(frame, f), bx, by, tiling, index, base, k);
+        if (f.kind == FeatureKind::Position) positionColumn[f.channel] = k;
+      }
+      float lo, hi;
+      columnMinMax(k, lo, hi);
+      if (sampled)
+        extendOverBlock(rawPlane(frame, f), bx, by, fit.positionCentre[f.channel],
+                        f.kind == FeatureKind::PositionSquared, lo, hi);
+      normalization(lo, hi, fit.centre[k], fit.scale[k]);
+    }
+    // Normalize to [-1, 1] and add the regularization noise to T only (Eq. 7); the synthesis
+    // uses the noise-free T.
+    const bool regularize = settings_.noiseAmount > 0.0f;
+    for (int k = 1; k < m; ++k)
+      for (int t = 0; t < tiling.tileCount; ++t) {
+        float* col = tiling.column(base, t, k);
+        const float* n = noise_.data() + size_t(k) * kMaxStride + size_t(t) * tiling.tileRows;
+        const float centre = fit.centre[k], scale = fit.scale[k];
+        const int rows = tiling.rowsIn(t);
+        if (regularize)
+          for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale + n[r];
+        else
+          for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale;
+      }
+    for (int c = 0; c < 3; ++c) gatherColumn(noisy[c], bx, by, tiling, index, base, m + c);
+
+    bmfr::TriangularSystem system;
+    bmfr::householderQrTiled(base, tiling.rows, tiling.tileRows, tiling.tileStride, m, 3, system);
+    bmfr::backSubstitute(system, fit.alpha);
+  }
+
+  // Eq. 6: y = T alpha per pixel with its block's weights and normalization, clamped >= 0.
+  void synthesize(const FrameData& frame) {
+    const int w = frame.width, m = int(features_.size());
+    const Plane* planes[kMaxFeatures];
+    for (int k = 0; k < m; ++k)
+      planes[k] = features_[size_t(k)].kind == FeatureKind::Constant ? nullptr : &rawPlane(frame, features_[size_t(k)]);
+    parallelRows(frame.height, [&](int y) {
+      float feature[kMaxBlock];
+      float* outRow[3] = {fitted_[0].row(y), fitted_[1].row(y), fitted_[2].row(y)};
+      const int by = grid_.blockY(y);
+      for (int x0 = 0; x0 < w;) {
+        const int bx = grid_.blockX(x0);
+        const int x1 = std::min(w, grid_.x0(bx) + grid_.size), n = x1 - x0;
+        const BlockFit& fit = fits_[size_t(by * grid_.blocksX + bx)];
+        for (int c = 0; c < 3; ++c) std::fill(outRow[c] + x0, outRow[c] + x1, fit.alpha[c][0]);
+        for (int k = 1; k < m; ++k) {
+          const float* src = planes[k]->row(y) + x0;
+          const float centre = fit.centre[k], scale = fit.scale[k];
+          // Clamped to the fitted range [-1, 1]: a no-op up to rounding, since the block's
+          // normalization covers all of its pixels.
+          if (features_[size_t(k)].kind == FeatureKind::PositionSquared) {
+            const float pc = fit.positionCentre[features_[size_t(k)].channel];
+            for (int i = 0; i < n; ++i)
+              feature[i] = std::clamp(((src[i] - pc) * (src[i] - pc) - centre) * scale, -1.0f, 1.0f);
+          } else {
+            for (int i = 0; i < n; ++i) feature[i] = std::clamp((src[i] - centre) * scale, -1.0f, 1.0f);
+          }
+          for (int c = 0; c < 3; ++c) {
+            const float a = fit.alpha[c][k];
+            float* o = outRow[c] + x0;
+            for (int i = 0; i < n; ++i) o[i] += a * feature[i];
+          }
+        }
+        for (int c = 0; c < 3; ++c)
+          for (int i = 0; i < n; ++i) outRow[c][x0 + i] = std::max(outRow[c][x0 + i], 0.0f);
+        x0 = x1;
+      }
+    });
+  }
+
+  Plane3 demodulated_, fitted_, remodulated_;
+  Plane length_[2];
+  Plane3 noisy_[2], filtered_[2];
+  int cur_ = 0;
+  int frameIndex_ = 0;
+  Reprojection reprojection_;
+  Taa taa_;
+  bmfr::BlockGrid grid_;
+  std::vector<Feature> features_;
+  std::vector<BlockFit> fits_;
+  std::vector<float> noise_;
+  tbb::enumerable_thread_specific<BlockScratch> scratch_;
+};
+
+}  // namespace
+
+std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena& arena) { return std::make_unique<BmfrCpu>(arena); }
+
+}  // namespace rtd

@@ -1,0 +1,151 @@
+#include "methods/bmfr/qr.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rtd::bmfr {
+
+namespace {
+
+// Eight-wide float vectors (GCC/Clang vector extensions: one AVX register where available, an
+// SSE pair otherwise). Float addition is not associative, so the compiler would not vectorize
+// these reductions itself without -ffast-math.
+typedef float Float8 __attribute__((vector_size(32), aligned(4)));
+inline Float8 load(const float* p) { return *reinterpret_cast<const Float8*>(p); }
+inline void store(float* p, Float8 v) { *reinterpret_cast<Float8*>(p) = v; }
+inline float sum(Float8 v) {
+  const float a = (v[0] + v[4]) + (v[2] + v[6]), b = (v[1] + v[5]) + (v[3] + v[7]);
+  return a + b;
+}
+
+// Applies the reflection I - beta u u^T to Count columns over rows [begin, end): all dot
+// products in one pass over u, then all updates in a second one.
+template <int Count> void reflect(const float* u, float beta, float* const* y, int begin, int end) {
+  Float8 acc[Count] = {};
+  for (int i = begin; i < end; i += 8) {
+    const Float8 uu = load(u + i);
+    for (int j = 0; j < Count; ++j) acc[j] += uu * load(y[j] + i);
+  }
+  float scale[Count];
+  for (int j = 0; j < Count; ++j) scale[j] = beta * sum(acc[j]);
+  for (int i = begin; i < end; i += 8) {
+    const Float8 uu = load(u + i);
+    for (int j = 0; j < Count; ++j) store(y[j] + i, load(y[j] + i) - scale[j] * uu);
+  }
+}
+
+inline float sumOfSquares(const float* x, int begin, int end) {
+  Float8 acc = {};
+  for (int i = begin; i < end; i += 8) {
+    const Float8 v = load(x + i);
+    acc += v * v;
+  }
+  return sum(acc);
+}
+
+}  // namespace
+
+void householderQr(float* cols, int rows, size_t stride, int features, int channels, TriangularSystem& out) {
+  out.features = features;
+  out.channels = channels;
+  const int columns = features + channels;
+  // Work on whole vectors: rows are padded with zeros to a multiple of 8 (zero rows change no
+  // dot product and are never updated), and reflection k runs from row k rounded down to a
+  // multiple of 8, with column k's entries above the diagonal zeroed once they are in R.
+  const int padded = (rows + 7) & ~7;
+  for (int j = 0; j < columns; ++j) std::fill(cols + size_t(j) * stride + rows, cols + size_t(j) * stride + padded, 0.0f);
+  for (int k = 0; k < features; ++k) {
+    auto store = [&](int j, float v) {
+      if (j < features) out.R[k][j] = v;
+      else out.r[j - features][k] = v;
+    };
+    if (k >= rows) {  // fewer rows than features: nothing left below the diagonal
+      for (int j = k; j < columns; ++j) store(j, 0.0f);
+      continue;
+    }
+    float* x = cols + size_t(k) * stride;
+    const int begin = k & ~7;
+    std::fill(x + begin, x + k, 0.0f);  // R[0..k)[k], already stored by earlier reflections
+    const float xk = x[k];
+    x[k] = 0.0f;
+    const float below = sumOfSquares(x, begin, padded);
+    if (below == 0.0f) {  // already upper triangular in this column (or all zero: R_kk = 0)
+      x[k] = xk;
+      out.R[k][k] = xk;
+      for (int j = k + 1; j < columns; ++j) store(j, cols[size_t(j) * stride + k]);
+      continue;
+    }
+    const float norm = std::sqrt(below + xk * xk);
+    // H x = alpha e_k with alpha = -sign(x_k) ||x||, so u_k = x_k - alpha adds magnitudes.
+    const float alpha = xk >= 0.0f ? -norm : norm;
+    const float uk = xk - alpha;
+    x[k] = uk;  // column k now holds u (rows k..)
+    const float beta = 2.0f / (below + uk * uk);
+    for (int j = k + 1; j < columns; j += 4) {
+      const int count = std::min(4, columns - j);
+      float* y[4] = {};
+      for (int q = 0; q < count; ++q) y[q] = cols + size_t(j + q) * stride;
+      switch (count) {
+        case 1: reflect<1>(x, beta, y, begin, padded); break;
+        case 2: reflect<2>(x, beta, y, begin, padded); break;
+        case 3: reflect<3>(x, beta, y, begin, padded); break;
+        default: reflect<4>(x, beta, y, begin, padded); break;
+      }
+      for (int q = 0; q < count; ++q) store(j + q, y[q][k]);
+    }
+    out.R[k][k] = alpha;
+  }
+}
+
+void householderQrTiled(float* tiles, int rows, int tileRows, size_t tileStride, int features, int channels,
+                        TriangularSystem& out) {
+  const int columns = features + channels;
+  const int tileCount = (rows + tileRows - 1) / tileRows;
+  if (tileCount <= 1) {
+    householderQr(tiles, rows, tileStride, features, channels, out);
+    return;
+  }
+  // Stack the tiles' triangles: tile t contributes rows [t * features, (t + 1) * features).
+  constexpr int kMaxStacked = 16 * kMaxFeatures;
+  const int stackedRows = tileCount * features;
+  const size_t stackedStride = size_t(stackedRows + 7) & ~size_t(7);
+  float stacked[(kMaxFeatures + kMaxChannels) * ((kMaxStacked + 7) & ~7)];
+  if (stackedRows > kMaxStacked) {  // more tiles than the stack holds: fall back to one pass
+    householderQr(tiles, rows, tileStride, features, channels, out);
+    return;
+  }
+  for (int t = 0; t < tileCount; ++t) {
+    TriangularSystem tile;
+    const int n = std::min(tileRows, rows - t * tileRows);
+    householderQr(tiles + size_t(t) * columns * tileStride, n, tileStride, features, channels, tile);
+    for (int i = 0; i < features; ++i) {
+      const size_t row = size_t(t) * features + i;
+      for (int j = 0; j < features; ++j) stacked[size_t(j) * stackedStride + row] = j >= i ? tile.R[i][j] : 0.0f;
+      for (int c = 0; c < channels; ++c) stacked[size_t(features + c) * stackedStride + row] = tile.r[c][i];
+    }
+  }
+  householderQr(stacked, stackedRows, stackedStride, features, channels, out);
+}
+
+int backSubstitute(const TriangularSystem& s, float alpha[kMaxChannels][kMaxFeatures], float relativePivotTolerance) {
+  const int m = s.features;
+  float maxPivot = 0.0f;
+  for (int k = 0; k < m; ++k) maxPivot = std::max(maxPivot, std::abs(s.R[k][k]));
+  const float tolerance = relativePivotTolerance * maxPivot;
+  int deficient = 0;
+  for (int k = 0; k < m; ++k)
+    if (!(std::abs(s.R[k][k]) > tolerance)) ++deficient;
+  for (int c = 0; c < s.channels; ++c)
+    for (int k = m - 1; k >= 0; --k) {
+      if (!(std::abs(s.R[k][k]) > tolerance)) {
+        alpha[c][k] = 0.0f;
+        continue;
+      }
+      float v = s.r[c][k];
+      for (int j = k + 1; j < m; ++j) v -= s.R[k][j] * alpha[c][j];
+      alpha[c][k] = v / s.R[k][k];
+    }
+  return deficient;
+}
+
+}  // namespace rtd::bmfr

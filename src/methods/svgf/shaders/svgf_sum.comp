@@ -1,0 +1,26 @@
+#version 450
+// Pass "sum": adds one radiance stream's filtered illumination to the sum of streams; a stream
+// that was not demodulated (specular) is divided by the albedo here so that the shared
+// remodulation restores it exactly. Port of SvgfCpu::addStream.
+#include "common.glsl"
+RTD_LOCAL_SIZE
+
+layout(std430, binding = 0) readonly buffer In { float img[]; };  // R, G, B (, lum, var)
+layout(std430, binding = 1) readonly buffer Albedo { float albedo[]; };
+layout(std430, binding = 2) buffer Sum { float sum[]; };
+
+layout(push_constant) uniform PC { uint width, height, first, divide; } pc;
+
+void main() {
+  const uvec2 p = gl_GlobalInvocationID.xy;
+  if (outside(p, pc.width, pc.height)) return;
+  const uint plane = pc.width * pc.height, i = p.y * pc.width + p.x;
+  for (uint c = 0; c < 3; ++c) {
+    float v = img[c * plane + i];
+    if (pc.divide != 0u) {
+      const float a = albedo[c * plane + i];
+      v /= a > 1e-3 ? a : 1.0;
+    }
+    sum[c * plane + i] = pc.first != 0u ? v : sum[c * plane + i] + v;
+  }
+}

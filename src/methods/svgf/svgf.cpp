@@ -1,0 +1,278 @@
+// Method "svgf": spatiotemporal variance-guided filtering (Schied et al. 2017) and the
+// variants of Dundr, Gersthofer and Voorhuis as settings. Per radiance stream: demodulate,
+// accumulate colour and luminance moments, estimate the variance, filter with the a-trous
+// wavelet (feeding one level back as colour history); then sum the streams, remodulate and
+// apply TAA. docs/methods/svgf.md has the details.
+#include <cmath>
+
+#include "backend/cpu/cpu_denoiser.h"
+#include "core/parallel.h"
+#include "methods/svgf/svgf_passes.h"
+#include "passes/demodulation.h"
+#include "passes/reprojection.h"
+#include "passes/taa.h"
+#include "passes/temporal_accumulation.h"
+#include "rtd/methods/svgf.h"
+
+namespace rtd {
+
+namespace {
+
+constexpr int kMaxStreams = 2;
+
+MomentLuminance toMomentLuminance(SvgfLuminance l) {
+  switch (l) {
+    case SvgfLuminance::rec601: return MomentLuminance::Rec601;
+    case SvgfLuminance::cieLightness: return MomentLuminance::CieLightness;
+    default: return MomentLuminance::Rec709;
+  }
+}
+
+// One radiance stream (Color, or one half of a split) and its history.
+struct Stream {
+  Buffer buffer = Buffer::Color;
+  const char* name = "color";
+  bool demodulated = true;   // divided by albedo (false: specular, filtered as radiance)
+  bool indirect = false;     // Voorhuis: no per-level variance filtering
+  Plane3 demod;
+  TemporalAccumulator accumulator;
+};
+
+class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
+ public:
+  using CpuDenoiser::CpuDenoiser;
+  std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color, Buffer::Normal, Buffer::Depth}; }
+
+  void set(std::string_view name, std::string_view value) override {
+    if (name == "variant") {
+      // A preset: the paper's defaults for every [variant] field.
+      SvgfSettings copy = settings_;
+      detail::setSetting(copy, SvgfSettings::kMethod, name, value);
+      copy.applyVariant(copy.variant);
+      settings_ = copy;
+      return;
+    }
+    CpuDenoiser::set(name, value);
+  }
+
+ protected:
+  void resizeHistory(int w, int h) override {
+    const int pad = requiredPad();
+    pad_ = pad;
+    guide_.resize(w, h, pad);
+    for (auto& im : levels_) im.resize(w, h, pad);
+    sigmaScale_.resize(w, h, pad);
+    for (auto& s : streams_) {
+      rtd::resize(s.demod, w, h);
+      s.accumulator.resize(w, h);
+    }
+    rtd::resize(sum_, w, h);
+    rtd::resize(display_, w, h);
+    taa_.resize(w, h);
+  }
+  void resetHistory() override {
+    for (auto& s : streams_) s.accumulator.reset();
+    taa_.reset();
+  }
+
+  void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
+    const SvgfSettings& s = settings_;
+    if (requiredPad() > pad_) {  // more levels than allocated for: settings changed
+      resizeHistory(frame.width, frame.height);
+      resetHistory();
+      previous = nullptr;
+    }
+    const int nStreams = chooseStreams(frame);
+    const auto* albedo = frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
+    {
+      PassTimer t(stats, "reproject");
+      reproject(frame, previous, s.reprojection, reprojection_);
+    }
+    {
+      PassTimer t(stats, "features");
+      guide_.build(frame.plane(Buffer::Depth), frame.planes(Buffer::Normal),
+                   frame.has(Buffer::DepthGradient) ? &frame.planes(Buffer::DepthGradient) : nullptr, s.maxDepthSlope);
+    }
+    for (int k = 0; k < nStreams; ++k) {
+      Stream& st = streams_[k];
+      const std::string suffix = nStreams > 1 ? std::string(".") + st.name : std::string();
+      filterStream(frame, st, st.demodulated ? albedo : nullptr, suffix, stats);
+      PassTimer t(stats, "sum" + suffix);
+      addStream(st, k == 0, albedo);
+    }
+    Plane3* shown = &sum_;
+    if (s.fireflyMedian) {
+      PassTimer t(stats, "median");
+      svgf::median3x3(sum_, frame.has(Buffer::Roughness) ? &frame.plane(Buffer::Roughness) : nullptr, display_);
+      shown = &display_;
+    }
+    {
+      PassTimer t(stats, "remodulate");
+      remodulateSum(*shown, albedo, nStreams);
+    }
+    PassTimer t(stats, "taa");
+    if (s.taa.taa) {
+      taa_.run(reprojection_, *shown, s.taa.taaAlpha, out);
+    } else {
+      for (int c = 0; c < 3; ++c) out[c].data = (*shown)[c].data;
+    }
+  }
+
+ private:
+  int requiredPad() const {
+    const int r = settings_.kernel == SvgfKernel::b3spline5x5 ? 2 : 1;
+    const int maxStep = settings_.atrousIterations > 0 ? 1 << (settings_.atrousIterations - 1) : 1;
+    return std::max({r * maxStep, settings_.spatialVarianceRadius, 8});
+  }
+
+  // Which streams this frame has, per the `components` setting.
+  int chooseStreams(const FrameData& f) {
+    SvgfComponents c = settings_.components;
+    if (c == SvgfComponents::automatic) {
+      if (f.has(Buffer::Direct) && f.has(Buffer::Indirect)) c = SvgfComponents::directIndirect;
+      else if (f.has(Buffer::Diffuse) && f.has(Buffer::Specular)) c = SvgfComponents::diffuseSpecular;
+      else c = SvgfComponents::color;
+    }
+    auto need = [&](Buffer b) {
+      if (!f.has(b))
+        throw Error("svgf: components setting needs buffer '" + std::string(bufferName(b)) + "', absent from the frame");
+    };
+    auto setStream = [&](int k, Buffer b, const char* name, bool demod, bool indirect) {
+      Stream& st = streams_[k];
+      if (st.buffer != b) st.accumulator.reset();  // another stream's history is meaningless
+      st.buffer = b;
+      st.name = name;
+      st.demodulated = demod;
+      st.indirect = indirect;
+    };
+    switch (c) {
+      case SvgfComponents::directIndirect:
+        need(Buffer::Direct);
+        need(Buffer::Indirect);
+        setStream(0, Buffer::Direct, "direct", true, false);
+        setStream(1, Buffer::Indirect, "indirect", true, true);
+        return 2;
+      case SvgfComponents::diffuseSpecular:
+        need(Buffer::Diffuse);
+        need(Buffer::Specular);
+        setStream(0, Buffer::Diffuse, "diffuse", true, false);
+        // Specular is not divided by the (diffuse) albedo: it carries its own Fresnel tint.
+        setStream(1, Buffer::Specular, "specular", false, false);
+        return 2;
+      default:
+        setStream(0, Buffer::Color, "color", true, false);
+        return 1;
+    }
+  }
+
+  void filterStream(const FrameData& frame, Stream& st, const std::vector<Plane>* albedo, const std::string& suffix,
+                    FrameStats& stats) {
+    const SvgfSettings& s = settings_;
+    const MomentLuminance lum = toMomentLuminance(s.luminance);
+    {
+      PassTimer t(stats, "demodulate" + suffix);
+      demodulate(frame.planes(st.buffer), albedo, st.demod);
+    }
+    {
+      PassTimer t(stats, "accumulate" + suffix);
+      AccumulationOptions opt;
+      opt.luminance = lum;
+      opt.cumulativeMoments = s.momentsTrueAverage;
+      st.accumulator.run(reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
+    }
+    const int normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
+    {
+      PassTimer t(stats, "variance" + suffix);
+      svgf::VarianceInputs in{&st.accumulator.historyLength(), &st.accumulator.moment1(), &st.accumulator.moment2(),
+                              &st.demod, &st.accumulator.color()};
+      svgf::VarianceParams p;
+      p.shortHistoryFrames = s.shortHistoryFrames;
+      p.shortHistory = s.shortHistory;
+      p.radius = s.spatialVarianceRadius;
+      p.fromMoments = s.spatialVarianceFromMoments;
+      p.sigmaDepth = s.sigmaDepth;
+      p.depthEpsilon = s.depthEpsilon;
+      p.normalExponent = normalExponent;
+      p.luminance = lum;
+      svgf::estimateVariance(guide_, in, p, levels_[0]);
+      svgf::luminanceSigmaScale(st.accumulator.historyLength(), s, sigmaScale_);
+      if (s.variancePrefilter == SvgfVariancePrefilter::once) {
+        gaussian3x3(levels_[0].var, levels_[2].var);
+        std::swap(levels_[0].var, levels_[2].var);
+      }
+    }
+    const int n = s.atrousIterations;
+    int steps[8];
+    svgf::levelSteps(s.levelOrder, n, steps);
+    const bool propagate = s.varianceFiltering && !(st.indirect && !s.indirectVarianceFiltering);
+    int cur = 0;
+    for (int i = 0; i < n; ++i) {
+      PassTimer t(stats, "atrous" + std::to_string(i + 1) + suffix);
+      AtrousImage& src = levels_[cur];
+      AtrousImage& dst = levels_[cur ^ 1];
+      AtrousLevel lv;
+      lv.kernel = s.kernel == SvgfKernel::b3spline5x5 ? AtrousKernel::B3Spline5x5 : AtrousKernel::Binomial3x3;
+      lv.step = steps[i];
+      lv.sigmaDepth = s.sigmaDepth;
+      lv.depthEpsilon = s.depthEpsilon;
+      lv.normalExponent = normalExponent;
+      lv.sigmaLuminance = s.sigmaLuminance;
+      lv.luminanceEpsilon = s.luminanceEpsilon;
+      lv.prefilterVariance = s.variancePrefilter == SvgfVariancePrefilter::everyLevel;
+      lv.varianceScale = s.luminanceScale == SvgfLuminanceScale::variance;
+      lv.sigmaScale = &sigmaScale_;
+      // The last level's variance is not used any more.
+      lv.propagateVariance = propagate && i + 1 < n;
+      lv.luminance = lum;
+      atrousLevel(guide_, lv, src, dst);
+      if (!lv.propagateVariance) std::swap(src.var, dst.var);  // keep the unfiltered variance
+      cur ^= 1;
+      if (i + 1 == s.feedbackLevel) {
+        // The first level's output becomes next frame's colour history (Schied Sec. 4.3).
+        Plane3& history = st.accumulator.color();
+        for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyTo(history[c]);
+      }
+    }
+    // Result of this stream: levels_[cur].color (or the accumulation when n == 0).
+    if (n == 0)
+      for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyFrom(st.accumulator.color()[c]);
+    result_ = cur;
+  }
+
+  // sum_ (+)= this stream's filtered illumination; a non-demodulated stream (specular) is
+  // divided by the albedo here so that the shared remodulation restores it exactly.
+  void addStream(const Stream& st, bool first, const std::vector<Plane>* albedo) {
+    const AtrousImage& r = levels_[result_];
+    const int w = sum_[0].width;
+    const bool divide = !st.demodulated && albedo;
+    parallelRows(sum_[0].height, [&](int y) {
+      for (int c = 0; c < 3; ++c) {
+        const float* in = r.color[c].row(y);
+        float* o = sum_[c].row(y);
+        const float* a = divide ? (*albedo)[c].row(y) : nullptr;
+        for (int x = 0; x < w; ++x) {
+          const float v = a ? in[x] / demodulationFactor(a[x]) : in[x];
+          o[x] = first ? v : o[x] + v;
+        }
+      }
+    });
+  }
+
+  void remodulateSum(Plane3& p, const std::vector<Plane>* albedo, int) { remodulate(p, albedo); }
+
+  Reprojection reprojection_;
+  AtrousGuide guide_;
+  AtrousImage levels_[3];
+  PaddedPlane sigmaScale_;
+  Stream streams_[kMaxStreams];
+  Plane3 sum_, display_;
+  Taa taa_;
+  int pad_ = 0;
+  int result_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Denoiser> createSvgfCpu(tbb::task_arena& arena) { return std::make_unique<SvgfCpu>(arena); }
+
+}  // namespace rtd

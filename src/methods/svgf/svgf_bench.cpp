@@ -1,0 +1,80 @@
+// Google Benchmark: SVGF at 1280x720 on the synthetic scene, whole method per variant and the
+// a-trous level alone. The *_1thread cases run in a one-thread arena, so their CPU time is
+// the work itself (stable on a shared machine); the 2-thread cases give wall time.
+#include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
+
+#include "passes/atrous.h"
+#include "rtd/rtd.h"
+#include "synthetic/synthetic.h"
+
+namespace {
+
+constexpr int kW = 1280, kH = 720;
+
+void BM_Svgf(benchmark::State& state, const char* variant, int threads) {
+  rtd::synthetic::Scene scene;
+  scene.width = kW;
+  scene.height = kH;
+  std::vector<rtd::Frame> frames;
+  for (int i = 0; i < 4; ++i) frames.push_back(rtd::synthetic::makeFrame(scene, i));
+  auto device = rtd::Device::create({.threads = threads});
+  auto d = device->createDenoiser("svgf");
+  d->set("variant", variant);
+  rtd::Image out(kW, kH, 3);
+  for (int i = 0; i < 4; ++i) d->denoise(frames[i].inputs(), out.view());  // build history
+  int i = 0;
+  for (auto _ : state) {
+    const int k = i++ % 6, idx = k < 4 ? k : 6 - k;  // 0,1,2,3,2,1: one camera step apart
+    d->denoise(frames[idx].inputs(), out.view());
+    benchmark::DoNotOptimize(out.pixels.data());
+  }
+  state.SetItemsProcessed(state.iterations() * int64_t(kW) * kH);
+}
+BENCHMARK_CAPTURE(BM_Svgf, schied_2threads, "schied", 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Svgf, dundr_2threads, "dundr", 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Svgf, gersthofer_2threads, "gersthofer", 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Svgf, voorhuis_2threads, "voorhuis", 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Svgf, schied_1thread, "schied", 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Svgf, dundr_1thread, "dundr", 1)->Unit(benchmark::kMillisecond);
+
+// One a-trous level (with variance propagation) on flat-ish features and noisy colour.
+void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threads) {
+  const int step = int(state.range(0));
+  rtd::AtrousGuide g;
+  rtd::AtrousImage a, b;
+  rtd::PaddedPlane inv;
+  g.resize(kW, kH, 32);
+  a.resize(kW, kH, 32);
+  b.resize(kW, kH, 32);
+  inv.resize(kW, kH, 32);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      g.depth.at(x, y) = 5.0f + 0.001f * y;
+      g.gradY.at(x, y) = 0.001f;
+      g.normal[2].at(x, y) = 1.0f;
+      const float v = float((x * 7919 + y * 104729) % 97) / 97.0f;
+      for (auto& c : a.color) c.at(x, y) = v;
+      a.lum.at(x, y) = v;
+      a.var.at(x, y) = 0.1f;
+      inv.at(x, y) = 1.0f;  // sigma_l multiplier
+    }
+  rtd::AtrousLevel lv;
+  lv.kernel = kernel;
+  lv.step = step;
+  lv.sigmaScale = &inv;
+  tbb::task_arena arena(threads);
+  for (auto _ : state) {
+    arena.execute([&] { rtd::atrousLevel(g, lv, a, b); });
+    benchmark::DoNotOptimize(b.color[0].data.data());
+  }
+  state.SetItemsProcessed(state.iterations() * int64_t(kW) * kH);
+}
+BENCHMARK_CAPTURE(BM_AtrousLevel, b3spline5x5_1thread, rtd::AtrousKernel::B3Spline5x5, 1)
+    ->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_AtrousLevel, binomial3x3_1thread, rtd::AtrousKernel::Binomial3x3, 1)
+    ->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_AtrousLevel, b3spline5x5_2threads, rtd::AtrousKernel::B3Spline5x5, 2)
+    ->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

@@ -1,0 +1,552 @@
+// Tests of the shared a-trous pass and of the SVGF method (Schied et al. 2017 and variants).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "methods/svgf/svgf_passes.h"
+#include "passes/atrous.h"
+#include "rtd/rtd.h"
+#include "synthetic/synthetic.h"
+
+namespace rtd {
+namespace {
+
+// ---------------------------------------------------------------- edge-stopping weights
+
+TEST(AtrousWeights, DepthWeightMatchesHandValues) {
+  // |1.0 - 1.2| / (1 * |0.1| + 0) = 2 -> e^-2
+  EXPECT_NEAR(depthWeight(1.0f, 1.2f, 0.1f, 1.0f, 0.0f), 0.1353352832f, 1e-6);
+  // sigma_z = 2 and a negative gradient.offset: 0.2 / (2 * 0.1 + 0.05) = 0.8 -> e^-0.8
+  EXPECT_NEAR(depthWeight(1.0f, 1.2f, -0.1f, 2.0f, 0.05f), 0.4493289641f, 1e-6);
+  // Equal depths: weight 1 whatever the gradient.
+  EXPECT_FLOAT_EQ(depthWeight(3.0f, 3.0f, 0.0f, 1.0f, 1e-2f), 1.0f);
+}
+
+TEST(AtrousWeights, NormalWeightMatchesHandValues) {
+  EXPECT_FLOAT_EQ(normalWeight(1.0f, 128), 1.0f);
+  EXPECT_FLOAT_EQ(normalWeight(0.0f, 64), 0.0f);
+  EXPECT_FLOAT_EQ(normalWeight(-0.5f, 64), 0.0f);  // back-facing: clamped to 0
+  // cos(10 deg)^64 = exp(64 ln 0.984807753) = exp(-0.979659) = 0.375399
+  EXPECT_NEAR(normalWeight(std::cos(10.0f * 3.14159265f / 180.0f), 64), 0.375399, 2e-5);
+  EXPECT_NEAR(normalWeight(0.5f, 2), 0.25, 1e-7);
+}
+
+TEST(AtrousWeights, LuminanceWeightMatchesHandValues) {
+  // |0.5 - 0.3| / (4 * sqrt(0.01)) = 0.5 -> e^-0.5
+  EXPECT_NEAR(luminanceWeight(0.5f, 0.3f, 4.0f, std::sqrt(0.01f), 0.0f), 0.6065306597f, 1e-6);
+  // Dundr's variance scale: 0.2 / (4 * 0.01 + 0.01) = 4 -> e^-4
+  EXPECT_NEAR(luminanceWeight(0.5f, 0.3f, 4.0f, 0.01f, 0.01f), 0.0183156389f, 1e-7);
+}
+
+TEST(AtrousWeights, VoorhuisBandwidthScale) {
+  // Eq. 8: h = 0..10 -> 8, 7, 6, 5, 4, 3, 2, 1, 1, 1, 1
+  const float expected[11] = {8, 7, 6, 5, 4, 3, 2, 1, 1, 1, 1};
+  for (int h = 0; h <= 10; ++h) EXPECT_EQ(shortHistoryBandwidthScale(h), expected[h]) << h;
+}
+
+// ---------------------------------------------------------------- a-trous pass
+
+struct Scene {
+  int w, h;
+  AtrousGuide guide;
+  AtrousImage a, b;
+  PaddedPlane inv;
+  Scene(int width, int height, int pad) : w(width), h(height) {
+    guide.resize(w, h, pad);
+    a.resize(w, h, pad);
+    b.resize(w, h, pad);
+    inv.resize(w, h, pad);
+  }
+  // Flat plane facing the camera at depth z (gradient 0), normal +z.
+  void flat(float z = 5.0f) {
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        guide.depth.at(x, y) = z;
+        guide.normal[2].at(x, y) = 1.0f;
+      }
+  }
+};
+
+// `scale`: per-pixel multiplier of sigma_l (0 = luminance weight off).
+AtrousLevel level(AtrousKernel k, int step, const PaddedPlane* scale) {
+  AtrousLevel lv;
+  lv.kernel = k;
+  lv.step = step;
+  lv.sigmaScale = scale;
+  lv.sigmaLuminance = 4.0f;
+  lv.luminanceEpsilon = 1e-4f;
+  return lv;
+}
+
+// 1 / (sigma_l k sqrt(g3x3(Var)) + eps) at p, the zero border counted as variance 0.
+double referenceInvBandwidth(const Scene& s, const AtrousLevel& lv, int x, int y) {
+  const double k = lv.sigmaScale ? lv.sigmaScale->at(x, y) : 1.0;
+  if (k == 0.0) return 0.0;
+  double v = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int qx = x + dx, qy = y + dy;
+      if (qx < 0 || qy < 0 || qx >= s.w || qy >= s.h) continue;
+      v += (dx ? 0.5 : 1.0) * (dy ? 0.5 : 1.0) * 0.25 * s.a.var.at(qx, qy);
+    }
+  const double sd = lv.varianceScale ? v : std::sqrt(v);
+  return 1.0 / (lv.sigmaLuminance * k * sd + lv.luminanceEpsilon);
+}
+
+// Double-precision evaluation of Schied et al. Eq. 3-5 at one pixel, written from the paper.
+void referencePixel(const Scene& s, const AtrousLevel& lv, int x, int y, double out[3], double& var) {
+  const int r = lv.kernel == AtrousKernel::B3Spline5x5 ? 2 : 1;
+  const double b3[5] = {1 / 16.0, 1 / 4.0, 3 / 8.0, 1 / 4.0, 1 / 16.0}, bi[3] = {0.25, 0.5, 0.25};
+  double sw = 0, sv = 0, sc[3] = {0, 0, 0};
+  const double inv = referenceInvBandwidth(s, lv, x, y);
+  for (int dy = -r; dy <= r; ++dy)
+    for (int dx = -r; dx <= r; ++dx) {
+      const int qx = x + dx * lv.step, qy = y + dy * lv.step;
+      if (qx < 0 || qy < 0 || qx >= s.w || qy >= s.h) continue;
+      const double hk = r == 2 ? b3[dx + 2] * b3[dy + 2] : bi[dx + 1] * bi[dy + 1];
+      double wt = 1.0;
+      if (dx || dy) {
+        double dot = 0;
+        for (int c = 0; c < 3; ++c) dot += double(s.guide.normal[c].at(x, y)) * s.guide.normal[c].at(qx, qy);
+        const double wn = std::pow(std::max(0.0, dot), lv.normalExponent);
+        const double g = double(s.guide.gradX.at(x, y)) * dx * lv.step + double(s.guide.gradY.at(x, y)) * dy * lv.step;
+        const double wz = std::exp(-std::abs(double(s.guide.depth.at(x, y)) - s.guide.depth.at(qx, qy)) /
+                                   (lv.sigmaDepth * std::abs(g) + lv.depthEpsilon));
+        const double wl = std::exp(-std::abs(double(s.a.lum.at(x, y)) - s.a.lum.at(qx, qy)) * inv);
+        wt = wn * wz * wl;
+      }
+      sw += hk * wt;
+      sv += hk * hk * wt * wt * s.a.var.at(qx, qy);
+      for (int c = 0; c < 3; ++c) sc[c] += hk * wt * s.a.color[c].at(qx, qy);
+    }
+  for (int c = 0; c < 3; ++c) out[c] = sc[c] / sw;
+  var = sv / (sw * sw);
+}
+
+void randomScene(Scene& s, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int y = 0; y < s.h; ++y)
+    for (int x = 0; x < s.w; ++x) {
+      // Smooth-ish depth with a step, slightly varying normals, noisy colour.
+      s.guide.depth.at(x, y) = (x < s.w / 2 ? 4.0f : 6.0f) + 0.01f * y + 0.02f * u(rng);
+      s.guide.gradX.at(x, y) = 0.01f * (u(rng) - 0.5f);
+      s.guide.gradY.at(x, y) = 0.01f;
+      float n[3] = {0.2f * (u(rng) - 0.5f), 0.2f * (u(rng) - 0.5f), 1.0f};
+      const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      for (int c = 0; c < 3; ++c) s.guide.normal[c].at(x, y) = n[c] / len;
+      for (int c = 0; c < 3; ++c) s.a.color[c].at(x, y) = u(rng);
+      s.a.lum.at(x, y) = luminance(s.a.color[0].at(x, y), s.a.color[1].at(x, y), s.a.color[2].at(x, y));
+      s.a.var.at(x, y) = 0.05f * u(rng);
+      s.inv.at(x, y) = u(rng) < 0.1f ? 0.0f : 1.0f + 7.0f * u(rng);  // sigma_l multiplier, sometimes off
+    }
+}
+
+TEST(Atrous, MatchesDoublePrecisionReferenceBothKernels) {
+  for (AtrousKernel k : {AtrousKernel::B3Spline5x5, AtrousKernel::Binomial3x3})
+    for (int step : {1, 4}) {
+      Scene s(37, 21, 8);  // width not a multiple of 8: the tail tile is exercised
+      randomScene(s, 7 + step);
+      AtrousLevel lv = level(k, step, &s.inv);
+      lv.normalExponent = step == 1 ? 64 : 5;  // the unrolled and the generic power
+      lv.varianceScale = k == AtrousKernel::Binomial3x3;  // Dundr's variance scale
+      atrousLevel(s.guide, lv, s.a, s.b);
+      for (int y = 0; y < s.h; ++y)
+        for (int x = 0; x < s.w; ++x) {
+          double ref[3], var;
+          referencePixel(s, lv, x, y, ref, var);
+          for (int c = 0; c < 3; ++c) ASSERT_NEAR(s.b.color[c].at(x, y), ref[c], 2e-5) << x << "," << y;
+          ASSERT_NEAR(s.b.var.at(x, y), var, 2e-6 + 1e-4 * var) << x << "," << y;
+          ASSERT_NEAR(s.b.lum.at(x, y), luminance(s.b.color[0].at(x, y), s.b.color[1].at(x, y), s.b.color[2].at(x, y)), 1e-6);
+        }
+    }
+}
+
+TEST(Atrous, ConstantImageIsAFixedPoint) {
+  Scene s(53, 29, 32);
+  randomScene(s, 3);  // arbitrary features and variance, constant colour
+  for (int y = 0; y < s.h; ++y)
+    for (int x = 0; x < s.w; ++x) {
+      s.a.color[0].at(x, y) = 0.7f;
+      s.a.color[1].at(x, y) = 0.2f;
+      s.a.color[2].at(x, y) = 1.5f;
+      s.a.lum.at(x, y) = luminance(0.7f, 0.2f, 1.5f);
+    }
+  for (int step : {1, 2, 4, 8, 16}) {
+    atrousLevel(s.guide, level(AtrousKernel::B3Spline5x5, step, &s.inv), s.a, s.b);
+    for (int y = 0; y < s.h; ++y)
+      for (int x = 0; x < s.w; ++x) {
+        ASSERT_NEAR(s.b.color[0].at(x, y), 0.7f, 1e-6);
+        ASSERT_NEAR(s.b.color[1].at(x, y), 0.2f, 1e-6);
+        ASSERT_NEAR(s.b.color[2].at(x, y), 1.5f, 2e-6);
+      }
+  }
+}
+
+// Five levels of the filter, ping-ponging between the two images; returns the final one.
+AtrousImage& runLevels(Scene& s, AtrousKernel k, int levels) {
+  AtrousImage* src = &s.a;
+  AtrousImage* dst = &s.b;
+  for (int i = 0; i < levels; ++i) {
+    AtrousLevel lv = level(k, 1 << i, &s.inv);
+    atrousLevel(s.guide, lv, *src, *dst);
+    std::swap(src, dst);
+  }
+  return *src;
+}
+
+TEST(Atrous, DepthAndNormalEdgesSurviveFiveLevels) {
+  Scene s(64, 48, 32);
+  s.flat();
+  // Left half: depth 5, colour 1; right half: depth 9 (a depth edge), colour 0. Bottom
+  // quarter of the right half: depth 9 but a normal turned 90 degrees, colour 0.5.
+  for (int y = 0; y < s.h; ++y)
+    for (int x = 0; x < s.w; ++x) {
+      const bool right = x >= 32, bottom = y >= 36;
+      s.guide.depth.at(x, y) = right ? 9.0f : 5.0f;
+      if (right && bottom) {
+        s.guide.normal[2].at(x, y) = 0.0f;
+        s.guide.normal[1].at(x, y) = 1.0f;
+      }
+      const float v = !right ? 1.0f : bottom ? 0.5f : 0.0f;
+      for (int c = 0; c < 3; ++c) s.a.color[c].at(x, y) = v;
+      s.a.lum.at(x, y) = v;
+      s.a.var.at(x, y) = 1.0f;
+      s.inv.at(x, y) = 0.0f;  // sigma_l scale 0: luminance weight off, only the features keep the edges
+    }
+  const AtrousImage& r = runLevels(s, AtrousKernel::B3Spline5x5, 5);
+  for (int y = 0; y < s.h; ++y)
+    for (int x = 0; x < s.w; ++x) {
+      const bool right = x >= 32, bottom = y >= 36;
+      const float v = !right ? 1.0f : bottom ? 0.5f : 0.0f;
+      ASSERT_NEAR(r.color[0].at(x, y), v, 1e-4) << x << "," << y;
+    }
+}
+
+TEST(Atrous, UnweightedImpulseResponseHasTheExpectedSupport) {
+  // Flat features and w_l off: each level is a plain dilated kernel, so five levels are the
+  // convolution of the dilated 1D kernels per axis: support radius r * (1+2+4+8+16).
+  for (AtrousKernel k : {AtrousKernel::B3Spline5x5, AtrousKernel::Binomial3x3}) {
+    const int r = kernelRadius(k), support = r * 31;
+    // Every pixel of the support keeps all its taps inside the image (no renormalization).
+    const int n = 2 * (support + r * 16) + 3;
+    Scene s(n, n, 32);
+    s.flat();
+    const int c = n / 2;
+    s.a.color[0].at(c, c) = 1.0f;
+    const AtrousImage& out = runLevels(s, k, 5);
+    // Independent 1D reference: convolve the dilated kernels in double.
+    std::vector<double> line(size_t(n), 0.0);
+    line[c] = 1.0;
+    for (int i = 0; i < 5; ++i) {
+      std::vector<double> next(size_t(n), 0.0);
+      for (int x = 0; x < n; ++x)
+        for (int d = -r; d <= r; ++d) {
+          const int q = x + d * (1 << i);
+          if (q >= 0 && q < n) next[x] += kernelWeight1D(k, d) * line[q];
+        }
+      line = next;
+    }
+    double total = 0;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const float v = out.color[0].at(x, y);
+        const bool inside = std::abs(x - c) <= support && std::abs(y - c) <= support;
+        if (!inside) {
+          ASSERT_EQ(v, 0.0f) << x << "," << y;
+        }
+        ASSERT_NEAR(v, line[x] * line[y], 1e-7) << x << "," << y;
+        total += v;
+      }
+    EXPECT_GT(out.color[0].at(c + support, c), 0.0f);  // the support's corner taps are reached
+    EXPECT_GT(out.color[0].at(c - support, c - support), 0.0f);
+    EXPECT_NEAR(total, 1.0, 1e-5);
+  }
+}
+
+TEST(Atrous, VariancePropagationOfAnUnweightedLevel) {
+  // With all weights 1 and constant variance V, Eq. 4 gives V * sum h^2 (5x5 B3: (35/128)^2).
+  Scene s(40, 40, 32);
+  s.flat();
+  for (int y = 0; y < s.h; ++y)
+    for (int x = 0; x < s.w; ++x) s.a.var.at(x, y) = 2.0f;
+  atrousLevel(s.guide, level(AtrousKernel::B3Spline5x5, 2, &s.inv), s.a, s.b);
+  const double sumH2_1d = (1 + 16 + 36 + 16 + 1) / 256.0;  // (1/16)^2 + (1/4)^2 + (3/8)^2 + ...
+  EXPECT_NEAR(s.b.var.at(20, 20), 2.0 * sumH2_1d * sumH2_1d, 1e-6);
+}
+
+// ---------------------------------------------------------------- variance estimate
+
+TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
+  const int w = 24, h = 16;
+  AtrousGuide g;
+  g.resize(w, h, 8);
+  AtrousImage out;
+  out.resize(w, h, 8);
+  Plane len(w, h), m1(w, h), m2(w, h);
+  Plane3 cur, acc;
+  resize(cur, w, h);
+  resize(acc, w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      g.depth.at(x, y) = 5.0f;
+      g.normal[2].at(x, y) = 1.0f;
+      len(x, y) = float(1 + (x + y) % 6);       // 1..6: short where < 4
+      m1(x, y) = 0.5f;
+      m2(x, y) = 0.5f * 0.5f + 0.09f;           // temporal variance 0.09
+      const float l = (x + y) % 2 ? 1.0f : 0.0f; // checkerboard: window variance ~0.25
+      for (int c = 0; c < 3; ++c) cur[c](x, y) = l;
+    }
+  svgf::VarianceInputs in{&len, &m1, &m2, &cur, &acc};
+  svgf::VarianceParams p;  // Schied: 7x7 from the current luminance, n < 4
+  const size_t spatial = svgf::estimateVariance(g, in, p, out);
+  size_t expectedSpatial = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (len(x, y) >= 4) {
+        ASSERT_NEAR(out.var.at(x, y), 0.09f, 1e-6) << x << "," << y;
+        continue;
+      }
+      ++expectedSpatial;
+      // Flat features: uniform weights over the in-image part of the 7x7 window.
+      double s1 = 0, s2 = 0, n = 0;
+      for (int dy = -3; dy <= 3; ++dy)
+        for (int dx = -3; dx <= 3; ++dx) {
+          const int qx = x + dx, qy = y + dy;
+          if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+          const double l = (qx + qy) % 2 ? 1.0 : 0.0;
+          s1 += l;
+          s2 += l * l;
+          n += 1;
+        }
+      ASSERT_NEAR(out.var.at(x, y), s2 / n - (s1 / n) * (s1 / n), 1e-6) << x << "," << y;
+    }
+  EXPECT_EQ(spatial, expectedSpatial);
+
+  // Voorhuis: from the accumulated moments -> mean(m2) - mean(m1)^2 = 0.09 although the
+  // current luminance is a checkerboard; and > 0 when the current frame is black.
+  for (auto& c : cur) c.fill(0.0f);
+  p.fromMoments = true;
+  svgf::estimateVariance(g, in, p, out);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) ASSERT_NEAR(out.var.at(x, y), 0.09f, 1e-6);
+  // Current-luminance estimate of a black frame is 0 where the history is short.
+  p.fromMoments = false;
+  svgf::estimateVariance(g, in, p, out);
+  EXPECT_EQ(out.var.at(0, 0), 0.0f);  // len(0,0) = 1
+}
+
+// A static camera over one pixel value sequence: the moments must be exact averages for
+// short histories with momentsTrueAverage, and an EMA without.
+TEST(SvgfVariance, MomentsExactForShortHistories) {
+  const int w = 8, h = 8;
+  Reprojection rp;
+  rp.resize(w, h);
+  TemporalAccumulator acc;
+  acc.resize(w, h);
+  Plane3 frame;
+  resize(frame, w, h);
+  const float xs[4] = {0.2f, 1.0f, 0.4f, 0.8f};
+  for (bool cumulative : {true, false}) {
+    acc.reset();
+    std::fill(rp.kind.begin(), rp.kind.end(), Reprojection::None);
+    double m1 = 0, m2 = 0;
+    for (int t = 0; t < 4; ++t) {
+      for (auto& c : frame) c.fill(xs[t]);  // grey: luminance = value
+      AccumulationOptions opt;
+      opt.cumulativeMoments = cumulative;
+      acc.run(rp, frame, 0.2f, 0.2f, 255, opt);
+      // Identity reprojection from the second frame on.
+      for (int i = 0; i < w * h; ++i) {
+        rp.kind[i] = Reprojection::Bilinear;
+        rp.base[i] = i;
+        rp.weights[i] = {1, 0, 0, 0};
+      }
+      const double a = cumulative ? 1.0 / (t + 1) : (t == 0 ? 1.0 : 0.2);
+      m1 = a * xs[t] + (1 - a) * m1;
+      m2 = a * xs[t] * xs[t] + (1 - a) * m2;
+    }
+    if (cumulative) {
+      // Plain means of the four values: 0.6 and (0.04 + 1 + 0.16 + 0.64) / 4 = 0.46.
+      EXPECT_NEAR(m1, 0.6, 1e-7);
+      EXPECT_NEAR(m2, 0.46, 1e-7);
+    }
+    EXPECT_NEAR(acc.moment1()(3, 3), m1, 1e-6);
+    EXPECT_NEAR(acc.moment2()(3, 3), m2, 1e-6);
+    EXPECT_NEAR(acc.temporalVariance(27), std::max(0.0, m2 - m1 * m1), 1e-6);
+    EXPECT_EQ(acc.historyLength()(3, 3), 4.0f);
+  }
+}
+
+TEST(SvgfVariance, CieLightnessMoments) {
+  EXPECT_NEAR(cieLightness(1.0f), 100.0f, 1e-4);
+  EXPECT_NEAR(cieLightness(0.0f), 0.0f, 1e-5);
+  EXPECT_NEAR(cieLightness(0.18f), 49.496f, 1e-2);  // middle grey
+  EXPECT_NEAR(cieLightness(0.001f), 0.9033f, 1e-3);  // linear branch: 903.3 Y
+}
+
+// ---------------------------------------------------------------- other passes
+
+TEST(SvgfPasses, MedianRemovesAFireflyOnDiffusePixelsOnly) {
+  Plane3 in, out;
+  resize(in, 9, 9, 0.5f);
+  resize(out, 9, 9);
+  for (auto& c : in) c(4, 4) = 100.0f;
+  svgf::median3x3(in, nullptr, out);
+  EXPECT_EQ(out[0](4, 4), 0.5f);
+  Plane rough(9, 9, 1.0f);
+  rough(4, 4) = 0.2f;  // glossy: kept
+  svgf::median3x3(in, &rough, out);
+  EXPECT_EQ(out[1](4, 4), 100.0f);
+}
+
+TEST(SvgfPasses, LevelOrders) {
+  int s[5];
+  svgf::levelSteps(SvgfLevelOrder::fineToCoarse, 5, s);
+  EXPECT_EQ(std::vector<int>(s, s + 5), (std::vector<int>{1, 2, 4, 8, 16}));
+  svgf::levelSteps(SvgfLevelOrder::firstThenCoarseToFine, 5, s);
+  EXPECT_EQ(std::vector<int>(s, s + 5), (std::vector<int>{1, 16, 8, 4, 2}));
+  svgf::levelSteps(SvgfLevelOrder::coarseToFine, 5, s);
+  EXPECT_EQ(std::vector<int>(s, s + 5), (std::vector<int>{16, 8, 4, 2, 1}));
+}
+
+// ---------------------------------------------------------------- settings
+
+TEST(SvgfSettingsTest, VariantPresetsAndToggles) {
+  auto device = Device::create();
+  auto d = device->createDenoiser("svgf");
+  d->set("variant", "dundr");
+  auto s = d->getSettings<SvgfSettings>();
+  EXPECT_EQ(s.kernel, SvgfKernel::binomial3x3);
+  EXPECT_EQ(s.levelOrder, SvgfLevelOrder::firstThenCoarseToFine);
+  EXPECT_EQ(s.luminanceScale, SvgfLuminanceScale::variance);
+  EXPECT_EQ(s.shortHistory, SvgfShortHistory::disableLuminanceWeight);
+  EXPECT_FLOAT_EQ(s.alphaColor, 0.1f);
+  d->set("kernel", "5x5");  // a toggle after the preset overrides it alone
+  s = d->getSettings<SvgfSettings>();
+  EXPECT_EQ(s.kernel, SvgfKernel::b3spline5x5);
+  EXPECT_EQ(s.levelOrder, SvgfLevelOrder::firstThenCoarseToFine);
+  d->set("variant", "gersthofer");
+  s = d->getSettings<SvgfSettings>();
+  EXPECT_EQ(s.luminance, SvgfLuminance::cieLightness);
+  EXPECT_EQ(s.feedbackLevel, 0);
+  EXPECT_EQ(s.spatialVarianceRadius, 1);
+  EXPECT_EQ(s.kernel, SvgfKernel::b3spline5x5);  // back to Schied's
+  const auto v = SvgfSettings::forVariant(SvgfVariant::voorhuis);
+  EXPECT_TRUE(v.momentsTrueAverage && v.spatialVarianceFromMoments && v.shortHistoryBandwidth && v.fireflyMedian);
+  EXPECT_FALSE(v.indirectVarianceFiltering);
+  EXPECT_FLOAT_EQ(v.sigmaNormal, 64.0f);
+  EXPECT_FLOAT_EQ(v.sigmaLuminance, 5.0f);
+  EXPECT_THROW(d->set("variant", "nope"), Error);
+}
+
+// ---------------------------------------------------------------- end to end
+
+double rmse(const Image& a, const Image& b) {
+  double s = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const double d = double(a.at(x, y, c)) - b.at(x, y, c);
+        s += d * d;
+      }
+  return std::sqrt(s / (3.0 * a.width * a.height));
+}
+
+bool allFinite(const Image& a) {
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(a.at(x, y, c))) return false;
+  return true;
+}
+
+struct SeqRun {
+  double rmse;
+  Image last;
+};
+
+constexpr int kFrames = 12;
+
+// Denoises kFrames frames of the synthetic scene; RMSE of the last output vs the reference.
+SeqRun runSequence(Denoiser* d, const synthetic::Scene& scene, bool splitDirect = false) {
+  Image ref, out(scene.width, scene.height, 3);
+  for (int i = 0; i < kFrames; ++i) {
+    Frame f = synthetic::makeFrame(scene, i, &ref);
+    if (splitDirect) {  // Direct = Color, Indirect = 0: must equal filtering Color alone
+      f[Buffer::Direct] = f[Buffer::Color];
+      f[Buffer::Indirect] = Image(scene.width, scene.height, 3);
+    }
+    if (d) d->denoise(f.inputs(), out.view());
+    else out = f[Buffer::Color];
+  }
+  return {rmse(out, ref), out};
+}
+
+synthetic::Scene smallScene() {
+  synthetic::Scene s;
+  s.width = 128;
+  s.height = 72;
+  return s;
+}
+
+TEST(SvgfEndToEnd, MuchCloserToReferenceThanInputAndAccumulation) {
+  auto device = Device::create();
+  const auto scene = smallScene();
+  const double input = runSequence(nullptr, scene).rmse;
+  auto acc = device->createDenoiser("accumulate");
+  const double accumulated = runSequence(acc.get(), scene).rmse;
+  auto svgf = device->createDenoiser("svgf");
+  const SeqRun r = runSequence(svgf.get(), scene);
+  ASSERT_TRUE(allFinite(r.last));
+  std::printf("RMSE after %d frames: input %.4f, accumulate %.4f, svgf %.4f\n", kFrames, input, accumulated, r.rmse);
+  EXPECT_LT(r.rmse, 0.25 * input);
+  EXPECT_LT(r.rmse, 0.6 * accumulated);
+}
+
+TEST(SvgfEndToEnd, EachVariantRunsAndDiffers) {
+  auto device = Device::create();
+  const auto scene = smallScene();
+  auto base = device->createDenoiser("svgf");
+  const SeqRun ref = runSequence(base.get(), scene);
+  const double input = runSequence(nullptr, scene).rmse;
+  for (const char* v : {"dundr", "gersthofer", "voorhuis"}) {
+    auto d = device->createDenoiser("svgf");
+    d->set("variant", v);
+    const SeqRun r = runSequence(d.get(), scene);
+    ASSERT_TRUE(allFinite(r.last)) << v;
+    std::printf("variant %-10s RMSE %.4f (schied %.4f)\n", v, r.rmse, ref.rmse);
+    EXPECT_LT(r.rmse, 0.4 * input) << v;
+    EXPECT_GT(rmse(r.last, ref.last), 1e-4) << v;  // differs from the default
+  }
+}
+
+TEST(SvgfEndToEnd, SplitStreamWithZeroIndirectEqualsColorStream) {
+  auto device = Device::create();
+  const auto scene = smallScene();
+  auto a = device->createDenoiser("svgf");
+  a->set("components", "color");
+  auto b = device->createDenoiser("svgf");  // auto: Direct + Indirect found
+  const SeqRun ra = runSequence(a.get(), scene, true), rb = runSequence(b.get(), scene, true);
+  EXPECT_LT(rmse(ra.last, rb.last), 1e-6);
+  const auto names = [&] {
+    std::vector<std::string> n;
+    for (const auto& p : b->stats().passes) n.push_back(p.name);
+    return n;
+  }();
+  EXPECT_NE(std::find(names.begin(), names.end(), "atrous1.indirect"), names.end());
+}
+
+TEST(SvgfEndToEnd, MissingSplitBufferIsAnError) {
+  auto device = Device::create();
+  auto d = device->createDenoiser("svgf");
+  d->set("components", "diffuseSpecular");
+  auto scene = smallScene();
+  Frame f = synthetic::makeFrame(scene, 0);
+  Image out(scene.width, scene.height, 3);
+  EXPECT_THROW(d->denoise(f.inputs(), out.view()), Error);
+}
+
+}  // namespace
+}  // namespace rtd

@@ -1,0 +1,235 @@
+// Method "svgf" on the Vulkan backend: the passes of svgf.cpp, pass for pass, as compute
+// shaders (shared ones in src/backend/vulkan/shaders, SVGF's own in shaders/ here). Every
+// setting of SvgfSettings is honoured, variants included.
+#if defined(RTD_HAS_VULKAN) && __has_include("rtd/methods/svgf.h")
+#include <cmath>
+
+#include "backend/vulkan/vulkan_denoiser.h"
+#include "rtd/methods/svgf.h"
+
+namespace rtd {
+
+namespace {
+
+constexpr int kMaxStreams = 2;
+
+uint32_t luminanceMode(SvgfLuminance l) {
+  switch (l) {
+    case SvgfLuminance::rec601: return 1;
+    case SvgfLuminance::cieLightness: return 2;
+    default: return 0;
+  }
+}
+
+// One radiance stream and its history, as in svgf.cpp.
+struct GpuStream {
+  Buffer buffer = Buffer::Color;
+  const char* name = "color";
+  bool demodulated = true;
+  bool indirect = false;
+  vk::Planes demod;
+  vk::GpuTemporalAccumulator accumulator;
+};
+
+class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
+ public:
+  using VulkanDenoiser::VulkanDenoiser;
+  std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color, Buffer::Normal, Buffer::Depth}; }
+
+  void set(std::string_view name, std::string_view value) override {
+    if (name == "variant") {  // a preset, as on the CPU
+      SvgfSettings copy = settings_;
+      detail::setSetting(copy, SvgfSettings::kMethod, name, value);
+      copy.applyVariant(copy.variant);
+      settings_ = copy;
+      return;
+    }
+    VulkanDenoiser::set(name, value);
+  }
+
+ protected:
+  std::vector<Buffer> usedBuffers() const override {
+    auto used = VulkanDenoiserBase::usedBuffers();
+    for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::Roughness})
+      used.push_back(b);
+    return used;
+  }
+
+  void resizeHistory(int w, int h) override {
+    reprojection_.allocate(ctx_, w, h, 8);
+    gradient_.allocate(ctx_, w, h, 2);
+    for (auto& l : levels_) l.allocate(ctx_, w, h, 5);
+    sigmaScale_.allocate(ctx_, w, h, 1);
+    for (auto& s : streams_) {
+      s.demod.allocate(ctx_, w, h, 3);
+      s.accumulator.resize(ctx_, w, h);
+    }
+    sum_.allocate(ctx_, w, h, 3);
+    display_.allocate(ctx_, w, h, 3);
+    remodulated_.allocate(ctx_, w, h, 3);
+    taa_.resize(ctx_, w, h);
+  }
+  void resetHistory() override {
+    for (auto& s : streams_) s.accumulator.reset();
+    taa_.reset();
+  }
+
+  const vk::Planes& process(vk::Recorder& rec, const vk::GpuFrame& frame, const vk::GpuFrame* previous) override {
+    const SvgfSettings& s = settings_;
+    const int nStreams = chooseStreams(frame);
+    const vk::Planes* albedo = frame.has(Buffer::Albedo) ? &frame[Buffer::Albedo] : nullptr;
+    rec.pass("reproject");
+    vk::reproject(rec, frame, previous, s.reprojection, reprojection_);
+    rec.pass("features");
+    vk::atrousGuide(rec, frame, s.maxDepthSlope, gradient_);
+    for (int k = 0; k < nStreams; ++k) {
+      GpuStream& st = streams_[k];
+      const std::string suffix = nStreams > 1 ? std::string(".") + st.name : std::string();
+      const vk::Planes& result = filterStream(rec, frame, st, st.demodulated ? albedo : nullptr, suffix);
+      rec.pass("sum" + suffix);
+      struct PC {
+        uint32_t width, height, first, divide;
+      } pc{uint32_t(frame.width), uint32_t(frame.height), k == 0, !st.demodulated && albedo};
+      rec.dispatch("svgf_sum", {result, albedo ? vk::Binding(*albedo) : vk::Binding(ctx_.dummy()), sum_}, pc,
+                   frame.width, frame.height);
+    }
+    const vk::Planes* shown = &sum_;
+    if (s.fireflyMedian) {
+      rec.pass("median");
+      struct PC {
+        uint32_t width, height, hasRoughness;
+      } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::Roughness)};
+      rec.dispatch("median3x3", {sum_, frame.bindingOf(Buffer::Roughness, ctx_), display_}, pc, frame.width,
+                   frame.height);
+      shown = &display_;
+    }
+    rec.pass("remodulate");
+    vk::remodulate(rec, *shown, albedo, remodulated_);
+    rec.pass("taa");
+    if (!s.taa.taa) return remodulated_;
+    return taa_.run(rec, reprojection_, remodulated_, s.taa.taaAlpha);
+  }
+
+ private:
+  int chooseStreams(const vk::GpuFrame& f) {
+    SvgfComponents c = settings_.components;
+    if (c == SvgfComponents::automatic) {
+      if (f.has(Buffer::Direct) && f.has(Buffer::Indirect)) c = SvgfComponents::directIndirect;
+      else if (f.has(Buffer::Diffuse) && f.has(Buffer::Specular)) c = SvgfComponents::diffuseSpecular;
+      else c = SvgfComponents::color;
+    }
+    auto need = [&](Buffer b) {
+      if (!f.has(b))
+        throw Error("svgf: components setting needs buffer '" + std::string(bufferName(b)) + "', absent from the frame");
+    };
+    auto setStream = [&](int k, Buffer b, const char* name, bool demod, bool indirect) {
+      GpuStream& st = streams_[k];
+      if (st.buffer != b) st.accumulator.reset();  // another stream's history is meaningless
+      st.buffer = b;
+      st.name = name;
+      st.demodulated = demod;
+      st.indirect = indirect;
+    };
+    switch (c) {
+      case SvgfComponents::directIndirect:
+        need(Buffer::Direct);
+        need(Buffer::Indirect);
+        setStream(0, Buffer::Direct, "direct", true, false);
+        setStream(1, Buffer::Indirect, "indirect", true, true);
+        return 2;
+      case SvgfComponents::diffuseSpecular:
+        need(Buffer::Diffuse);
+        need(Buffer::Specular);
+        setStream(0, Buffer::Diffuse, "diffuse", true, false);
+        setStream(1, Buffer::Specular, "specular", false, false);
+        return 2;
+      default:
+        setStream(0, Buffer::Color, "color", true, false);
+        return 1;
+    }
+  }
+
+  // Demodulate, accumulate, estimate the variance, filter; returns the level holding the result.
+  const vk::Planes& filterStream(vk::Recorder& rec, const vk::GpuFrame& frame, GpuStream& st, const vk::Planes* albedo,
+                                 const std::string& suffix) {
+    const SvgfSettings& s = settings_;
+    const uint32_t lum = luminanceMode(s.luminance);
+    const size_t planeBytes = size_t(frame.width) * frame.height * 4;
+    rec.pass("demodulate" + suffix);
+    vk::demodulate(rec, frame[st.buffer], albedo, st.demod);
+    rec.pass("accumulate" + suffix);
+    st.accumulator.run(rec, reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, lum,
+                       s.momentsTrueAverage);
+    const int normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
+    rec.pass("variance" + suffix);
+    {
+      struct PC {
+        uint32_t width, height;
+        float shortHistoryFrames;
+        int32_t radius;
+        float sigmaDepth, depthEpsilon;
+        int32_t normalExponent;
+        uint32_t luminanceMode, flags;
+      } pc{uint32_t(frame.width), uint32_t(frame.height), float(s.shortHistoryFrames), s.spatialVarianceRadius,
+           s.sigmaDepth, s.depthEpsilon, normalExponent, lum, 0};
+      if (s.shortHistory == SvgfShortHistory::spatialEstimate && s.shortHistoryFrames > 0) pc.flags |= 1;
+      if (s.spatialVarianceFromMoments) pc.flags |= 2;
+      if (s.shortHistory == SvgfShortHistory::disableLuminanceWeight) pc.flags |= 4;
+      if (s.shortHistoryBandwidth) pc.flags |= 8;
+      rec.dispatch("svgf_variance",
+                   {frame[Buffer::Depth], frame[Buffer::Normal], gradient_, st.accumulator.current(), st.demod,
+                    levels_[0], sigmaScale_},
+                   pc, frame.width, frame.height);
+      if (s.variancePrefilter == SvgfVariancePrefilter::once) {
+        vk::gaussian3x3(rec, levels_[0], 4, levels_[2], 4);
+        rec.copy(levels_[2].buffer, levels_[0].buffer, planeBytes, 4 * planeBytes, 4 * planeBytes);
+      }
+    }
+    const int n = s.atrousIterations;
+    const bool propagate = s.varianceFiltering && !(st.indirect && !s.indirectVarianceFiltering);
+    int cur = 0;
+    for (int i = 0; i < n; ++i) {
+      rec.pass("atrous" + std::to_string(i + 1) + suffix);
+      vk::GpuAtrousLevel lv;
+      lv.radius = s.kernel == SvgfKernel::b3spline5x5 ? 2 : 1;
+      lv.step = levelStep(s.levelOrder, n, i);
+      lv.sigmaDepth = s.sigmaDepth;
+      lv.depthEpsilon = s.depthEpsilon;
+      lv.normalExponent = normalExponent;
+      lv.sigmaLuminance = s.sigmaLuminance;
+      lv.luminanceEpsilon = s.luminanceEpsilon;
+      lv.prefilterVariance = s.variancePrefilter == SvgfVariancePrefilter::everyLevel;
+      lv.varianceScale = s.luminanceScale == SvgfLuminanceScale::variance;
+      lv.sigmaScale = &sigmaScale_;
+      lv.propagateVariance = propagate && i + 1 < n;  // the last level's variance is not used
+      lv.luminanceMode = lum;
+      vk::atrousLevel(rec, frame, gradient_, lv, levels_[cur], levels_[cur ^ 1]);
+      cur ^= 1;
+      // The feedback level's output becomes next frame's colour history (Schied Sec. 4.3).
+      if (i + 1 == s.feedbackLevel)
+        rec.copy(levels_[cur].buffer, st.accumulator.current().buffer, 3 * planeBytes);
+    }
+    if (n == 0) rec.copy(st.accumulator.current().buffer, levels_[cur].buffer, 3 * planeBytes);
+    return levels_[cur];
+  }
+
+  // Tap spacing of executed level i of n (svgf::levelSteps).
+  static int levelStep(SvgfLevelOrder order, int n, int i) {
+    switch (order) {
+      case SvgfLevelOrder::coarseToFine: return 1 << (n - 1 - i);
+      case SvgfLevelOrder::firstThenCoarseToFine: return i == 0 ? 1 : 1 << (n - i);
+      default: return 1 << i;
+    }
+  }
+
+  vk::Planes reprojection_, gradient_, levels_[3], sigmaScale_, sum_, display_, remodulated_;
+  GpuStream streams_[kMaxStreams];
+  vk::GpuTaa taa_;
+};
+
+}  // namespace
+
+std::unique_ptr<Denoiser> createSvgfVulkan(vk::Context& ctx) { return std::make_unique<SvgfVulkan>(ctx); }
+
+}  // namespace rtd
+#endif

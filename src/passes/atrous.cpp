@@ -1,0 +1,284 @@
+#include "passes/atrous.h"
+
+#include <cstring>
+
+#include "core/parallel.h"
+
+namespace rtd {
+
+namespace {
+
+// Eight floats in one register (AVX with -march=native; two SSE registers otherwise).
+typedef float vf __attribute__((vector_size(32)));
+typedef int vi __attribute__((vector_size(32)));
+constexpr int kLanes = 8;
+
+inline vf load(const float* p) {
+  vf v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void store(float* p, vf v) { std::memcpy(p, &v, sizeof v); }
+inline vf splat(float x) { return vf{} + x; }
+inline vf vabs(vf x) {
+  vi i;
+  std::memcpy(&i, &x, sizeof i);
+  i &= 0x7fffffff;
+  std::memcpy(&x, &i, sizeof x);
+  return x;
+}
+inline vf vmax(vf a, vf b) { return a > b ? a : b; }
+// 1/x to ~23 bits: hardware estimate plus one Newton step (cheaper than a division).
+inline vf vrcp(vf x) {
+#ifdef __AVX__
+  const vf r = __builtin_ia32_rcpps256(x);
+  return r * (2.0f - x * r);
+#else
+  return 1.0f / x;
+#endif
+}
+inline vf vsqrt(vf x) {
+#ifdef __AVX__
+  return __builtin_ia32_sqrtps256(x);
+#else
+  for (int k = 0; k < kLanes; ++k) x[k] = std::sqrt(x[k]);
+  return x;
+#endif
+}
+
+// exp(-x) for x >= 0 (x = +inf gives 0; below e^-87 the result is clamped there): range
+// reduction by ln 2 and a degree-5 Taylor polynomial, relative error ~3e-6 -- one exp shared by
+// the depth, normal and luminance weights.
+inline vf expNeg(vf x) {
+  vf t = splat(0.0f) - x;
+  t = vmax(t, splat(-87.0f));
+  vf n = (t * 1.44269504088896341f + 12582912.0f) - 12582912.0f;  // round to nearest
+  vf r = t - n * 0.693145751953125f - n * 1.428606765330187e-6f;
+  vf p = splat(1.0f / 120);
+  p = p * r + 1.0f / 24;
+  p = p * r + 1.0f / 6;
+  p = p * r + 0.5f;
+  p = p * r + 1.0f;
+  p = p * r + 1.0f;
+  vi bits = (__builtin_convertvector(n, vi) + 127) << 23;
+  vf scale;
+  std::memcpy(&scale, &bits, sizeof scale);
+  return p * scale;
+}
+
+// d^e by repeated squaring; kSquarings >= 0: e = 2^kSquarings, unrolled (sigma_n = 128 is
+// seven squarings, 64 six).
+template <int kSquarings> inline vf ipow(vf d, int e) {
+  if constexpr (kSquarings >= 0) {
+    for (int i = 0; i < kSquarings; ++i) d *= d;
+    return d;
+  }
+  vf r = splat(1.0f);
+  while (true) {
+    if (e & 1) r *= d;
+    e >>= 1;
+    if (!e) return r;
+    d *= d;
+  }
+}
+
+inline vf lumVector(MomentLuminance m, vf r, vf g, vf b) {
+  if (m == MomentLuminance::Rec601) return 0.299f * r + 0.587f * g + 0.114f * b;
+  return 0.2126f * r + 0.7152f * g + 0.0722f * b;
+}
+
+struct Tap {
+  ptrdiff_t offset;  // in floats
+  float ox, oy;      // pixels
+  float h;
+};
+
+template <bool kPropagate, bool kLogNormal>
+void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
+                const std::vector<Tap>& taps, float h0) {
+  const PaddedPlane& z = g.depth;
+  const int w = z.width;
+  const float sigmaZ = lv.sigmaDepth, epsZ = lv.depthEpsilon;
+  const int e = std::max(1, lv.normalExponent);
+  const float sigmaN = float(e);
+  const float* pz = z.data.data();
+  const float *pnx = g.normal[0].data.data(), *pny = g.normal[1].data.data(), *pnz = g.normal[2].data.data();
+  const float *pgx = g.gradX.data.data(), *pgy = g.gradY.data.data();
+  const float *pr = in.color[0].data.data(), *pg = in.color[1].data.data(), *pb = in.color[2].data.data();
+  const float *pl = in.lum.data.data(), *pv = in.var.data.data();
+  const float* pscale = lv.sigmaScale ? lv.sigmaScale->data.data() : nullptr;
+  const ptrdiff_t S = z.stride;
+  const float sigmaL = lv.sigmaLuminance, epsL = lv.luminanceEpsilon;
+  const bool prefilter = lv.prefilterVariance, useVar = lv.varianceScale;
+  float *qr = out.color[0].data.data(), *qg = out.color[1].data.data(), *qb = out.color[2].data.data();
+  float *ql = out.lum.data.data(), *qv = out.var.data.data();
+  const bool cie = lv.luminance == MomentLuminance::CieLightness;
+
+  parallelRows(z.height, [&](int y) {
+    for (int x = 0; x < w; x += kLanes) {
+      const size_t c = z.index(x, y);
+      const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
+      const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
+      const vf lc = load(pl + c);
+      vf inv;
+      {
+        // w_l bandwidth from the (3x3-Gaussian-prefiltered) variance at the centre.
+        vf v = load(pv + c);
+        if (prefilter)
+          v = 0.25f * v + 0.125f * (load(pv + c - 1) + load(pv + c + 1) + load(pv + c - S) + load(pv + c + S)) +
+              0.0625f * (load(pv + c - S - 1) + load(pv + c - S + 1) + load(pv + c + S - 1) + load(pv + c + S + 1));
+        v = vmax(v, splat(0.0f));
+        const vf sd = useVar ? v : vsqrt(v);
+        const vf k = pscale ? load(pscale + c) : splat(1.0f);
+        inv = k > 0.0f ? 1.0f / (sigmaL * k * sd + epsL) : splat(0.0f);
+      }
+      vf sw = splat(h0), sr = h0 * load(pr + c), sg = h0 * load(pg + c), sb = h0 * load(pb + c);
+      vf sv = kPropagate ? h0 * h0 * load(pv + c) : splat(0.0f);
+      for (const Tap& t : taps) {
+        const size_t q = c + t.offset;
+        const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
+        vf expo = vabs(zc - load(pz + q)) * vrcp(vabs(gx * t.ox + gy * t.oy) + epsZ) + vabs(lc - load(pl + q)) * inv;
+        vf wt;
+        if constexpr (kLogNormal) {
+          // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
+          // series is exact to 1e-5 relative where w_n matters (d > 0.9 for sigma_n = 64) and
+          // makes w_n ~ 0 where d <= 0, so it joins the one exp.
+          const vf x = 1.0f - d;
+          expo += sigmaN * (x * (1.0f + x * (0.5f + x * (1.0f / 3.0f))));
+          wt = t.h * expNeg(expo);
+        } else {
+          wt = (t.h * ipow<-1>(vmax(d, splat(0.0f)), e)) * expNeg(expo);
+        }
+        sw += wt;
+        sr += wt * load(pr + q);
+        sg += wt * load(pg + q);
+        sb += wt * load(pb + q);
+        if constexpr (kPropagate) sv += wt * wt * load(pv + q);
+      }
+      const vf rcp = 1.0f / sw;
+      const vf r = sr * rcp, gg = sg * rcp, b = sb * rcp;
+      store(qr + c, r);
+      store(qg + c, gg);
+      store(qb + c, b);
+      if constexpr (kPropagate) store(qv + c, sv * rcp * rcp);
+      if (!cie) {
+        store(ql + c, lumVector(lv.luminance, r, gg, b));
+      } else {
+        float lr[kLanes], lgg[kLanes], lb[kLanes], lo[kLanes];
+        store(lr, r);
+        store(lgg, gg);
+        store(lb, b);
+        for (int k = 0; k < kLanes; ++k) lo[k] = momentLuminance(MomentLuminance::CieLightness, lr[k], lgg[k], lb[k]);
+        std::memcpy(ql + c, lo, sizeof lo);
+      }
+    }
+  }, 2);
+}
+
+}  // namespace
+
+void PaddedPlane::resize(int w, int h, int padding) {
+  pad = (std::max(padding, kLanes) + kLanes - 1) / kLanes * kLanes;
+  width = w;
+  height = h;
+  stride = (w + kLanes - 1) / kLanes * kLanes + 2 * pad;
+  // One extra row plus a vector of slack: the last tile of the last row may read past it.
+  data.assign(size_t(h + 2 * pad + 1) * stride + kLanes, 0.0f);
+}
+
+void PaddedPlane::copyFrom(const Plane& p) {
+  parallelRows(height, [&](int y) { std::copy(p.row(y), p.row(y) + width, row(y)); });
+}
+
+void PaddedPlane::copyTo(Plane& p) const {
+  parallelRows(height, [&](int y) { std::copy(row(y), row(y) + width, p.row(y)); });
+}
+
+void AtrousGuide::resize(int w, int h, int pad) {
+  for (PaddedPlane* p : {&depth, &normal[0], &normal[1], &normal[2], &gradX, &gradY}) p->resize(w, h, pad);
+}
+
+void AtrousGuide::build(const Plane& z, const std::vector<Plane>& n, const std::vector<Plane>* grad, float maxDepthSlope) {
+  const int w = depth.width, h = depth.height;
+  parallelRows(h, [&](int y) {
+    std::copy(z.row(y), z.row(y) + w, depth.row(y));
+    for (int c = 0; c < 3; ++c) std::copy(n[c].row(y), n[c].row(y) + w, normal[c].row(y));
+    float *gx = gradX.row(y), *gy = gradY.row(y);
+    const float* zr = z.row(y);
+    if (grad) {
+      std::copy((*grad)[0].row(y), (*grad)[0].row(y) + w, gx);
+      std::copy((*grad)[1].row(y), (*grad)[1].row(y) + w, gy);
+    } else {
+      const float* up = z.row(std::max(y - 1, 0));
+      const float* dn = z.row(std::min(y + 1, h - 1));
+      auto smaller = [](float a, float b) { return std::abs(a) < std::abs(b) ? a : b; };
+      for (int x = 0; x < w; ++x) {
+        const float left = x > 0 ? zr[x] - zr[x - 1] : zr[x + (w > 1)] - zr[x];
+        const float right = x + 1 < w ? zr[x + 1] - zr[x] : left;
+        gx[x] = smaller(left, right);
+        const float dUp = y > 0 ? zr[x] - up[x] : dn[x] - zr[x];
+        const float dDown = y + 1 < h ? dn[x] - zr[x] : dUp;
+        gy[x] = smaller(dUp, dDown);
+      }
+    }
+    if (maxDepthSlope > 0.0f)
+      for (int x = 0; x < w; ++x)
+        if (std::max(std::abs(gx[x]), std::abs(gy[x])) > maxDepthSlope * std::abs(zr[x])) {
+          // |gx ox + gy oy| >= 0.5e30 for any non-zero integer offset: w_z = 1.
+          gx[x] = 1e30f;
+          gy[x] = 0.5e30f;
+        }
+  });
+}
+
+void AtrousImage::resize(int w, int h, int pad) {
+  for (PaddedPlane* p : {&color[0], &color[1], &color[2], &lum, &var}) p->resize(w, h, pad);
+}
+
+void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out) {
+  const int r = kernelRadius(lv.kernel);
+  const PaddedPlane& z = g.depth;
+  std::vector<Tap> taps;  // at most 24: small, and the allocator reuses the block
+  taps.reserve(24);
+  for (int dy = -r; dy <= r; ++dy)
+    for (int dx = -r; dx <= r; ++dx) {
+      if (!dx && !dy) continue;
+      const int ox = dx * lv.step, oy = dy * lv.step;
+      taps.push_back({ptrdiff_t(oy) * z.stride + ox, float(ox), float(oy),
+                      kernelWeight1D(lv.kernel, dx) * kernelWeight1D(lv.kernel, dy)});
+    }
+  const float h0 = kernelWeight1D(lv.kernel, 0) * kernelWeight1D(lv.kernel, 0);
+  // The series form of w_n is accurate for large exponents (the papers' 64 and 128); small
+  // ones use the exact power.
+  const bool series = lv.normalExponent >= 16;
+  const bool p = lv.propagateVariance;
+  if (series) p ? atrousRows<true, true>(g, lv, in, out, taps, h0) : atrousRows<false, true>(g, lv, in, out, taps, h0);
+  else p ? atrousRows<true, false>(g, lv, in, out, taps, h0) : atrousRows<false, false>(g, lv, in, out, taps, h0);
+}
+
+void gaussian3x3(const PaddedPlane& in, PaddedPlane& out) {
+  const int w = in.width, h = in.height;
+  parallelRows(h, [&](int y) {
+    const float* a = in.row(std::max(y - 1, 0));
+    const float* b = in.row(y);
+    const float* c = in.row(std::min(y + 1, h - 1));
+    float* o = out.row(y);
+    // Clamp to edge at the image border (the border pixels repeat instead of weighing 0).
+    auto at = [&](const float* row, int x) { return row[std::clamp(x, 0, w - 1)]; };
+    auto px = [&](int x) {
+      return 0.0625f * (at(a, x - 1) + at(a, x + 1) + at(c, x - 1) + at(c, x + 1)) +
+             0.125f * (at(a, x) + at(c, x) + at(b, x - 1) + at(b, x + 1)) + 0.25f * b[x];
+    };
+    if (w < 3) {
+      for (int x = 0; x < w; ++x) o[x] = px(x);
+      return;
+    }
+    o[0] = px(0);
+    for (int x = 1; x < w - 1; ++x)
+      o[x] = 0.0625f * (a[x - 1] + a[x + 1] + c[x - 1] + c[x + 1]) + 0.125f * (a[x] + c[x] + b[x - 1] + b[x + 1]) +
+             0.25f * b[x];
+    o[w - 1] = px(w - 1);
+  });
+}
+
+}  // namespace rtd

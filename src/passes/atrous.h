@@ -1,0 +1,120 @@
+// Shared pass: the edge-avoiding a-trous wavelet filter (Dammertz et al. 2010) with SVGF's
+// edge-stopping weights and variance propagation (Schied et al. 2017 Sec. 4.3, Eq. 3-5).
+// SVGF, A-SVGF and any other method that needs it use this one implementation.
+//
+// Layout (shared/notes/cpu-performance.md): every signal and feature is a float plane with a
+// zero border wide enough for the largest tap offset, so the inner loop has no bounds checks;
+// eight pixels are filtered at once with all taps accumulated in registers. A border pixel has
+// normal (0,0,0), so its normal weight, and hence its whole weight, is 0.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/plane.h"
+#include "passes/temporal_accumulation.h"
+
+namespace rtd {
+
+/// A plane with a zero border of `pad` pixels on every side (and slack after the last row),
+/// rows `stride` floats apart; pad and stride are multiples of 8.
+struct PaddedPlane {
+  int width = 0, height = 0, pad = 0, stride = 0;
+  std::vector<float> data;
+
+  void resize(int w, int h, int padding);
+  /// Zeroes everything, border included.
+  void clear() { std::fill(data.begin(), data.end(), 0.0f); }
+  size_t index(int x, int y) const { return size_t(y + pad) * stride + size_t(x + pad); }
+  float* row(int y) { return data.data() + index(0, y); }
+  const float* row(int y) const { return data.data() + index(0, y); }
+  float& at(int x, int y) { return data[index(x, y)]; }
+  float at(int x, int y) const { return data[index(x, y)]; }
+  bool sameGeometry(const PaddedPlane& o) const {
+    return width == o.width && height == o.height && pad == o.pad && stride == o.stride;
+  }
+  void copyFrom(const Plane& p);
+  void copyTo(Plane& p) const;
+};
+
+// ---- Edge-stopping weights (Schied et al. 2017 Eq. 3), reference scalar forms ----
+
+/// w_z = exp(-|z(p) - z(q)| / (sigma_z |grad z(p) . (p - q)| + eps)).
+inline float depthWeight(float zp, float zq, float gradDotOffset, float sigmaDepth, float eps) {
+  return std::exp(-std::abs(zp - zq) / (sigmaDepth * std::abs(gradDotOffset) + eps));
+}
+/// w_n = max(0, n(p) . n(q))^sigma_n.
+inline float normalWeight(float cosine, int exponent) {
+  return std::pow(std::max(0.0f, cosine), float(exponent));
+}
+/// w_l = exp(-|l(p) - l(q)| / (sigma_l * scale + eps)), scale = sqrt(g3x3(Var)) in SVGF
+/// (Dundr Sec. 4.4.3 uses the variance itself).
+inline float luminanceWeight(float lp, float lq, float sigmaLuminance, float scale, float eps) {
+  return std::exp(-std::abs(lp - lq) / (sigmaLuminance * scale + eps));
+}
+/// Voorhuis Eq. 8: multiplier of sigma_l for h successful reprojections, 8 - min(7, h).
+inline float shortHistoryBandwidthScale(int h) { return float(8 - std::min(7, std::max(0, h))); }
+
+/// 1D a-trous kernels: B3 spline (1/16, 1/4, 3/8, 1/4, 1/16) and binomial (1/4, 1/2, 1/4); the
+/// 2D kernel is their outer product.
+enum class AtrousKernel { B3Spline5x5, Binomial3x3 };
+inline int kernelRadius(AtrousKernel k) { return k == AtrousKernel::B3Spline5x5 ? 2 : 1; }
+inline float kernelWeight1D(AtrousKernel k, int d) {
+  static const float b3[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
+  static const float bi[3] = {0.25f, 0.5f, 0.25f};
+  return k == AtrousKernel::B3Spline5x5 ? b3[d + 2] : bi[d + 1];
+}
+
+/// Per-pixel guide features of the filter, with borders.
+struct AtrousGuide {
+  PaddedPlane depth, normal[3], gradX, gradY;
+
+  void resize(int w, int h, int pad);
+  /// Copies depth and normals; the screen-space depth gradient comes from `depthGradient`
+  /// (Buffer::DepthGradient) when given, else from the smaller one-sided difference per axis
+  /// (so a silhouette next to a pixel does not widen its depth tolerance). Where
+  /// |grad z| > maxDepthSlope * z (maxDepthSlope > 0) the gradient is made huge, which turns
+  /// the depth weight off there (Dundr Sec. 4.4.2).
+  void build(const Plane& depthPlane, const std::vector<Plane>& normalPlanes, const std::vector<Plane>* depthGradient,
+             float maxDepthSlope);
+};
+
+/// The filtered signal: colour, the luminance used by w_l, and the luminance variance.
+struct AtrousImage {
+  PaddedPlane color[3], lum, var;
+  void resize(int w, int h, int pad);
+};
+
+/// Parameters of one a-trous level.
+struct AtrousLevel {
+  AtrousKernel kernel = AtrousKernel::B3Spline5x5;
+  int step = 1;                ///< tap spacing 2^i
+  float sigmaDepth = 1.0f;
+  float depthEpsilon = 1e-2f;
+  int normalExponent = 128;    ///< >= 1
+  /// Luminance weight bandwidth at the centre pixel p: sigma_l * k(p) * s(p) + eps, with
+  /// s = sqrt(V) (Schied) or V (varianceScale, Dundr), V = g3x3(var) if prefilterVariance
+  /// (Schied Eq. 5; computed here, not as a separate pass) else var, and k(p) from `sigmaScale`
+  /// (1 when null; 0 switches w_l off at p).
+  float sigmaLuminance = 4.0f;
+  float luminanceEpsilon = 1e-10f;
+  bool prefilterVariance = true;
+  bool varianceScale = false;
+  const PaddedPlane* sigmaScale = nullptr;
+  /// Var' = sum h^2 w^2 Var / (sum h w)^2 (Schied Eq. 4); otherwise out.var is left untouched.
+  bool propagateVariance = true;
+  /// Luminance written to out.lum for the next level's w_l.
+  MomentLuminance luminance = MomentLuminance::Rec709;
+};
+
+/// One level of the filter: out(p) = sum_q h(q) w(p,q) in(q) / sum_q h(q) w(p,q), with
+/// w = w_z w_n w_l; the centre tap always has w = 1. `in` and `out` must differ.
+void atrousLevel(const AtrousGuide& guide, const AtrousLevel& level, const AtrousImage& in, AtrousImage& out);
+
+/// 3x3 Gaussian (binomial 1/16, 1/8, 1/4) of a plane, clamped to edge (SVGF's g3x3, run once
+/// in Dundr's variant). Inside atrousLevel the same kernel reads the zero border instead.
+/// `in` and `out` must differ.
+void gaussian3x3(const PaddedPlane& in, PaddedPlane& out);
+
+
+}  // namespace rtd

@@ -1,0 +1,226 @@
+// The shared passes on Vulkan against their CPU versions (src/passes/), pass by pass, on the
+// synthetic scene at 67x41: reprojection records, temporal accumulation, TAA.
+#include <cstring>
+
+#include "backend/vulkan/context.h"
+#include "backend/vulkan/passes.h"
+#include "core/frame_data.h"
+#include "passes/reprojection.h"
+#include "passes/taa.h"
+#include "passes/temporal_accumulation.h"
+#include "vulkan_test_util.h"
+
+namespace rtd::test {
+namespace {
+
+vk::Context* context() {
+  static std::unique_ptr<vk::Context> ctx = []() -> std::unique_ptr<vk::Context> {
+    try {
+      return std::make_unique<vk::Context>(DeviceDesc{.backend = Backend::Vulkan});
+    } catch (const Error&) {
+      return nullptr;
+    }
+  }();
+  return ctx.get();
+}
+
+void uploadPlanes(vk::Context& ctx, const std::vector<Plane>& planes, vk::Planes& out) {
+  const int w = planes[0].width, h = planes[0].height;
+  out.allocate(ctx, w, h, int(planes.size()));
+  std::vector<float> all;
+  for (const auto& p : planes) all.insert(all.end(), p.data.begin(), p.data.end());
+  ctx.upload(out.buffer, all.data(), all.size() * 4);
+}
+
+std::vector<float> download(vk::Context& ctx, const vk::Planes& p) {
+  std::vector<float> v(p.planeSize() * size_t(p.count));
+  ctx.download(p.buffer, v.data(), v.size() * 4);
+  return v;
+}
+
+// The GPU twin of a CPU FrameData.
+void toGpu(vk::Context& ctx, const FrameData& f, vk::GpuFrame& g) {
+  g.width = f.width;
+  g.height = f.height;
+  for (int b = 0; b < kBufferCount; ++b) {
+    g.present[b] = f.has(Buffer(b));
+    if (g.present[b]) uploadPlanes(ctx, f.buffers[b], g.planes[b]);
+  }
+  g.cameraValue = f.camera;
+  g.camera = vk::DeviceBuffer(ctx, 128, false);
+  float m[32];
+  std::memcpy(m, f.camera.worldToCamera.data(), 64);
+  std::memcpy(m + 16, f.camera.projection.data(), 64);
+  ctx.upload(g.camera, m, sizeof m);
+}
+
+FrameData toCpu(const Frame& frame, bool motion) {
+  FrameInputs in = frame.inputs();
+  if (!motion) in[Buffer::Motion] = {};
+  FrameData d;
+  importFrame(in, {Buffer::Color}, d);
+  return d;
+}
+
+// Records `body` into a one-time command buffer and waits.
+template <class F> void recordAndRun(vk::Context& ctx, F&& body) {
+  vk::DescriptorCache cache(ctx);
+  ctx.runOnce([&](VkCommandBuffer cmd) {
+    vk::Recorder rec(ctx, cache, cmd, VK_NULL_HANDLE, 0);
+    body(rec);
+  });
+}
+
+#define REQUIRE_CONTEXT()  \
+  RTD_REQUIRE_VULKAN();    \
+  ASSERT_NE(context(), nullptr); \
+  vk::Context& ctx = *context()
+
+void checkReprojection(bool motion, const ReprojectionSettings& s) {
+  vk::Context& ctx = *context();
+  auto frames = syntheticFrames(3);
+  FrameData f0 = toCpu(frames[0], motion), f1 = toCpu(frames[2], motion);  // two camera steps
+  // Make all three kinds occur: a strip of flipped history normals two pixels wide rejects
+  // both bilinear columns of the pixels over it (3x3 fallback), a block of new object ids
+  // rejects every tap (none).
+  for (int y = 0; y < kHeight; ++y)
+    for (int c = 0; c < 3; ++c)
+      for (int x = 20; x < 22; ++x) f0.plane(Buffer::Normal, c)(x, y) *= -1.0f;
+  for (int y = 10; y < 15; ++y)
+    for (int x = 40; x < 45; ++x) f1.plane(Buffer::ObjectId)(x, y) = 99.0f;
+  Reprojection cpu;
+  reproject(f1, &f0, s, cpu);
+
+  vk::GpuFrame g0, g1;
+  toGpu(ctx, f0, g0);
+  toGpu(ctx, f1, g1);
+  vk::Planes rp;
+  rp.allocate(ctx, kWidth, kHeight, 8);
+  recordAndRun(ctx, [&](vk::Recorder& rec) { vk::reproject(rec, g1, &g0, s, rp); });
+  const std::vector<float> g = download(ctx, rp);
+  const size_t n = size_t(kWidth) * kHeight;
+  auto word = [&](int plane, size_t i) {
+    uint32_t u;
+    std::memcpy(&u, &g[plane * n + i], 4);
+    return u;
+  };
+  const auto counts = cpu.counts();
+  EXPECT_GT(counts[Reprojection::Bilinear], n / 2) << "the scene should reproject most pixels";
+  EXPECT_GT(counts[Reprojection::None], 0u);
+  if (s.positionTolerance == 0) EXPECT_GT(counts[Reprojection::Fallback3x3], 0u);  // else the 3x3 taps fail it too
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t kind = word(0, i) & 3u;
+    ASSERT_EQ(kind, cpu.kind[i]) << "pixel " << i % kWidth << "," << i / kWidth;
+    EXPECT_NEAR(g[6 * n + i], cpu.prevX.data[i], 1e-4f);
+    EXPECT_NEAR(g[7 * n + i], cpu.prevY.data[i], 1e-4f);
+    if (kind == Reprojection::None) continue;
+    EXPECT_EQ(int32_t(word(1, i)), cpu.base[i]);
+    if (kind == Reprojection::Bilinear)
+      for (int t = 0; t < 4; ++t) EXPECT_NEAR(g[(2 + t) * n + i], cpu.weights[i][t], 1e-5f);
+    else
+      EXPECT_EQ(word(0, i) >> 2, cpu.mask3x3[i]);
+  }
+}
+
+TEST(VulkanPasses, ReprojectionMatchesCpuWithMotion) {
+  RTD_REQUIRE_VULKAN();
+  checkReprojection(true, {});
+}
+
+TEST(VulkanPasses, ReprojectionMatchesCpuFromCameraWithPositionTest) {
+  RTD_REQUIRE_VULKAN();
+  ReprojectionSettings s;
+  s.positionTolerance = 0.05f;
+  s.normalTolerance = 0.95f;
+  checkReprojection(false, s);
+}
+
+TEST(VulkanPasses, TemporalAccumulationMatchesCpu) {
+  REQUIRE_CONTEXT();
+  auto frames = syntheticFrames(4);
+  TemporalAccumulator cpu;
+  cpu.resize(kWidth, kHeight);
+  vk::GpuTemporalAccumulator gpu;
+  gpu.resize(ctx, kWidth, kHeight);
+  vk::Planes rp, color;
+  rp.allocate(ctx, kWidth, kHeight, 8);
+  vk::GpuFrame prevGpu;
+  FrameData prevCpu;
+  for (int k = 0; k < 4; ++k) {
+    FrameData f = toCpu(frames[size_t(k)], true);
+    Reprojection r;
+    reproject(f, k ? &prevCpu : nullptr, {}, r);
+    Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
+    cpu.run(r, c, 0.2f, 0.1f, 255);
+
+    vk::GpuFrame g;
+    toGpu(ctx, f, g);
+    uploadPlanes(ctx, f.planes(Buffer::Color), color);
+    recordAndRun(ctx, [&](vk::Recorder& rec) {
+      vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
+      rec.barrier();
+      gpu.run(rec, rp, color, 0.2f, 0.1f, 255);
+    });
+    const std::vector<float> out = download(ctx, gpu.current());
+    const size_t n = size_t(kWidth) * kHeight;
+    const Plane* want[6] = {&cpu.color()[0], &cpu.color()[1], &cpu.color()[2], &cpu.moment1(), &cpu.moment2(),
+                            &cpu.historyLength()};
+    for (int p = 0; p < 6; ++p) {
+      double maxErr = 0, maxRef = 0;
+      for (size_t i = 0; i < n; ++i) {
+        maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - want[p]->data[i])));
+        maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
+      }
+      EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << k << " plane " << p;
+      if (p == 5) EXPECT_EQ(maxErr, 0.0) << "history lengths are integers";
+    }
+    prevCpu = std::move(f);
+    prevGpu = std::move(g);
+  }
+  EXPECT_EQ(cpu.historyLength().data[size_t(kHeight / 2) * kWidth + kWidth / 2], 4.0f);
+}
+
+TEST(VulkanPasses, TaaMatchesCpu) {
+  REQUIRE_CONTEXT();
+  auto frames = syntheticFrames(3);
+  Taa cpu;
+  cpu.resize(kWidth, kHeight);
+  vk::GpuTaa gpu;
+  gpu.resize(ctx, kWidth, kHeight);
+  vk::Planes rp, color;
+  rp.allocate(ctx, kWidth, kHeight, 8);
+  FrameData prevCpu;
+  vk::GpuFrame prevGpu;
+  for (int k = 0; k < 3; ++k) {
+    FrameData f = toCpu(frames[size_t(k)], true);
+    Reprojection r;
+    reproject(f, k ? &prevCpu : nullptr, {}, r);
+    Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)}, cpuOut;
+    cpu.run(r, c, 0.1f, cpuOut);
+
+    vk::GpuFrame g;
+    toGpu(ctx, f, g);
+    uploadPlanes(ctx, f.planes(Buffer::Color), color);
+    const vk::Planes* result = nullptr;
+    recordAndRun(ctx, [&](vk::Recorder& rec) {
+      vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
+      result = &gpu.run(rec, rp, color, 0.1f);
+    });
+    const std::vector<float> out = download(ctx, *result);
+    const size_t n = size_t(kWidth) * kHeight;
+    double maxErr = 0, maxRef = 0, changed = 0;
+    for (int p = 0; p < 3; ++p)
+      for (size_t i = 0; i < n; ++i) {
+        maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - cpuOut[p].data[i])));
+        maxRef = std::max(maxRef, double(std::abs(cpuOut[p].data[i])));
+        changed = std::max(changed, double(std::abs(cpuOut[p].data[i] - c[p].data[i])));
+      }
+    EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << k;
+    if (k > 0) EXPECT_GT(changed, 0.1) << "TAA should blend history on frame " << k;
+    prevCpu = std::move(f);
+    prevGpu = std::move(g);
+  }
+}
+
+}  // namespace
+}  // namespace rtd::test
