@@ -95,7 +95,7 @@ const char* kPalette[] = {"#888888", "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
 
 /// One line chart of a metric over frames, one polyline per run, warm-up frames shaded.
 std::string plotSvg(const Comparison& c, const MetricInfo& m) {
-  const double W = 660, H = 244, left = 64, right = 12, top = 42, bottom = 34;
+  const double W = 640, H = 244, left = 64, right = 12, top = 42, bottom = 34;
   double lo = INFINITY, hi = -INFINITY;
   int fmin = INT32_MAX, fmax = INT32_MIN;
   for (const auto& r : c.runs)
