@@ -3,6 +3,8 @@
 #ifdef HAVE_RTDENOISE_RENDER
 #include <benchmark/benchmark.h>
 
+#include <ctime>
+
 #include "rtd/render/render.h"
 
 namespace {
@@ -16,6 +18,8 @@ void renderFrame(benchmark::State& state, const char* sceneName, int w, int h) {
   r.render(0);  // builds the geometry once
   uint64_t rays = 0;
   double seconds = 0;
+  // Process CPU time (all threads): on a loaded machine, cpu / cores bounds the unloaded wall time.
+  const std::clock_t cpuStart = std::clock();
   for (auto _ : state) {
     rtd::Frame f = r.render(1);
     benchmark::DoNotOptimize(f.buffers[0].pixels.data());
@@ -24,6 +28,7 @@ void renderFrame(benchmark::State& state, const char* sceneName, int w, int h) {
   }
   state.counters["Mrays/s"] = seconds > 0 ? double(rays) / seconds * 1e-6 : 0.0;
   state.counters["rays/frame"] = double(rays) / double(state.iterations());
+  state.counters["cpu_s/frame"] = double(std::clock() - cpuStart) / CLOCKS_PER_SEC / double(state.iterations());
 }
 
 void BM_RenderFrame720p(benchmark::State& state, const char* scene) { renderFrame(state, scene, 1280, 720); }

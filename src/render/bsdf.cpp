@@ -39,9 +39,12 @@ Bsdf::Bsdf(V3 normal, V3 wo, V3 baseColor, float metal, float roughness, float s
   alpha = std::max(r * r, 1e-4f);
   f0 = lerp(V3(0.08f * specular), base, metallic);
   const float cosO = std::max(0.0f, dot(n, wo));
-  diffuseScale = (1.0f - metallic) * (1.0f - schlick(0.08f * specular, cosO));
+  // F0 = 0 means no specular lobe at all (Schlick's grazing term would otherwise add one), so
+  // `specular: 0` gives an exactly Lambertian surface.
+  hasSpecular = maxComponent(f0) > 0;
+  diffuseScale = (1.0f - metallic) * (specular > 0 ? 1.0f - schlick(0.08f * specular, cosO) : 1.0f);
   // Choose lobes by their approximate reflectance at this view angle (one-sample MIS over lobes).
-  const float ws = luminance(schlick(f0, cosO)), wd = diffuseScale * luminance(base);
+  const float ws = hasSpecular ? luminance(schlick(f0, cosO)) : 0.0f, wd = diffuseScale * luminance(base);
   if (ws <= 0) pSpecular = 0;
   else if (wd <= 0) pSpecular = 1;
   else pSpecular = std::clamp(ws / (ws + wd), 0.1f, 0.9f);

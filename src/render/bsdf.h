@@ -26,6 +26,7 @@ struct Bsdf {
   V3 f0{0.04f};
   float diffuseScale = 1;    // (1 - metallic) * (1 - F_dielectric(cos_o))
   bool deltaSpecular = false;
+  bool hasSpecular = true;    // false when F0 = 0 (no specular lobe)
   float pSpecular = 0.5f;    // probability of sampling the specular lobe
 
   Bsdf(V3 normal, V3 wo, V3 baseColor, float metal, float roughness, float spec);

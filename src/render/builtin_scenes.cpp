@@ -91,7 +91,7 @@ constexpr const char* kGlossy = R"({
   "objects": [
     {"name": "floor",   "shape": "quad",   "material": "floor",  "scale": [16, 1, 16]},
     {"name": "backwall","shape": "quad",   "material": "wall",   "translation": [0, 2, -3], "rotation": [90, 0, 0], "scale": [16, 1, 4]},
-    {"name": "mirrorwall", "shape": "box", "material": "mirror", "translation": [-3.2, 1.2, -0.5], "rotation": [0, 30, 0], "scale": [0.05, 2.4, 2.5]},
+    {"name": "mirrorwall", "shape": "box", "material": "mirror", "translation": [-3.2, 1.2, -0.5], "rotation": [0, -45, 0], "scale": [0.05, 2.4, 2.5]},
     {"name": "mirrorball", "shape": "sphere", "material": "mirror", "translation": [0, 0.8, -0.8], "scale": 1.6},
     {"name": "s05", "shape": "sphere", "material": "gold05", "translation": [-1.8, 0.35, 1.0], "scale": 0.7},
     {"name": "s15", "shape": "sphere", "material": "gold15", "translation": [-0.6, 0.35, 1.2], "scale": 0.7},
@@ -120,7 +120,7 @@ constexpr const char* kDynamic = R"({
     "red":   {"baseColor": [0.7, 0.12, 0.1], "roughness": 0.9, "specular": 0.2},
     "ball":  {"baseColor": [0.9, 0.9, 0.9], "metallic": 1, "roughness": 0.2},
     "box":   {"baseColor": [0.15, 0.45, 0.75], "roughness": 0.4},
-    "lamp":  {"baseColor": [1, 1, 1], "emissive": [60, 52, 40]}
+    "lamp":  {"baseColor": [1, 1, 1], "emissive": [120, 104, 80]}
   },
   "objects": [
     {"name": "floor", "shape": "quad", "material": "floor", "scale": [8, 1, 8]},

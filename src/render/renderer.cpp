@@ -60,6 +60,7 @@ struct Surface {
   float t = 0;
   int object = -1, material = -1;
   uint32_t prim = 0;
+  bool frontFacing = true;
   bool pureMirror() const { return metallic >= 0.999f && roughness < kDeltaRoughness; }
 };
 
@@ -162,19 +163,20 @@ struct Renderer::Impl {
     }
     rtcCommitScene(g->rtc);
 
-    // Light selection: triangles by power (two-sided: 2 pi A L), the sun and the sky by the
+    // Light selection: triangles by power (pi A L), the sun and the sky by the
     // power they send through the scene's bounding-sphere cross-section.
     double triPower = 0;
     g->lightCdf.resize(g->lights.size());
     g->lightProb.resize(g->lights.size());
     for (size_t i = 0; i < g->lights.size(); ++i) {
-      triPower += 2.0 * kPi * g->lights[i].area * std::max(1e-6f, luminance(g->lights[i].emission));
-      g->lightCdf[i] = float(triPower);
+      triPower += kPi * g->lights[i].area * std::max(1e-6f, luminance(g->lights[i].emission));
     }
+    double cumulative = 0;
     for (size_t i = 0; i < g->lights.size(); ++i) {
-      const double prev = i ? g->lightCdf[i - 1] : 0.0;
-      g->lightProb[i] = float((g->lightCdf[i] - prev) / triPower);
-      g->lightCdf[i] = float(g->lightCdf[i] / triPower);
+      const double p = kPi * g->lights[i].area * std::max(1e-6f, luminance(g->lights[i].emission)) / triPower;
+      cumulative += p;
+      g->lightProb[i] = float(p);
+      g->lightCdf[i] = float(cumulative);
     }
     if (!g->lightCdf.empty()) g->lightCdf.back() = 1.0f;
     const float radius = lo.x <= hi.x ? 0.5f * length(hi - lo) : 1.0f;
@@ -285,7 +287,9 @@ struct Renderer::Impl {
         ns = normalize(tangent * (tn.x * m.normalScale) + bitangent * (tn.y * m.normalScale) + ns * tn.z);
       }
     }
-    // Two-sided surfaces: both normals face the incoming ray.
+    // Emitters emit from their front face only (counter-clockwise winding, as glTF).
+    s.frontFacing = dot(ng, dir) < 0;
+    // Two-sided scattering: both normals face the incoming ray.
     if (dot(ng, dir) > 0) {
       ng = -ng;
       ns = -ns;
@@ -303,8 +307,8 @@ struct Renderer::Impl {
       s.metallic *= mr.z;
     }
     s.specular = m.specular;
-    s.emission = m.emissive;
-    if (hasUv && m.emissiveTexture >= 0) s.emission = s.emission * scene->textures[m.emissiveTexture].sample(tu, tv);
+    s.emission = s.frontFacing ? m.emissive : V3(0);
+    if (s.frontFacing && hasUv && m.emissiveTexture >= 0) s.emission = s.emission * scene->textures[m.emissiveTexture].sample(tu, tv);
     return s;
   }
 
@@ -339,7 +343,7 @@ struct Renderer::Impl {
       ls.distance = std::sqrt(dist2);
       ls.wi = d / ls.distance;
       const V3 nl = normalize(cross(b - a, c - a));
-      const float cosL = std::fabs(dot(nl, ls.wi));
+      const float cosL = -dot(nl, ls.wi);  // front face only
       if (cosL <= 1e-6f || L.area <= 0) return false;
       ls.pdf = g.pTriangles * g.lightProb[i] * dist2 / (cosL * L.area);
       const Material& m = scene->materials[scene->objects[L.object].material];

@@ -30,11 +30,11 @@ inline uint32_t laineKarras(uint32_t x, uint32_t seed) {
   return x;
 }
 inline uint32_t reverseBits(uint32_t x) {
+  x = __builtin_bswap32(x);  // bytes reversed; then the bits within each byte
   x = ((x >> 1) & 0x55555555U) | ((x & 0x55555555U) << 1);
   x = ((x >> 2) & 0x33333333U) | ((x & 0x33333333U) << 2);
   x = ((x >> 4) & 0x0F0F0F0FU) | ((x & 0x0F0F0F0FU) << 4);
-  x = ((x >> 8) & 0x00FF00FFU) | ((x & 0x00FF00FFU) << 8);
-  return (x >> 16) | (x << 16);
+  return x;
 }
 inline uint32_t nestedUniformScramble(uint32_t x, uint32_t seed) {
   return reverseBits(laineKarras(reverseBits(x), seed));

@@ -110,15 +110,19 @@ std::array<float, 4> slerp(std::array<float, 4> a, std::array<float, 4> b, float
 // Textures, meshes, animation, camera
 
 V3 Texture::sample(float u, float v) const {
-  const float fx = (u - std::floor(u)) * width - 0.5f, fy = (v - std::floor(v)) * height - 0.5f;
-  const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
-  const float tx = fx - x0, ty = fy - y0;
-  auto at = [&](int x, int y) {
-    x = ((x % width) + width) % width;
-    y = ((y % height) + height) % height;
-    return texels[size_t(y) * width + x];
-  };
-  return lerp(lerp(at(x0, y0), at(x0 + 1, y0), tx), lerp(at(x0, y0 + 1), at(x0 + 1, y0 + 1), tx), ty);
+  const float fx = (u - std::floor(u)) * float(width) - 0.5f, fy = (v - std::floor(v)) * float(height) - 0.5f;
+  const float flx = std::floor(fx), fly = std::floor(fy);
+  const float tx = fx - flx, ty = fy - fly;
+  // Repeat wrapping: fx, fy lie in [-0.5, size - 0.5), so only the edges wrap.
+  int x0 = int(flx), y0 = int(fly);
+  int x1 = x0 + 1, y1 = y0 + 1;
+  if (x0 < 0) x0 += width;
+  if (y0 < 0) y0 += height;
+  if (x1 >= width) x1 -= width;
+  if (y1 >= height) y1 -= height;
+  const V3* r0 = texels.data() + size_t(y0) * width;
+  const V3* r1 = texels.data() + size_t(y1) * width;
+  return lerp(lerp(r0[x0], r0[x1], tx), lerp(r1[x0], r1[x1], tx), ty);
 }
 
 Mesh makeQuad() {

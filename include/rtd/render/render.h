@@ -85,8 +85,9 @@ struct RenderStats {
   int samplesPerPixel = 0;  ///< for references: samples actually taken
 };
 
-/// Renders frames of a scene. Thread-safe for const use after construction; rendering uses the
-/// calling thread's oneTBB arena (limit it with tbb::global_control or tbb::task_arena).
+/// Renders frames of a scene. One call at a time per Renderer (each call is parallel inside);
+/// rendering uses the calling thread's oneTBB arena (limit it with tbb::global_control or
+/// tbb::task_arena). The geometry of the last few frames is kept between calls.
 class Renderer {
  public:
   Renderer(std::shared_ptr<const Scene> scene, RenderSettings settings);

@@ -142,6 +142,18 @@ TEST(Accumulation, DemodulationIsSafeForZeroAlbedoAndInvertible) {
   for (float v : out.pixels) EXPECT_NEAR(v, 0.6f, 1e-6);  // remodulation undoes demodulation
 }
 
+TEST(Accumulation, ASizeChangeResizesAndResetsHistory) {
+  auto denoiser = Device::create()->createDenoiser("accumulate");
+  Image out(8, 4, 3);
+  for (int k = 0; k < 4; ++k) denoiser->denoise(test::flatFrame(8, 4, 1.0f).inputs(), out.view());
+  // Smaller frames: no stale history of the old size may be read.
+  Image small(5, 3, 3);
+  denoiser->denoise(test::flatFrame(5, 3, 0.25f).inputs(), small.view());
+  for (float v : small.pixels) EXPECT_EQ(v, 0.25f);
+  denoiser->denoise(test::flatFrame(5, 3, 0.75f).inputs(), small.view());
+  for (float v : small.pixels) EXPECT_FLOAT_EQ(v, 0.5f);  // second sample: cumulative average
+}
+
 TEST(Accumulation, OutputIsWrittenIntoFloat4ViewsWithStrides) {
   Frame f = test::flatFrame(5, 3, 0.25f);
   Image out(5, 3, 4, -1.0f);

@@ -60,9 +60,18 @@ bool tapValid(uint i, int px, int py, float depthTol, uint plane) {
     if (!(abs(zp - z) <= depthTol)) return false;
   }
   if (has(F_NORMAL)) {
-    precise float d = 0.0;
-    for (uint c = 0; c < 3; ++c) d += curNormal[c * plane + i] * prevNormal[c * plane + j];
-    if (!(d >= pc.normalTolerance)) return false;
+    // Background pixels (zero normal: a miss) match background pixels only, as on the CPU.
+    precise float nn = 0.0, d = 0.0, pp = 0.0;
+    for (uint c = 0; c < 3; ++c) {
+      nn += curNormal[c * plane + i] * curNormal[c * plane + i];
+      d += curNormal[c * plane + i] * prevNormal[c * plane + j];
+      pp += prevNormal[c * plane + j] * prevNormal[c * plane + j];
+    }
+    if (nn < 0.25) {
+      if (!(pp < 0.25)) return false;
+    } else if (!(d >= pc.normalTolerance)) {
+      return false;
+    }
   }
   if (has(F_ID) && curId[i] != prevId[j]) return false;
   if (has(F_POSITION)) {
@@ -144,9 +153,15 @@ void main() {
       wt[t] = bw[t];
       sum += bw[t];
     }
-  if (sum > 1e-4) {
+  if (sum > 1e-4 && w >= 2u && pc.height >= 2u) {
     for (int t = 0; t < 4; ++t) wt[t] /= sum;
-    store(i, plane, RP_BILINEAR, y0 * int(w) + x0, wt, px, py);
+    // Slide the 2x2 footprint inside the image (taps outside have weight 0), as on the CPU.
+    int bx = x0, by = y0;
+    if (bx < 0) { bx = 0; wt = vec4(wt[1], 0.0, wt[3], 0.0); }
+    if (bx > int(w) - 2) { bx = int(w) - 2; wt = vec4(0.0, wt[0], 0.0, wt[2]); }
+    if (by < 0) { by = 0; wt = vec4(wt[2], wt[3], 0.0, 0.0); }
+    if (by > int(pc.height) - 2) { by = int(pc.height) - 2; wt = vec4(0.0, 0.0, wt[0], wt[1]); }
+    store(i, plane, RP_BILINEAR, by * int(w) + bx, wt, px, py);
     return;
   }
   if (has(F_FALLBACK)) {
