@@ -211,7 +211,9 @@ std::string comparisonHtml(const Comparison& c) {
     << esc(operatorName(c.eval.toneMap.op)) << ", exposure " << fmt(c.eval.toneMap.exposure, "%.2f")
     << " stops, then sRGB encoding. FLIP at " << fmt(c.eval.flip.pixelsPerDegree(), "%.1f")
     << " pixels per degree.<br>Machine: " << esc(c.machine) << ". Total time " << fmt(c.seconds, "%.1f")
-    << " s (denoising and evaluation).</div>\n";
+    << " s (denoising and evaluation).";
+  for (const auto& note : c.skipped) h << "<br>Skipped: " << esc(note);
+  h << "</div>\n";
 
   // Summary tables: steady state, then warm-up.
   const auto summaryTableHtml = [&](bool warmup) {
