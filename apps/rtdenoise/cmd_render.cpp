@@ -41,26 +41,8 @@ struct RenderOptions {
 /// Renders (or fetches from the cache) the reference of one frame.
 Image reference(render::Renderer& r, const render::Scene& scene, const RenderOptions& o, const render::ReferenceCache& cache,
                 int index, Eye eye, int& sppTaken, bool& cached) {
-  const fs::path entry = cache.dir.empty() ? fs::path() : cache.entry(scene, r.settings(), index, o.referenceSpp, eye, o.referenceSeconds);
-  if (!entry.empty() && fs::exists(entry)) {
-    try {
-      Image img = readRgbExr(entry);
-      if (img.width == r.settings().width && img.height == r.settings().height) {
-        cached = true;
-        sppTaken = -1;
-        return img;
-      }
-    } catch (const Error&) {
-      // A damaged cache entry is rendered again and overwritten.
-    }
-  }
-  cached = false;
-  Image img = r.renderReference(index, o.referenceSpp, o.referenceSeconds, eye);
-  sppTaken = r.stats().samplesPerPixel;
-  if (!entry.empty()) {
-    fs::create_directories(entry.parent_path());
-    writeRgbExr(entry, img);
-  }
+  Image img = cache.fetchOrRender(r, scene, index, o.referenceSpp, o.referenceSeconds, eye, &cached);
+  sppTaken = cached ? -1 : r.stats().samplesPerPixel;
   return img;
 }
 

@@ -39,6 +39,11 @@ enum class Buffer : int {
   MirrorDirection,    ///< perfect mirror direction at the primary hit, XYZ
   Seed,               ///< per-pixel random seed (A-SVGF re-shading), id
   SampleMask,         ///< 1 where the pixel was traced this frame, 0 where it is empty, V
+  /// Radiance emitted towards the camera by the primary hit (emitters, and the sky where no
+  /// surface was hit), RGB, part of Color (and of Direct and Diffuse). Noise-free at pixel
+  /// centres, so denoisers subtract it before filtering and add it back to their output:
+  /// bright emitters then cannot bleed into their neighbours.
+  Emission,
   Count
 };
 constexpr int kBufferCount = int(Buffer::Count);

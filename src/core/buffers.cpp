@@ -19,7 +19,7 @@ constexpr BufferDesc kBuffers[kBufferCount] = {
     {"indirect", "RGB"},      {"diffuse", "RGB"},         {"specular", "RGB"},
     {"reflectedPosition", "XYZ"}, {"reflectedNormal", "XYZ"}, {"reflectedAlbedo", "RGB"},
     {"secondaryDistance", "Z"}, {"mirrorDirection", "XYZ"}, {"seed", "I"},
-    {"sampleMask", "V"},
+    {"sampleMask", "V"},      {"emission", "RGB"},
 };
 }  // namespace
 

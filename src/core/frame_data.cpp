@@ -12,7 +12,7 @@ namespace rtd {
 bool isRadianceBuffer(Buffer b) {
   switch (b) {
     case Buffer::Color: case Buffer::Direct: case Buffer::Indirect:
-    case Buffer::Diffuse: case Buffer::Specular: return true;
+    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: return true;
     default: return false;
   }
 }
@@ -87,10 +87,26 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
       if (bad) replaced += bad;
     }, 16);
   }
+  separateEmission(out);
   return replaced;
 }
 
-void exportRgb(const Plane3& rgb, const ImageView& out) {
+void separateEmission(FrameData& f) {
+  if (!f.has(Buffer::Emission)) return;
+  // The renderer counts primary-hit emission in Color, Direct and Diffuse.
+  for (Buffer b : {Buffer::Color, Buffer::Direct, Buffer::Diffuse}) {
+    if (!f.has(b)) continue;
+    parallelRows(f.height, [&](int y) {
+      for (int c = 0; c < 3; ++c) {
+        float* v = f.plane(b, c).row(y);
+        const float* e = f.plane(Buffer::Emission, c).row(y);
+        for (int x = 0; x < f.width; ++x) v[x] = std::max(0.0f, v[x] - e[x]);
+      }
+    });
+  }
+}
+
+void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out) {
   if (out.format != Format::Float3 && out.format != Format::Float4)
     throw Error("output view must be Float3 or Float4");
   if (out.width != rgb[0].width || out.height != rgb[0].height)
@@ -102,6 +118,11 @@ void exportRgb(const Plane3& rgb, const ImageView& out) {
     for (int x = 0; x < out.width; ++x) {
       float* p = out.pixel<float>(x, y);
       p[0] = r[x]; p[1] = g[x]; p[2] = b[x];
+      if (emission) {
+        p[0] += (*emission)[0].row(y)[x];
+        p[1] += (*emission)[1].row(y)[x];
+        p[2] += (*emission)[2].row(y)[x];
+      }
       if (alpha) p[3] = 1.0f;
     }
   });

@@ -27,11 +27,16 @@ bool isRadianceBuffer(Buffer b);
 
 /// Copies the views of `in` into `out` (reusing its allocations). Checks that every required
 /// buffer is present and that all buffers share one size and have enough channels; throws
-/// rtd::Error naming the buffer otherwise. Non-finite feature values also become 0. Returns
-/// the number of values replaced.
+/// rtd::Error naming the buffer otherwise. Non-finite feature values also become 0. Emission
+/// is then separated (separateEmission). Returns the number of values replaced.
 uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out);
 
-/// Writes RGB planes into a Float3/Float4 view (alpha = 1).
-void exportRgb(const Plane3& rgb, const ImageView& out);
+/// Subtracts Buffer::Emission (if present) from Color, Direct and Diffuse, clamped at 0, so
+/// methods filter only the noisy part; importFrame() calls it.
+void separateEmission(FrameData& frame);
+
+/// Writes RGB planes, plus the separated emission if not null, into a Float3/Float4 view
+/// (alpha = 1).
+void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out);
 
 }  // namespace rtd

@@ -23,6 +23,32 @@ void accumulatePlane(const Reprojection& rp, const Plane& length, float alpha, c
   });
 }
 
+void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, const Plane3& current,
+                      const Plane3& history, Plane3& out) {
+  const int w = rp.width;
+  parallelRows(rp.height, [&](int y) {
+    Reprojection::Taps taps;
+    const float* hPrev[3] = {history[0].ptr(), history[1].ptr(), history[2].ptr()};
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const uint8_t kind = rp.kind[i];
+      if (kind == Reprojection::None) {
+        for (int k = 0; k < 3; ++k) out[k].data[i] = current[k].data[i];
+        continue;
+      }
+      float hist[3];
+      if (kind == Reprojection::Bilinear) {
+        for (int k = 0; k < 3; ++k) hist[k] = rp.gatherBilinear(hPrev[k], w, i);
+      } else {
+        rp.taps(i, taps);
+        for (int k = 0; k < 3; ++k) hist[k] = taps.gather(history[k]);
+      }
+      const float a = newSampleWeight(length.data[i], alpha);
+      for (int k = 0; k < 3; ++k) out[k].data[i] = a * current[k].data[i] + (1.0f - a) * hist[k];
+    }
+  });
+}
+
 void TemporalAccumulator::resize(int w, int h) {
   for (int k = 0; k < 2; ++k) {
     rtd::resize(color_[k], w, h);

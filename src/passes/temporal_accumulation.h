@@ -18,6 +18,11 @@ inline float newSampleWeight(float n, float alpha) { return std::max(1.0f / n, a
 void accumulatePlane(const Reprojection& rp, const Plane& length, float alpha, const Plane& current,
                      const Plane& history, Plane& out);
 
+/// accumulatePlane() for three planes in one pass (one tap decode per pixel): BMFR's phase III
+/// accumulation of the fitted colour with phase I's taps and history length.
+void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, const Plane3& current,
+                      const Plane3& history, Plane3& out);
+
 /// CIE 1976 lightness L* of relative luminance y (reference white Y_n = 1; HDR values above 1
 /// continue the cube-root branch). Gersthofer Sec. 3.4.1 accumulates moments of L*.
 inline float cieLightness(float y) {

@@ -67,6 +67,7 @@ struct Surface {
 /// Contributions of one sample, split as the native buffers want them.
 struct Radiance {
   V3 total{0}, direct{0}, indirect{0}, diffuse{0}, specular{0};
+  V3 emission{0};  // emitted by the primary hit (or the sky seen directly), also in total
   float secondaryDistance = 0;
   void add(V3 c, bool direct_, bool specular_) {
     total += c;
@@ -430,6 +431,7 @@ struct Renderer::Impl {
     Radiance out;
     if (!primary) {
       out.add(escaped(g, dir, V3(0), 0, true), true, false);
+      out.emission = out.total;
       return out;
     }
     Surface s = *primary;
@@ -448,6 +450,7 @@ struct Renderer::Impl {
           w = powerHeuristic(prevPdf, pl);
         }
         out.add(throughput * s.emission * w, bounce <= 1, bounce == 0 ? false : firstSpecular);
+        if (bounce == 0) out.emission += throughput * s.emission * w;
       }
       if (bounce >= maxDepth) break;
       const auto [uSel, uRR] = sampler.next2D();
@@ -567,7 +570,7 @@ struct Renderer::Impl {
         const float l = luminance(r.total);
         if (l > settings.clampLuminance) {
           const float c = settings.clampLuminance / l;
-          r.total *= c, r.direct *= c, r.indirect *= c, r.diffuse *= c, r.specular *= c;
+          r.total *= c, r.direct *= c, r.indirect *= c, r.diffuse *= c, r.specular *= c, r.emission *= c;
         }
       }
       sum.total += r.total;
@@ -575,10 +578,12 @@ struct Renderer::Impl {
       sum.indirect += r.indirect;
       sum.diffuse += r.diffuse;
       sum.specular += r.specular;
+      sum.emission += r.emission;
       if (k == 0) sum.secondaryDistance = r.secondaryDistance;
     }
     const float inv = 1.0f / float(spp);
-    sum.total *= inv, sum.direct *= inv, sum.indirect *= inv, sum.diffuse *= inv, sum.specular *= inv;
+    sum.total *= inv, sum.direct *= inv, sum.indirect *= inv, sum.diffuse *= inv, sum.specular *= inv,
+        sum.emission *= inv;
     return sum;
   }
 
@@ -611,7 +616,7 @@ struct Renderer::Impl {
     f.height = h;
     std::vector<Buffer> list = {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Depth, Buffer::Position,
                                 Buffer::Motion, Buffer::ObjectId, Buffer::MaterialId, Buffer::Roughness,
-                                Buffer::Metalness, Buffer::DepthGradient};
+                                Buffer::Metalness, Buffer::DepthGradient, Buffer::Emission};
     if (settings.allBuffers)
       for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::ReflectedPosition,
                        Buffer::ReflectedNormal, Buffer::ReflectedAlbedo, Buffer::SecondaryDistance,
@@ -640,6 +645,7 @@ struct Renderer::Impl {
           Radiance r;
           if (traced) r = shade(g, v, x, y, seed, settings.spp, 0, &s, rays);
           put3(Buffer::Color, x, y, r.total);
+          put3(Buffer::Emission, x, y, r.emission);
           if (all) {
             put3(Buffer::Direct, x, y, r.direct);
             put3(Buffer::Indirect, x, y, r.indirect);
@@ -868,6 +874,29 @@ std::filesystem::path ReferenceCache::entry(const Scene& scene, const RenderSett
                           "|ed" + std::to_string(s.eyeDistance) + "|f" + std::to_string(index) + "|spp" +
                           std::to_string(spp) + "|b" + std::to_string(budgetSeconds) + "|v1";
   return dir / (scene.name() + "_" + hashHex(key) + ".exr");
+}
+
+Image ReferenceCache::fetchOrRender(Renderer& r, const Scene& scene, int index, int spp, double budgetSeconds, Eye eye,
+                                    bool* cached) const {
+  const std::filesystem::path file = dir.empty() ? std::filesystem::path() : entry(scene, r.settings(), index, spp, eye, budgetSeconds);
+  if (cached) *cached = false;
+  if (!file.empty() && std::filesystem::exists(file)) {
+    try {
+      Image img = readRgbExr(file);
+      if (img.width == r.settings().width && img.height == r.settings().height) {
+        if (cached) *cached = true;
+        return img;
+      }
+    } catch (const Error&) {
+      // A damaged entry is rendered again below and overwritten.
+    }
+  }
+  Image img = r.renderReference(index, spp, budgetSeconds, eye);
+  if (!file.empty()) {
+    std::filesystem::create_directories(file.parent_path());
+    writeRgbExr(file, img);
+  }
+  return img;
 }
 
 }  // namespace rtd::render

@@ -136,6 +136,11 @@ struct ReferenceCache {
   /// (budgetSeconds > 0) is cached under a key of its own, since its sample count varies.
   std::filesystem::path entry(const Scene& scene, const RenderSettings& s, int index, int spp, Eye eye,
                               double budgetSeconds = 0) const;
+  /// The reference of frame `index`: read from the cache when a readable entry of the right
+  /// size exists (`*cached` = true), else rendered with `r.renderReference` and stored (a damaged
+  /// entry is rendered again and overwritten). With an empty `dir`, always rendered.
+  Image fetchOrRender(Renderer& r, const Scene& scene, int index, int spp, double budgetSeconds, Eye eye,
+                      bool* cached = nullptr) const;
 };
 
 /// Name of an eye ("center", "left", "right").

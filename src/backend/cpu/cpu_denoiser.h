@@ -56,7 +56,7 @@ template <class S> class CpuDenoiser : public Denoiser {
       process(current_, hasPrevious_ ? &previous_ : nullptr, output_, stats);
       {
         PassTimer t(stats, "export");
-        exportRgb(output_, output);
+        exportRgb(output_, current_.has(Buffer::Emission) ? &current_.planes(Buffer::Emission) : nullptr, output);
       }
       std::swap(current_, previous_);
       hasPrevious_ = true;

@@ -107,11 +107,8 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
  protected:
   void resizeHistory(int w, int h) override {
     resize(demodulated_, w, h);
-    for (int k = 0; k < 2; ++k) {
-      length_[k].resize(w, h);
-      resize(noisy_[k], w, h);
-      resize(filtered_[k], w, h);
-    }
+    noisy_.resize(w, h);
+    for (auto& f : filtered_) resize(f, w, h);
     resize(fitted_, w, h);
     resize(remodulated_, w, h);
     reprojection_.resize(w, h);
@@ -123,7 +120,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   }
 
   void resetHistory() override {
-    for (auto& l : length_) l.fill(0.0f);
+    noisy_.reset();
     taa_.reset();
     frameIndex_ = 0;
   }
@@ -142,20 +139,20 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       reproject(frame, previous, s.reprojection, reprojection_);
     }
     {
-      // Phase I: cumulative then exponential average, w = max(1/n, 0.2) (Sec. 4.1).
+      // Phase I: cumulative then exponential average, w = max(1/n, 0.2) (Sec. 4.1), with the
+      // 8-bit-capped sample count (the accumulator's luminance moments are not used).
       PassTimer t(stats, "accumulateNoisy");
-      updateHistoryLength(reprojection_, length_[prev], s.maxHistoryLength, length_[cur_]);
-      for (int c = 0; c < 3; ++c)
-        accumulatePlane(reprojection_, length_[cur_], s.alphaNoisy, demodulated_[c], noisy_[prev][c], noisy_[cur_][c]);
+      noisy_.run(reprojection_, demodulated_, s.alphaNoisy, s.alphaNoisy, s.maxHistoryLength);
     }
-    const Plane3* fitted = &noisy_[cur_];
+    const Plane& length = noisy_.historyLength();
+    const Plane3* fitted = &noisy_.color();
     if (s.fit) {
       selectFeatures(frame);
       const int size = s.blockSize == BmfrBlockSize::Block64 ? 64 : 32;
       grid_ = bmfr::makeBlockGrid(frame.width, frame.height, size, frameIndex_, s.blockOffsets);
       {
         PassTimer t(stats, "fit");
-        fitBlocks(frame, noisy_[cur_]);
+        fitBlocks(frame, noisy_.color());
       }
       {
         PassTimer t(stats, "synthesize");
@@ -167,9 +164,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     if (s.accumulateFiltered) {
       // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
       PassTimer t(stats, "accumulateFiltered");
-      for (int c = 0; c < 3; ++c)
-        accumulatePlane(reprojection_, length_[cur_], s.alphaFiltered, (*fitted)[c], filtered_[prev][c],
-                        filtered_[cur_][c]);
+      accumulatePlanes(reprojection_, length, s.alphaFiltered, *fitted, filtered_[prev], filtered_[cur_]);
       filtered = &filtered_[cur_];
     }
     {
@@ -319,7 +314,8 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       const float* row = src + size_t(bmfr::mirror(y0 + ly, h)) * w;
       const int r0 = ly * size;  // a block row never straddles two tiles (kTileRows % size == 0)
       float* d = tiling.column(base, r0 / tiling.tileRows, c) + r0 % tiling.tileRows;
-      if (inside) std::copy(row + x0, row + x0 + size, d);
+      if (inside)  // size is 32 or 64: whole vectors, no call into memmove per block row
+        for (int lx = 0; lx < size; lx += 8) *reinterpret_cast<Float8*>(d + lx) = *reinterpret_cast<const Float8*>(row + x0 + lx);
       else
         for (int lx = 0; lx < size; ++lx) d[lx] = row[bmfr::mirror(x0 + lx, w)];
     }
@@ -461,8 +457,8 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   }
 
   Plane3 demodulated_, fitted_, remodulated_;
-  Plane length_[2];
-  Plane3 noisy_[2], filtered_[2];
+  TemporalAccumulator noisy_;  // phase I history: accumulated colour and sample count
+  Plane3 filtered_[2];         // phase III history
   int cur_ = 0;
   int frameIndex_ = 0;
   Reprojection reprojection_;
