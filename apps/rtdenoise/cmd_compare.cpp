@@ -67,7 +67,7 @@ void addCompare(CLI::App& app) {
   auto* cmd = app.add_subcommand("compare", "run several methods on one sequence; write an HTML report and JSON");
   cmd->add_option("--input,-i", o->input, "input sequence directory (native or Blender)")->required();
   cmd->add_option("--reference,-r", o->reference, "reference directory (frame EXRs or a sequence)")->required();
-  cmd->add_option("--out,-o", o->out, "output directory (report.html, metrics.json)")->capture_default_str();
+  cmd->add_option("--out,--output,-o", o->out, "output directory (report.html, metrics.json)")->capture_default_str();
   cmd->add_option("--methods,-m", o->methods, "comma-separated methods (default: every CPU method)");
   cmd->add_option("--backends,-b", o->backends, "comma-separated backends: cpu, vulkan")->capture_default_str();
   cmd->add_option("--set,-s", o->settings, "method.key=value or key=value (repeatable)");

@@ -124,7 +124,7 @@ void run(const DemoOptions& o) {
 void addDemo(CLI::App& app) {
   auto o = std::make_shared<DemoOptions>();
   auto* cmd = app.add_subcommand("demo", "render the built-in scene, run every method, evaluate, write the HTML report");
-  cmd->add_option("--out,-o", o->out, "output directory (report.html, metrics.json)")->capture_default_str();
+  cmd->add_option("--out,--output,-o", o->out, "output directory (report.html, metrics.json)")->capture_default_str();
   cmd->add_option("--scene", o->scene, "built-in scene (see `rtdenoise render --help`), a scene file, or 'synthetic'")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "WIDTHxHEIGHT")->capture_default_str();

@@ -125,6 +125,14 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
       dev = Device::create(desc);
     }
     for (const auto& m : methods) {
+      // A method without an implementation on this backend is skipped (and noted) when another
+      // backend runs it, so `--backends cpu,vulkan` compares what exists on both.
+      const auto infos = listMethods();
+      const auto info = std::find_if(infos.begin(), infos.end(), [&](const MethodInfo& i) { return i.name == m; });
+      if (info != infos.end() && settings.backends.size() > 1 && !(b == Backend::Cpu ? info->cpu : info->vulkan)) {
+        c.skipped.push_back(m + " on " + std::string(backendName(b)) + ": not implemented on this backend");
+        continue;
+      }
       Runner r{{}, dev->createDenoiser(m), SequenceEvaluator(settings.eval), {}};
       applySettings(*r.denoiser, settings.settings);
       r.run.method = m;
@@ -195,6 +203,7 @@ std::string comparisonTable(const Comparison& c) {
   std::vector<StreamMetrics> streams;
   for (const auto& r : c.runs) streams.push_back(r.metrics);
   std::string out = summaryTable(streams, c.eval);
+  for (const auto& note : c.skipped) out += "skipped: " + note + "\n";
   out += "median time per frame (all frames):\n";
   char buf[128];
   for (const auto& r : c.runs) {
@@ -209,7 +218,7 @@ std::string comparisonJson(const Comparison& c) {
   nlohmann::json j = {{"title", c.title},   {"source", c.source},   {"width", c.width},
                       {"height", c.height}, {"frames", c.frames},   {"shownFrame", c.shownFrameNumber},
                       {"machine", c.machine}, {"seconds", c.seconds}, {"settings", settingsJson(c.eval)},
-                      {"runs", nlohmann::json::array()}};
+                      {"skipped", c.skipped}, {"runs", nlohmann::json::array()}};
   for (const auto& r : c.runs) {
     nlohmann::json run = {{"label", r.label},
                           {"method", r.method},

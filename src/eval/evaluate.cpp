@@ -46,7 +46,10 @@ MetricSummary summarize(const std::vector<FrameMetrics>& frames, bool warmup) {
     }
     s.mean.*m.field = n ? sum / n : kNaN;
   }
-  for (const auto& f : frames) s.frames += f.warmup == warmup;
+  for (const auto& f : frames) {
+    s.frames += f.warmup == warmup;
+    if (f.warmup == warmup) s.mean.nonFiniteValues += f.nonFiniteValues;
+  }
   return s;
 }
 
@@ -94,7 +97,12 @@ const FrameMetrics& SequenceEvaluator::add(const Image& result, const PreparedRe
   FrameMetrics m;
   m.number = ref.number;
   m.warmup = int(frames_.size()) < settings_.warmupFrames;
-  const Image resultHdr = rgbOnly(result);
+  Image resultHdr = rgbOnly(result);
+  for (float& v : resultHdr.pixels)
+    if (!std::isfinite(v)) {
+      v = 0.0f;
+      ++m.nonFiniteValues;
+    }
   const Image resultLdr = toneMap(resultHdr, settings_.toneMap);
 
   m.psnr = psnr(resultLdr, ref.ldr);
@@ -285,6 +293,7 @@ std::string tableFor(const std::vector<StreamMetrics>& streams, bool warmup) {
       std::snprintf(buf, sizeof buf, " %15s", formatValue(sum.mean.*m.field, m).c_str());
       out += buf;
     }
+    if (sum.mean.nonFiniteValues) out += "  (" + std::to_string(sum.mean.nonFiniteValues) + " NaN/Inf values, counted as 0)";
     out += "\n";
   }
   return out;
@@ -310,7 +319,7 @@ std::string summaryTable(const std::vector<StreamMetrics>& streams, const EvalSe
 }
 
 nlohmann::json summaryJson(const MetricSummary& s) {
-  nlohmann::json j = {{"frames", s.frames}};
+  nlohmann::json j = {{"frames", s.frames}, {"nonFiniteValues", s.mean.nonFiniteValues}};
   for (const auto& m : metricList()) j[m.key] = number(s.mean.*m.field);
   return j;
 }
@@ -318,7 +327,7 @@ nlohmann::json summaryJson(const MetricSummary& s) {
 nlohmann::json framesJson(const std::vector<FrameMetrics>& frames) {
   nlohmann::json arr = nlohmann::json::array();
   for (const auto& f : frames) {
-    nlohmann::json j = {{"number", f.number}, {"warmup", f.warmup}};
+    nlohmann::json j = {{"number", f.number}, {"warmup", f.warmup}, {"nonFiniteValues", f.nonFiniteValues}};
     for (const auto& m : metricList()) j[m.key] = number(f.*m.field);
     arr.push_back(j);
   }

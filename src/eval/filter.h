@@ -1,5 +1,6 @@
 // Separable convolution with clamp-to-edge borders, shared by SSIM and FLIP.
 #pragma once
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -8,24 +9,25 @@
 namespace rtd::eval::detail {
 
 /// dst = src convolved with kx along x, then ky along y (both odd length, centred), borders
-/// clamped to the edge. `tmp` is scratch of the same size. Parallel over rows.
+/// clamped to the edge. `tmp` is scratch of the same size. Parallel over rows; both passes
+/// loop over taps outside and pixels inside, so the inner loop vectorizes.
 template <class T>
 void convolveSeparable(const std::vector<T>& src, std::vector<T>& dst, std::vector<T>& tmp, int w, int h,
                        const std::vector<T>& kx, const std::vector<T>& ky) {
   const int rx = int(kx.size()) / 2, ry = int(ky.size()) / 2;
   tmp.resize(src.size());
   dst.resize(src.size());
+  tbb::enumerable_thread_specific<std::vector<T>> padded(std::vector<T>(size_t(w + 2 * rx)));
   tbb::parallel_for(0, h, [&](int y) {
+    std::vector<T>& pad = padded.local();
     const T* s = src.data() + size_t(y) * w;
+    for (int x = -rx; x < w + rx; ++x) pad[x + rx] = s[std::clamp(x, 0, w - 1)];
     T* t = tmp.data() + size_t(y) * w;
-    for (int x = 0; x < w; ++x) {
-      T sum = 0;
-      if (x >= rx && x + rx < w) {
-        for (int k = -rx; k <= rx; ++k) sum += kx[k + rx] * s[x + k];
-      } else {
-        for (int k = -rx; k <= rx; ++k) sum += kx[k + rx] * s[std::clamp(x + k, 0, w - 1)];
-      }
-      t[x] = sum;
+    for (int x = 0; x < w; ++x) t[x] = 0;
+    for (int k = 0; k <= 2 * rx; ++k) {
+      const T wk = kx[k];
+      const T* p = pad.data() + k;
+      for (int x = 0; x < w; ++x) t[x] += wk * p[x];
     }
   });
   tbb::parallel_for(0, h, [&](int y) {

@@ -95,7 +95,7 @@ const char* kPalette[] = {"#888888", "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
 
 /// One line chart of a metric over frames, one polyline per run, warm-up frames shaded.
 std::string plotSvg(const Comparison& c, const MetricInfo& m) {
-  const double W = 660, H = 244, left = 64, right = 12, top = 42, bottom = 34;
+  const double W = 640, H = 244, left = 64, right = 12, top = 42, bottom = 34;
   double lo = INFINITY, hi = -INFINITY;
   int fmin = INT32_MAX, fmax = INT32_MIN;
   for (const auto& r : c.runs)
@@ -211,7 +211,9 @@ std::string comparisonHtml(const Comparison& c) {
     << esc(operatorName(c.eval.toneMap.op)) << ", exposure " << fmt(c.eval.toneMap.exposure, "%.2f")
     << " stops, then sRGB encoding. FLIP at " << fmt(c.eval.flip.pixelsPerDegree(), "%.1f")
     << " pixels per degree.<br>Machine: " << esc(c.machine) << ". Total time " << fmt(c.seconds, "%.1f")
-    << " s (denoising and evaluation).</div>\n";
+    << " s (denoising and evaluation).";
+  for (const auto& note : c.skipped) h << "<br>Skipped: " << esc(note);
+  h << "</div>\n";
 
   // Summary tables: steady state, then warm-up.
   const auto summaryTableHtml = [&](bool warmup) {
@@ -230,7 +232,10 @@ std::string comparisonHtml(const Comparison& c) {
     }
     for (const auto& r : c.runs) {
       const MetricSummary& s = warmup ? r.metrics.warmup : r.metrics.steady;
-      h << "<tr><td class='l'>" << esc(r.label) << "</td><td>" << s.frames << "</td>";
+      h << "<tr><td class='l'>" << esc(r.label);
+      if (s.mean.nonFiniteValues)
+        h << " <span title='NaN/Inf output values, counted as 0'>&#9888; " << s.mean.nonFiniteValues << " NaN/Inf</span>";
+      h << "</td><td>" << s.frames << "</td>";
       for (size_t k = 0; k < metrics.size(); ++k) {
         const double v = s.mean.*metrics[k].field;
         h << "<td" << (!std::isnan(v) && v == best[k] ? " class='best'" : "") << ">" << metricFormat(metrics[k], v) << "</td>";

@@ -35,7 +35,7 @@ nlohmann::json readJson(const fs::path& p) {
 TEST(EvalCli, DemoDenoiseEvalAndCompare) {
   const fs::path dir = fs::temp_directory_path() / ("rtd_cli_eval_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const auto demo = runCli("demo --out " + (dir / "demo").string() + " --size 48x32 --frames 4 --warmup 1 --save-scene");
+  const auto demo = runCli("demo --out " + (dir / "demo").string() + " --scene synthetic --size 48x32 --frames 4 --warmup 1 --save-scene");
   ASSERT_EQ(demo.code, 0) << demo.output;
   EXPECT_NE(demo.output.find("report: "), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "demo" / "report.html"));

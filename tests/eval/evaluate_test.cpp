@@ -153,3 +153,17 @@ TEST(SequenceEval, MissingAndMismatchedFramesNameTheFile) {
   fs::remove_all(ref);
   fs::remove_all(res);
 }
+
+TEST(SequenceEval, NonFiniteResultValuesAreCountedAndPenalized) {
+  SequenceEvaluator ev(fast());
+  const Image ref = gradient(16, 12, 0);
+  Image res = ref;
+  res.at(3, 4, 1) = std::numeric_limits<float>::quiet_NaN();
+  res.at(5, 6, 0) = std::numeric_limits<float>::infinity();
+  const FrameMetrics& m = ev.add(1, res, ref);
+  EXPECT_EQ(m.nonFiniteValues, 2u);
+  EXPECT_TRUE(std::isfinite(m.psnr));
+  EXPECT_GT(m.relMse, 0.0);
+  EXPECT_EQ(ev.steady().mean.nonFiniteValues, 2u);
+  EXPECT_NE(summaryTable({{"r", ev.frames(), ev.steady(), ev.warmup()}}, fast()).find("2 NaN/Inf"), std::string::npos);
+}

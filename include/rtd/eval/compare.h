@@ -69,6 +69,7 @@ struct Comparison {
   int cropX = 0, cropY = 0, cropWidth = 0, cropHeight = 0;
   double seconds = 0;  ///< wall time of the whole comparison
   std::string machine; ///< CPU model
+  std::vector<std::string> skipped;  ///< method/backend pairs not run (not implemented there)
 };
 
 /// Runs every method over the source frame by frame (one denoiser per method and backend),

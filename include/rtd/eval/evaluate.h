@@ -1,6 +1,7 @@
 // rtdenoise evaluation — per-frame and per-sequence metrics of a denoised sequence against a
 // reference, including temporal error, with warm-up frames reported separately.
 #pragma once
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -39,6 +40,9 @@ struct FrameMetrics {
   /// Mean |(L_t - L_{t-1}) - (R_t - R_{t-1})|: change that the reference does not have
   /// (flicker, lag, ghosting). Zero for a perfect result, not for a frozen one.
   double temporalErrorVsReference = 0;
+  /// NaN/Inf values in the result (replaced by 0 before computing the metrics, so they count
+  /// as errors instead of vanishing from the means).
+  uint64_t nonFiniteValues = 0;
 };
 
 /// One metric: its JSON key, label, colour space, direction and field, so that tables, JSON and
