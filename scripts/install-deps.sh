@@ -8,6 +8,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libtinygltf-dev libstb-dev
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
+  chromium
 )
 missing=()
 for p in "${packages[@]}"; do
