@@ -26,7 +26,7 @@ struct DemoOptions {
   std::string scene = "dynamic";
   std::string size = "320x180";
   int frames = 32;
-  int referenceSpp = 128;
+  int referenceSpp = 256;  // 128 leaves visible caustic fireflies from the metal ball
   std::string cacheDir;
   bool noCache = false;
   int threads = 0;

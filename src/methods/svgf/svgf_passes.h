@@ -1,7 +1,11 @@
 // SVGF-specific passes (Schied et al. 2017 Sec. 4.2 and the variants' changes), exposed for
 // the tests. The a-trous filter itself is the shared pass in src/passes/atrous.h.
 #pragma once
+#include <string>
+
 #include "passes/atrous.h"
+#include "rtd/error.h"
+#include "rtd/frame.h"
 #include "rtd/methods/svgf.h"
 
 namespace rtd::svgf {
@@ -44,5 +48,44 @@ void median3x3(const Plane3& in, const Plane* roughness, Plane3& out);
 
 /// The executed tap spacings for `iterations` levels in `order`.
 void levelSteps(SvgfLevelOrder order, int iterations, int* steps);
+
+/// One radiance stream SVGF filters separately (Schied et al. 2017: direct and indirect).
+struct StreamPlan {
+  Buffer buffer;
+  const char* name;
+  bool demodulated;  ///< divided by albedo (not the specular stream: it carries its own tint)
+  bool indirect;     ///< Voorhuis: no per-level variance filtering
+};
+
+/// The streams of a frame under the `components` setting; `has(b)` says whether the frame has
+/// buffer b. Throws rtd::Error when an explicit choice needs a buffer the frame lacks. Shared
+/// by the CPU and Vulkan implementations.
+template <class Has> int planStreams(SvgfComponents c, Has has, StreamPlan out[2]) {
+  if (c == SvgfComponents::automatic) {
+    if (has(Buffer::Direct) && has(Buffer::Indirect)) c = SvgfComponents::directIndirect;
+    else if (has(Buffer::Diffuse) && has(Buffer::Specular)) c = SvgfComponents::diffuseSpecular;
+    else c = SvgfComponents::color;
+  }
+  auto need = [&](Buffer b) {
+    if (!has(b)) throw Error("svgf: components setting needs buffer '" + std::string(bufferName(b)) + "', absent from the frame");
+  };
+  switch (c) {
+    case SvgfComponents::directIndirect:
+      need(Buffer::Direct);
+      need(Buffer::Indirect);
+      out[0] = {Buffer::Direct, "direct", true, false};
+      out[1] = {Buffer::Indirect, "indirect", true, true};
+      return 2;
+    case SvgfComponents::diffuseSpecular:
+      need(Buffer::Diffuse);
+      need(Buffer::Specular);
+      out[0] = {Buffer::Diffuse, "diffuse", true, false};
+      out[1] = {Buffer::Specular, "specular", false, false};
+      return 2;
+    default:
+      out[0] = {Buffer::Color, "color", true, false};
+      return 1;
+  }
+}
 
 }  // namespace rtd::svgf

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "backend/vulkan/vulkan_denoiser.h"
+#include "methods/svgf/svgf_passes.h"
 #include "rtd/methods/svgf.h"
 
 namespace rtd {
@@ -112,41 +113,17 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
 
  private:
   int chooseStreams(const vk::GpuFrame& f) {
-    SvgfComponents c = settings_.components;
-    if (c == SvgfComponents::automatic) {
-      if (f.has(Buffer::Direct) && f.has(Buffer::Indirect)) c = SvgfComponents::directIndirect;
-      else if (f.has(Buffer::Diffuse) && f.has(Buffer::Specular)) c = SvgfComponents::diffuseSpecular;
-      else c = SvgfComponents::color;
-    }
-    auto need = [&](Buffer b) {
-      if (!f.has(b))
-        throw Error("svgf: components setting needs buffer '" + std::string(bufferName(b)) + "', absent from the frame");
-    };
-    auto setStream = [&](int k, Buffer b, const char* name, bool demod, bool indirect) {
+    svgf::StreamPlan plan[2];
+    const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan);
+    for (int k = 0; k < n; ++k) {
       GpuStream& st = streams_[k];
-      if (st.buffer != b) st.accumulator.reset();  // another stream's history is meaningless
-      st.buffer = b;
-      st.name = name;
-      st.demodulated = demod;
-      st.indirect = indirect;
-    };
-    switch (c) {
-      case SvgfComponents::directIndirect:
-        need(Buffer::Direct);
-        need(Buffer::Indirect);
-        setStream(0, Buffer::Direct, "direct", true, false);
-        setStream(1, Buffer::Indirect, "indirect", true, true);
-        return 2;
-      case SvgfComponents::diffuseSpecular:
-        need(Buffer::Diffuse);
-        need(Buffer::Specular);
-        setStream(0, Buffer::Diffuse, "diffuse", true, false);
-        setStream(1, Buffer::Specular, "specular", false, false);
-        return 2;
-      default:
-        setStream(0, Buffer::Color, "color", true, false);
-        return 1;
+      if (st.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
+      st.buffer = plan[k].buffer;
+      st.name = plan[k].name;
+      st.demodulated = plan[k].demodulated;
+      st.indirect = plan[k].indirect;
     }
+    return n;
   }
 
   // Demodulate, accumulate, estimate the variance, filter; returns the level holding the result.
