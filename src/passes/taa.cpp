@@ -85,11 +85,20 @@ void Taa::run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& 
         // Bilinear history fetch with clamp-to-edge.
         const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
         const float ax = px - x0, ay = py - y0;
+        const float wt[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
         float hist[3] = {0, 0, 0};
-        for (int t = 0; t < 4; ++t) {
-          const int tx = std::clamp(x0 + (t & 1), 0, w - 1), ty = std::clamp(y0 + (t >> 1), 0, h - 1);
-          const float wt = ((t & 1) ? ax : 1 - ax) * ((t >> 1) ? ay : 1 - ay);
-          for (int c = 0; c < 3; ++c) hist[c] += wt * history_[c](tx, ty);
+        if (x0 >= 0 && y0 >= 0 && x0 < w - 1 && y0 < h - 1) {
+          // Interior: the four taps without clamping.
+          const size_t j = size_t(y0) * w + x0;
+          for (int c = 0; c < 3; ++c) {
+            const float* hp = history_[c].ptr() + j;
+            hist[c] = wt[0] * hp[0] + wt[1] * hp[1] + wt[2] * hp[w] + wt[3] * hp[w + 1];
+          }
+        } else {
+          for (int t = 0; t < 4; ++t) {
+            const int tx = std::clamp(x0 + (t & 1), 0, w - 1), ty = std::clamp(y0 + (t >> 1), 0, h - 1);
+            for (int c = 0; c < 3; ++c) hist[c] += wt[t] * history_[c](tx, ty);
+          }
         }
         YCoCg hy = toYCoCg(hist[0], hist[1], hist[2]);
         hy = {std::clamp(hy.y, lo_[0].data[i], hi_[0].data[i]), std::clamp(hy.co, lo_[1].data[i], hi_[1].data[i]),
