@@ -464,12 +464,15 @@ void DescriptorCache::clear() {
   sets_.clear();
 }
 
-VkDescriptorSet DescriptorCache::get(const Pipeline& p, const std::vector<Binding>& bindings) {
+VkDescriptorSet DescriptorCache::get(const Pipeline& p, const std::vector<Binding>& bindings, bool rewrite) {
   if (bindings.size() != p.bindings)
     throw Error("Vulkan: internal error: shader expects " + std::to_string(p.bindings) + " bindings, got " +
                 std::to_string(bindings.size()));
   auto key = std::make_pair(p.setLayout, bindings);
-  if (auto it = sets_.find(key); it != sets_.end()) return it->second;
+  if (auto it = sets_.find(key); it != sets_.end()) {
+    if (rewrite) write(it->second, bindings);
+    return it->second;
+  }
   if (pools_.empty()) addPool();
   VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   ai.descriptorSetCount = 1;
@@ -483,6 +486,12 @@ VkDescriptorSet DescriptorCache::get(const Pipeline& p, const std::vector<Bindin
     r = vkAllocateDescriptorSets(ctx_.device(), &ai, &set);
   }
   check(r, "vkAllocateDescriptorSets");
+  write(set, bindings);
+  sets_.emplace(std::move(key), set);
+  return set;
+}
+
+void DescriptorCache::write(VkDescriptorSet set, const std::vector<Binding>& bindings) {
   std::vector<VkDescriptorBufferInfo> infos(bindings.size());
   std::vector<VkWriteDescriptorSet> writes(bindings.size());
   for (size_t i = 0; i < bindings.size(); ++i) {
@@ -495,8 +504,6 @@ VkDescriptorSet DescriptorCache::get(const Pipeline& p, const std::vector<Bindin
     writes[i].pBufferInfo = &infos[i];
   }
   vkUpdateDescriptorSets(ctx_.device(), uint32_t(writes.size()), writes.data(), 0, nullptr);
-  sets_.emplace(std::move(key), set);
-  return set;
 }
 
 // ---- Recorder -------------------------------------------------------------------------------
@@ -515,7 +522,10 @@ void Recorder::barrier() {
 void Recorder::dispatchRaw(const std::string& name, const std::vector<Binding>& bindings, const void* pc,
                            uint32_t pcSize, int width, int height) {
   const Pipeline& p = ctx_.pipeline(name);
-  VkDescriptorSet set = cache_.get(p, bindings);
+  bool rewrite = false;
+  for (const Binding& b : bindings)
+    rewrite |= std::find(external_.begin(), external_.end(), b.buffer) != external_.end();
+  VkDescriptorSet set = cache_.get(p, bindings, rewrite);
   if (pendingBarrier_) barrier();
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
   vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &set, 0, nullptr);

@@ -171,12 +171,15 @@ class DescriptorCache {
  public:
   explicit DescriptorCache(Context& ctx) : ctx_(ctx) {}
   ~DescriptorCache();
-  VkDescriptorSet get(const Pipeline& p, const std::vector<Binding>& bindings);
+  /// The set for these bindings, written on first use. `rewrite` writes it again: for buffers
+  /// the application owns, which it may destroy and recreate under the same handle value.
+  VkDescriptorSet get(const Pipeline& p, const std::vector<Binding>& bindings, bool rewrite = false);
   /// Frees every set (call only when the GPU no longer uses them, e.g. after a resize's wait).
   void clear();
 
  private:
   void addPool();
+  void write(VkDescriptorSet set, const std::vector<Binding>& bindings);
   Context& ctx_;
   std::vector<VkDescriptorPool> pools_;
   std::map<std::pair<VkDescriptorSetLayout, std::vector<Binding>>, VkDescriptorSet> sets_;
@@ -204,6 +207,9 @@ class Recorder {
   void fill(const DeviceBuffer& b, uint32_t value);
   void copy(const DeviceBuffer& src, const DeviceBuffer& dst, VkDeviceSize bytes, VkDeviceSize srcOffset = 0,
             VkDeviceSize dstOffset = 0);
+  /// Marks a buffer as the application's: descriptor sets that bind it are rewritten at every
+  /// dispatch rather than reused from the cache (its handle value may be recycled).
+  void external(VkBuffer b) { external_.push_back(b); }
   /// Starts a named pass (ends the previous one): per-pass GPU times come from these marks.
   void pass(const std::string& name);
   /// Ends the last pass.
@@ -217,6 +223,7 @@ class Recorder {
  private:
   void mark();
   Context& ctx_;
+  std::vector<VkBuffer> external_;
   DescriptorCache& cache_;
   VkCommandBuffer cmd_;
   VkQueryPool queries_;

@@ -97,6 +97,8 @@ void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& 
   if (queries_) vkCmdResetQueryPool(cmd, queries_, 0, kMaxQueries);
 
   Recorder rec(ctx_, descriptors_, cmd, queries_, kMaxQueries);
+  for (const auto& im : imports) rec.external(im.source.buffer);
+  rec.external(out.target.buffer);
   rec.fill(counter_, 0);
   float matrices[32];
   std::memcpy(matrices, camera.worldToCamera.data(), 16 * sizeof(float));
