@@ -104,3 +104,30 @@ template <class S> void setSetting(S& s, std::string_view method, std::string_vi
 }
 
 }  // namespace rtd::detail
+
+namespace rtd {
+
+/// Settings by name and by type for a denoiser of method S: every backend's denoiser base
+/// derives from this (`Base` is rtd::Denoiser or a backend's base class).
+template <class S, class Base> class TypedSettings : public Base {
+ public:
+  using Base::Base;
+  std::string_view method() const override { return S::kMethod; }
+  std::vector<SettingInfo> settings() const override { return detail::listSettings(settings_); }
+  void set(std::string_view name, std::string_view value) override {
+    S copy = settings_;  // a rejected value leaves the settings untouched
+    detail::setSetting(copy, S::kMethod, name, value);
+    settings_ = copy;
+    this->settingsChanged();
+  }
+
+ protected:
+  void* settingsStorage(std::string_view m) override {
+    if (m != S::kMethod)
+      throw Error("settings of method '" + std::string(m) + "' given to a '" + std::string(S::kMethod) + "' denoiser");
+    return &settings_;
+  }
+  S settings_;
+};
+
+}  // namespace rtd

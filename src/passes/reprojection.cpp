@@ -51,15 +51,9 @@ int Reprojection::taps(size_t i, Taps& out) const {
 }
 
 float Reprojection::gather3x3(const Plane& h, size_t i) const {
-  const uint16_t m = mask3x3[i];
-  float sum = 0.0f, wsum = 0.0f;
-  for (int t = 0; t < 9; ++t) {
-    if (!(m & (1u << t))) continue;
-    const int j = base[i] + (t / 3 - 1) * h.width + (t % 3 - 1);
-    sum += kFallbackKernel3x3[t] * h.ptr()[j];
-    wsum += kFallbackKernel3x3[t];
-  }
-  return sum / wsum;
+  Taps t;
+  taps(i, t);
+  return t.gather(h);
 }
 
 namespace {

@@ -13,19 +13,11 @@
 
 namespace rtd {
 
-template <class S> class CpuDenoiser : public Denoiser {
+template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
  public:
   explicit CpuDenoiser(tbb::task_arena& arena) : arena_(arena) {}
 
-  std::string_view method() const override { return S::kMethod; }
   Backend backend() const override { return Backend::Cpu; }
-  std::vector<SettingInfo> settings() const override { return detail::listSettings(settings_); }
-  void set(std::string_view name, std::string_view value) override {
-    S copy = settings_;
-    detail::setSetting(copy, S::kMethod, name, value);
-    settings_ = copy;
-    settingsChanged();
-  }
   const FrameStats& stats() const override { return stats_; }
 
   void reset() override {
@@ -41,7 +33,7 @@ template <class S> class CpuDenoiser : public Denoiser {
     arena_.execute([&] {
       {
         PassTimer t(stats, "import");
-        stats.sanitizedValues = importFrame(frame, requiredBuffers(), current_);
+        stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_);
       }
       const int w = current_.width, h = current_.height;
       if (w != width_ || h != height_) {
@@ -75,13 +67,7 @@ template <class S> class CpuDenoiser : public Denoiser {
   /// Forget history (allocations stay).
   virtual void resetHistory() = 0;
 
-  void* settingsStorage(std::string_view m) override {
-    if (m != S::kMethod)
-      throw Error("settings of method '" + std::string(m) + "' given to a '" + std::string(S::kMethod) + "' denoiser");
-    return &settings_;
-  }
 
-  S settings_;
   tbb::task_arena& arena_;
   FrameData current_, previous_;
   bool hasPrevious_ = false;

@@ -80,26 +80,10 @@ class VulkanDenoiserBase : public Denoiser {
   FrameStats stats_;
 };
 
-/// Settings by name and by type, as CpuDenoiser does.
-template <class S> class VulkanDenoiser : public VulkanDenoiserBase {
+/// A Vulkan denoiser of method S: settings by name and by type, as on the CPU.
+template <class S> class VulkanDenoiser : public TypedSettings<S, VulkanDenoiserBase> {
  public:
-  using VulkanDenoiserBase::VulkanDenoiserBase;
-  std::string_view method() const override { return S::kMethod; }
-  std::vector<SettingInfo> settings() const override { return detail::listSettings(settings_); }
-  void set(std::string_view name, std::string_view value) override {
-    S copy = settings_;
-    detail::setSetting(copy, S::kMethod, name, value);
-    settings_ = copy;
-    settingsChanged();
-  }
-
- protected:
-  void* settingsStorage(std::string_view m) override {
-    if (m != S::kMethod)
-      throw Error("settings of method '" + std::string(m) + "' given to a '" + std::string(S::kMethod) + "' denoiser");
-    return &settings_;
-  }
-  S settings_;
+  using TypedSettings<S, VulkanDenoiserBase>::TypedSettings;
 };
 
 }  // namespace rtd::vk

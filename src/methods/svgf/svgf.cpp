@@ -30,10 +30,7 @@ MomentLuminance toMomentLuminance(SvgfLuminance l) {
 
 // One radiance stream (Color, or one half of a split) and its history.
 struct Stream {
-  Buffer buffer = Buffer::Color;
-  const char* name = "color";
-  bool demodulated = true;   // divided by albedo (false: specular, filtered as radiance)
-  bool indirect = false;     // Voorhuis: no per-level variance filtering
+  svgf::StreamPlan plan{Buffer::Color, "color", true, false};  // which buffer, and how it is filtered
   Plane3 demod;
   TemporalAccumulator accumulator;
 };
@@ -98,8 +95,8 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     for (int k = 0; k < nStreams; ++k) {
       Stream& st = streams_[k];
-      const std::string suffix = nStreams > 1 ? std::string(".") + st.name : std::string();
-      filterStream(frame, st, st.demodulated ? albedo : nullptr, suffix, stats);
+      const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
+      filterStream(frame, st, st.plan.demodulated ? albedo : nullptr, suffix, stats);
       PassTimer t(stats, "sum" + suffix);
       addStream(st, k == 0, albedo);
     }
@@ -134,11 +131,8 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan);
     for (int k = 0; k < n; ++k) {
       Stream& st = streams_[k];
-      if (st.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
-      st.buffer = plan[k].buffer;
-      st.name = plan[k].name;
-      st.demodulated = plan[k].demodulated;
-      st.indirect = plan[k].indirect;
+      if (st.plan.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
+      st.plan = plan[k];
     }
     return n;
   }
@@ -149,7 +143,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     const MomentLuminance lum = toMomentLuminance(s.luminance);
     {
       PassTimer t(stats, "demodulate" + suffix);
-      demodulate(frame.planes(st.buffer), albedo, st.demod);
+      demodulate(frame.planes(st.plan.buffer), albedo, st.demod);
     }
     {
       PassTimer t(stats, "accumulate" + suffix);
@@ -184,7 +178,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     const int n = s.atrousIterations;
     int steps[8];
     svgf::levelSteps(s.levelOrder, n, steps);
-    const bool propagate = s.varianceFiltering && !(st.indirect && !s.indirectVarianceFiltering);
+    const bool propagate = s.varianceFiltering && !(st.plan.indirect && !s.indirectVarianceFiltering);
     int cur = 0;
     for (int i = 0; i < n; ++i) {
       PassTimer t(stats, "atrous" + std::to_string(i + 1) + suffix);
@@ -229,7 +223,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   void addStream(const Stream& st, bool first, const std::vector<Plane>* albedo) {
     const AtrousImage& r = levels_[result_];
     const int w = sum_[0].width;
-    const bool divide = !st.demodulated && albedo;
+    const bool divide = !st.plan.demodulated && albedo;
     parallelRows(sum_[0].height, [&](int y) {
       for (int c = 0; c < 3; ++c) {
         const float* in = r.color[c].row(y);

@@ -24,10 +24,7 @@ uint32_t luminanceMode(SvgfLuminance l) {
 
 // One radiance stream and its history, as in svgf.cpp.
 struct GpuStream {
-  Buffer buffer = Buffer::Color;
-  const char* name = "color";
-  bool demodulated = true;
-  bool indirect = false;
+  svgf::StreamPlan plan{Buffer::Color, "color", true, false};  // which buffer, and how it is filtered
   vk::Planes demod;
   vk::GpuTemporalAccumulator accumulator;
 };
@@ -85,12 +82,12 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     vk::atrousGuide(rec, frame, s.maxDepthSlope, gradient_);
     for (int k = 0; k < nStreams; ++k) {
       GpuStream& st = streams_[k];
-      const std::string suffix = nStreams > 1 ? std::string(".") + st.name : std::string();
-      const vk::Planes& result = filterStream(rec, frame, st, st.demodulated ? albedo : nullptr, suffix);
+      const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
+      const vk::Planes& result = filterStream(rec, frame, st, st.plan.demodulated ? albedo : nullptr, suffix);
       rec.pass("sum" + suffix);
       struct PC {
         uint32_t width, height, first, divide;
-      } pc{uint32_t(frame.width), uint32_t(frame.height), k == 0, !st.demodulated && albedo};
+      } pc{uint32_t(frame.width), uint32_t(frame.height), k == 0, !st.plan.demodulated && albedo};
       rec.dispatch("svgf_sum", {result, albedo ? vk::Binding(*albedo) : vk::Binding(ctx_.dummy()), sum_}, pc,
                    frame.width, frame.height);
     }
@@ -117,11 +114,8 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan);
     for (int k = 0; k < n; ++k) {
       GpuStream& st = streams_[k];
-      if (st.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
-      st.buffer = plan[k].buffer;
-      st.name = plan[k].name;
-      st.demodulated = plan[k].demodulated;
-      st.indirect = plan[k].indirect;
+      if (st.plan.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
+      st.plan = plan[k];
     }
     return n;
   }
@@ -133,7 +127,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     const uint32_t lum = luminanceMode(s.luminance);
     const size_t planeBytes = size_t(frame.width) * frame.height * 4;
     rec.pass("demodulate" + suffix);
-    vk::demodulate(rec, frame[st.buffer], albedo, st.demod);
+    vk::demodulate(rec, frame[st.plan.buffer], albedo, st.demod);
     rec.pass("accumulate" + suffix);
     st.accumulator.run(rec, reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, lum,
                        s.momentsTrueAverage);
@@ -163,7 +157,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       }
     }
     const int n = s.atrousIterations;
-    const bool propagate = s.varianceFiltering && !(st.indirect && !s.indirectVarianceFiltering);
+    const bool propagate = s.varianceFiltering && !(st.plan.indirect && !s.indirectVarianceFiltering);
     int cur = 0;
     for (int i = 0; i < n; ++i) {
       rec.pass("atrous" + std::to_string(i + 1) + suffix);
