@@ -1,5 +1,6 @@
 #include "core/frame_data.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <string>
@@ -19,7 +20,15 @@ bool isRadianceBuffer(Buffer b) {
 
 static std::string describe(Buffer b) { return "buffer '" + std::string(bufferName(b)) + "'"; }
 
-uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out) {
+const std::vector<Buffer>& sharedPassBuffers() {
+  static const std::vector<Buffer> buffers = {Buffer::Color,    Buffer::Albedo,   Buffer::Normal,
+                                              Buffer::Depth,    Buffer::Position, Buffer::Motion,
+                                              Buffer::ObjectId, Buffer::DepthGradient, Buffer::Emission};
+  return buffers;
+}
+
+uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out,
+                     const std::vector<Buffer>* used) {
   for (Buffer b : required)
     if (!in.has(b)) throw Error("missing required " + describe(b));
   const ImageView& color = in[Buffer::Color];
@@ -43,8 +52,9 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
   std::atomic<uint64_t> replaced{0};
   for (int i = 0; i < kBufferCount; ++i) {
     const ImageView& v = in.buffers[i];
+    const bool wanted = !used || std::find(used->begin(), used->end(), Buffer(i)) != used->end();
     auto& planes = out.buffers[i];
-    if (v.empty()) {
+    if (v.empty() || !wanted) {
       planes.clear();
       continue;
     }

@@ -25,11 +25,18 @@ struct FrameData {
 /// True for buffers holding radiance (sanitized on import: NaN, Inf and negatives become 0).
 bool isRadianceBuffer(Buffer b);
 
-/// Copies the views of `in` into `out` (reusing its allocations). Checks that every required
-/// buffer is present and that all buffers share one size and have enough channels; throws
-/// rtd::Error naming the buffer otherwise. Non-finite feature values also become 0. Emission
-/// is then separated (separateEmission). Returns the number of values replaced.
-uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out);
+/// Buffers the shared passes read (reprojection guides, demodulation, emission): every method
+/// imports these when the frame has them, plus its own (Cpu/VulkanDenoiser usedBuffers()).
+const std::vector<Buffer>& sharedPassBuffers();
+
+/// Copies the views of `in` into `out` (reusing its allocations): only the buffers in `used`
+/// (all of them if null), so a frame carrying many buffers costs only what the method reads.
+/// Checks that every required buffer is present and that all buffers share one size and have
+/// enough channels; throws rtd::Error naming the buffer otherwise. Non-finite feature values
+/// also become 0. Emission is then separated (separateEmission). Returns the number of values
+/// replaced.
+uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out,
+                     const std::vector<Buffer>* used = nullptr);
 
 /// Subtracts Buffer::Emission (if present) from Color, Direct and Diffuse, clamped at 0, so
 /// methods filter only the noisy part; importFrame() calls it.

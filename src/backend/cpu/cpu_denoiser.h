@@ -1,6 +1,7 @@
 // Base of every CPU denoiser: settings by name, frame import with sanitization, history resize
 // and reset, per-pass timing, previous-frame features. A method implements process().
 #pragma once
+#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -20,6 +21,10 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
   Backend backend() const override { return Backend::Cpu; }
   const FrameStats& stats() const override { return stats_; }
 
+  /// Buffers the method reads beyond the shared passes' (sharedPassBuffers()); only these are
+  /// imported.
+  virtual std::vector<Buffer> extraBuffers() const { return {}; }
+
   void reset() override {
     hasPrevious_ = false;
     resetHistory();
@@ -27,13 +32,19 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
 
   void denoise(const FrameInputs& frame, const ImageView& output) final {
     FrameStats stats;
+    const std::vector<Buffer> extra = extraBuffers();
     auto start = std::chrono::steady_clock::now();
+    // Recomputed per frame: requiredBuffers() may depend on the settings.
+    used_ = this->requiredBuffers();
+    for (const auto* list : {&sharedPassBuffers(), &extra})
+      for (Buffer b : *list)
+        if (std::find(used_.begin(), used_.end(), b) == used_.end()) used_.push_back(b);
     if (output.empty() || output.width != frame[Buffer::Color].width || output.height != frame[Buffer::Color].height)
       throw Error("output view must be non-empty and the size of buffer 'color'");
     arena_.execute([&] {
       {
         PassTimer t(stats, "import");
-        stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_);
+        stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_, &used_);
       }
       const int w = current_.width, h = current_.height;
       if (w != width_ || h != height_) {
@@ -71,6 +82,7 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
   tbb::task_arena& arena_;
   FrameData current_, previous_;
   bool hasPrevious_ = false;
+  std::vector<Buffer> used_;
   int width_ = 0, height_ = 0;
   Plane3 output_;
   FrameStats stats_;

@@ -50,8 +50,7 @@ VulkanDenoiserBase::~VulkanDenoiserBase() {
 
 std::vector<Buffer> VulkanDenoiserBase::usedBuffers() const {
   std::vector<Buffer> used = requiredBuffers();
-  for (Buffer b : {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Depth, Buffer::Position, Buffer::Motion,
-                   Buffer::ObjectId, Buffer::DepthGradient, Buffer::Emission})
+  for (Buffer b : sharedPassBuffers())
     if (std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
   return used;
 }

@@ -97,6 +97,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
  public:
   using CpuDenoiser::CpuDenoiser;
 
+  std::vector<Buffer> extraBuffers() const override { return {Buffer::MaterialId, Buffer::Roughness}; }
   std::vector<Buffer> requiredBuffers() const override {
     std::vector<Buffer> b{Buffer::Color};
     if (settings_.featureNormal) b.push_back(Buffer::Normal);

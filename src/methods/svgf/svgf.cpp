@@ -39,6 +39,9 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
  public:
   using CpuDenoiser::CpuDenoiser;
   std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color, Buffer::Normal, Buffer::Depth}; }
+  std::vector<Buffer> extraBuffers() const override {
+    return {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::Roughness, Buffer::SampleMask};
+  }
 
   void set(std::string_view name, std::string_view value) override {
     if (name == "variant") {
