@@ -1,4 +1,4 @@
-// Google Benchmark: BMFR's per-block QR and the whole method at 1280x720 on the synthetic scene.
+// Google Benchmark: BMFR's per-block QR (the whole method is in bench/methods_bench.cpp).
 // Per-phase figures come from `rtdenoise bench --method bmfr --size 1280x720`.
 #include <benchmark/benchmark.h>
 
@@ -7,7 +7,6 @@
 
 #include "methods/bmfr/qr.h"
 #include "rtd/rtd.h"
-#include "synthetic/synthetic.h"
 
 namespace {
 
@@ -53,21 +52,5 @@ void BM_BmfrBlockQrTiled(benchmark::State& state) {
 }
 BENCHMARK(BM_BmfrBlockQrTiled)->Args({1024, 10})->Args({4096, 10})->Args({1024, 12})->Unit(benchmark::kMicrosecond);
 
-void BM_BmfrMethod(benchmark::State& state) {
-  rtd::synthetic::Scene scene;
-  scene.width = 1280;
-  scene.height = 720;
-  const rtd::Frame a = rtd::synthetic::makeFrame(scene, 0), b = rtd::synthetic::makeFrame(scene, 1);
-  auto device = rtd::Device::create();
-  auto denoiser = device->createDenoiser("bmfr");
-  rtd::Image out(scene.width, scene.height, 3);
-  int i = 0;
-  for (auto _ : state) {
-    denoiser->denoise((i++ & 1 ? b : a).inputs(), out.view());
-    benchmark::DoNotOptimize(out.pixels.data());
-  }
-  state.SetItemsProcessed(state.iterations() * int64_t(scene.width) * scene.height);
-}
-BENCHMARK(BM_BmfrMethod)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
