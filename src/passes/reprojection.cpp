@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#ifdef __SSE2__
+#include <immintrin.h>
+#endif
 
 #include "core/parallel.h"
 
@@ -122,6 +125,41 @@ struct TapTest {
     return c;
   }
 
+  // Validity of the four taps j, j+1, j+w, j+w+1 of an interior bilinear footprint at once
+  // (the common case), one SSE lane per tap: the same tests as valid(), as a lane mask.
+  typedef float F4 __attribute__((vector_size(16)));
+  typedef int I4 __attribute__((vector_size(16)));
+  static F4 quad(const float* p, size_t j, int w) {
+#ifdef __SSE2__
+    // Two 8-byte loads straight into the register halves (a memcpy into a vector goes through
+    // the stack and stalls on store forwarding).
+    const __m128d v = _mm_loadh_pd(_mm_load_sd(reinterpret_cast<const double*>(p + j)),
+                                   reinterpret_cast<const double*>(p + j + w));
+    return F4(_mm_castpd_ps(v));
+#else
+    return F4{p[j], p[j + 1], p[j + w], p[j + w + 1]};
+#endif
+  }
+  I4 validQuad(const Pixel& c, size_t j) const {
+    I4 ok = I4{} == 0;  // all lanes true
+    if (z) {
+      const F4 dz = quad(zPrev, j, width) - c.z;
+      ok &= (dz <= c.depthTol) & (dz >= -c.depthTol);
+    }
+    if (n[0]) {
+      const F4 qx = quad(nPrev[0], j, width), qy = quad(nPrev[1], j, width), qz = quad(nPrev[2], j, width);
+      if (c.background) ok &= qx * qx + qy * qy + qz * qz < 0.25f;
+      else ok &= c.n[0] * qx + c.n[1] * qy + c.n[2] * qz >= s.normalTolerance;
+    }
+    if (id) ok &= quad(idPrev, j, width) == c.id;
+    if (p[0]) {
+      const F4 dx = c.p[0] - quad(pPrev[0], j, width), dy = c.p[1] - quad(pPrev[1], j, width),
+               dz = c.p[2] - quad(pPrev[2], j, width);
+      ok &= dx * dx + dy * dy + dz * dz <= positionTolerance2;
+    }
+    return ok;
+  }
+
   // Is previous pixel (px, py) a valid history sample for the current pixel c?
   bool valid(const Pixel& c, int px, int py) const {
     if (px < 0 || py < 0 || px >= width || py >= height) return false;
@@ -198,8 +236,14 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
       const int tx[4] = {x0, x0 + 1, x0, x0 + 1}, ty[4] = {y0, y0, y0 + 1, y0 + 1};
       float sum = 0.0f;
       std::array<float, 4> wt{0, 0, 0, 0};
-      for (int t = 0; t < 4; ++t)
-        if (bw[t] > 0.0f && test.valid(pixel, tx[t], ty[t])) { wt[t] = bw[t]; sum += bw[t]; }
+      if (x0 >= 0 && y0 >= 0 && x0 < w - 1 && y0 < h - 1) {
+        const TapTest::F4 b{bw[0], bw[1], bw[2], bw[3]};
+        const TapTest::F4 v = test.validQuad(pixel, size_t(y0) * w + x0) ? b : TapTest::F4{};
+        for (int t = 0; t < 4; ++t) { wt[t] = v[t]; sum += v[t]; }
+      } else {
+        for (int t = 0; t < 4; ++t)
+          if (bw[t] > 0.0f && test.valid(pixel, tx[t], ty[t])) { wt[t] = bw[t]; sum += bw[t]; }
+      }
       if (sum > 1e-4f && w >= 2 && h >= 2) {
         for (auto& v : wt) v /= sum;
         // Taps outside the image have weight 0; slide the 2x2 window inside (moving the weights
