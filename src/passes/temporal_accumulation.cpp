@@ -77,51 +77,90 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
   const int w = rp.width;
   const float maxLength = float(maxHistoryLength);
   const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
+  const float *lenPrev = length_[prev].ptr(), *m1Prev = m1_[prev].ptr(), *m2Prev = m2_[prev].ptr();
+  const float* cPrev[3] = {color_[prev][0].ptr(), color_[prev][1].ptr(), color_[prev][2].ptr()};
   // One fused pass per pixel: history length, colour and both moments from the same taps.
+  auto pixel = [&](size_t i, Reprojection::Taps& taps) {
+    const float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
+    const float l = options.luminance == MomentLuminance::Rec709 ? luminance(c[0], c[1], c[2])
+                                                                 : momentLuminance(options.luminance, c[0], c[1], c[2]);
+    float histLength = 0.0f, hist[3] = {0, 0, 0}, hist1 = 0.0f, hist2 = 0.0f;
+    const uint8_t kind = rp.kind[i];
+    if (kind == Reprojection::Bilinear) {
+      histLength = rp.gatherBilinear(lenPrev, w, i);
+      for (int k = 0; k < 3; ++k) hist[k] = rp.gatherBilinear(cPrev[k], w, i);
+      hist1 = rp.gatherBilinear(m1Prev, w, i);
+      hist2 = rp.gatherBilinear(m2Prev, w, i);
+    } else if (kind == Reprojection::Fallback3x3) {
+      rp.taps(i, taps);
+      histLength = taps.gather(length_[prev]);
+      for (int k = 0; k < 3; ++k) hist[k] = taps.gather(color_[prev][k]);
+      hist1 = taps.gather(m1_[prev]);
+      hist2 = taps.gather(m2_[prev]);
+    }
+    // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
+    const bool none = kind == Reprojection::None;
+    const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
+    const float a = newSampleWeight(n, alpha);
+    // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
+    // wherever there is history (Schied et al. 2017).
+    const float am = options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
+    if (mask && mask[i] == 0.0f) {
+      // No sample this frame (Dundr Sec. 5): the history carries over unchanged; without
+      // history the pixel stays missing (length 0).
+      length_[cur_].data[i] = none ? 0.0f : std::round(histLength);
+      for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = hist[k];
+      m1_[cur_].data[i] = hist1;
+      m2_[cur_].data[i] = hist2;
+      return;
+    }
+    length_[cur_].data[i] = n;
+    for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
+    m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;
+    m2_[cur_].data[i] = am * l * l + (1.0f - am) * hist2;
+  };
+  // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
+  const bool vectorized = !mask && options.luminance != MomentLuminance::CieLightness;
   parallelRows(rp.height, [&](int y) {
     Reprojection::Taps taps;
-    const float *lenPrev = length_[prev].ptr(), *m1Prev = m1_[prev].ptr(), *m2Prev = m2_[prev].ptr();
-    const float* cPrev[3] = {color_[prev][0].ptr(), color_[prev][1].ptr(), color_[prev][2].ptr()};
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      const float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
-      const float l = options.luminance == MomentLuminance::Rec709 ? luminance(c[0], c[1], c[2])
-                                                                   : momentLuminance(options.luminance, c[0], c[1], c[2]);
-      float histLength = 0.0f, hist[3] = {0, 0, 0}, hist1 = 0.0f, hist2 = 0.0f;
-      const uint8_t kind = rp.kind[i];
-      if (kind == Reprojection::Bilinear) {
-        histLength = rp.gatherBilinear(lenPrev, w, i);
-        for (int k = 0; k < 3; ++k) hist[k] = rp.gatherBilinear(cPrev[k], w, i);
-        hist1 = rp.gatherBilinear(m1Prev, w, i);
-        hist2 = rp.gatherBilinear(m2Prev, w, i);
-      } else if (kind == Reprojection::Fallback3x3) {
-        rp.taps(i, taps);
-        histLength = taps.gather(length_[prev]);
-        for (int k = 0; k < 3; ++k) hist[k] = taps.gather(color_[prev][k]);
-        hist1 = taps.gather(m1_[prev]);
-        hist2 = taps.gather(m2_[prev]);
+    int x = 0;
+#ifdef __AVX2__
+    if (vectorized) {
+      const __m256 one = _mm256_set1_ps(1.0f), half = _mm256_set1_ps(0.5f), maxLen = _mm256_set1_ps(maxLength);
+      const __m256 vAlpha = _mm256_set1_ps(alpha), vMomentsAlpha = _mm256_set1_ps(momentsAlpha);
+      const bool rec601 = options.luminance == MomentLuminance::Rec601;
+      const __m256 lr = _mm256_set1_ps(rec601 ? 0.299f : 0.2126f), lg = _mm256_set1_ps(rec601 ? 0.587f : 0.7152f),
+                   lb = _mm256_set1_ps(rec601 ? 0.114f : 0.0722f);
+      Bilinear8 taps8;
+      for (; x + 8 <= w; x += 8) {
+        const size_t i = size_t(y) * w + x;
+        if (!taps8.load(rp, i)) {
+          for (int k = 0; k < 8; ++k) pixel(i + k, taps);
+          continue;
+        }
+        // n = min(round(history length) + 1, max), round half away from zero as std::round.
+        const __m256 len = taps8.gather(lenPrev);
+        __m256 rounded = _mm256_round_ps(len, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+        rounded = _mm256_add_ps(rounded, _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(len, rounded), half, _CMP_GE_OQ), one));
+        const __m256 n = _mm256_min_ps(_mm256_add_ps(rounded, one), maxLen);
+        const __m256 invN = _mm256_div_ps(one, n);
+        const __m256 a = _mm256_max_ps(invN, vAlpha);
+        const __m256 am = options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha) : vMomentsAlpha;
+        _mm256_storeu_ps(length_[cur_].ptr() + i, n);
+        __m256 c[3];
+        for (int k = 0; k < 3; ++k) {
+          c[k] = _mm256_loadu_ps(color[k].ptr() + i);
+          const __m256 hist = taps8.gather(cPrev[k]);
+          _mm256_storeu_ps(color_[cur_][k].ptr() + i, _mm256_fmadd_ps(a, c[k], _mm256_mul_ps(_mm256_sub_ps(one, a), hist)));
+        }
+        const __m256 l = _mm256_fmadd_ps(lb, c[2], _mm256_fmadd_ps(lg, c[1], _mm256_mul_ps(lr, c[0])));
+        const __m256 bm = _mm256_sub_ps(one, am);
+        _mm256_storeu_ps(m1_[cur_].ptr() + i, _mm256_fmadd_ps(am, l, _mm256_mul_ps(bm, taps8.gather(m1Prev))));
+        _mm256_storeu_ps(m2_[cur_].ptr() + i, _mm256_fmadd_ps(_mm256_mul_ps(am, l), l, _mm256_mul_ps(bm, taps8.gather(m2Prev))));
       }
-      // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
-      const bool none = kind == Reprojection::None;
-      const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
-      const float a = newSampleWeight(n, alpha);
-      // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
-      // wherever there is history (Schied et al. 2017).
-      const float am = options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
-      if (mask && mask[i] == 0.0f) {
-        // No sample this frame (Dundr Sec. 5): the history carries over unchanged; without
-        // history the pixel stays missing (length 0).
-        length_[cur_].data[i] = none ? 0.0f : std::round(histLength);
-        for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = hist[k];
-        m1_[cur_].data[i] = hist1;
-        m2_[cur_].data[i] = hist2;
-        continue;
-      }
-      length_[cur_].data[i] = n;
-      for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
-      m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;
-      m2_[cur_].data[i] = am * l * l + (1.0f - am) * hist2;
     }
+#endif
+    for (; x < w; ++x) pixel(size_t(y) * w + x, taps);
   });
 }
 
