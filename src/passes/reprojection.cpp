@@ -138,19 +138,9 @@ struct TapTest {
   // bilinear weights > 1e-4) and returns their bit mask; the other lanes are left to the caller.
   unsigned bilinear8(int x, int y, int w, int h, Reprojection& out) const {
     const size_t i = size_t(y) * w + x;
-    const __m256 fx = _mm256_sub_ps(_mm256_loadu_ps(out.prevX.ptr() + i), _mm256_set1_ps(0.5f));
-    const __m256 fy = _mm256_sub_ps(_mm256_loadu_ps(out.prevY.ptr() + i), _mm256_set1_ps(0.5f));
-    const __m256 flx = _mm256_floor_ps(fx), fly = _mm256_floor_ps(fy);
-    const __m256 inside = _mm256_and_ps(
-        _mm256_and_ps(_mm256_cmp_ps(flx, _mm256_setzero_ps(), _CMP_GE_OQ), _mm256_cmp_ps(flx, _mm256_set1_ps(float(w - 1)), _CMP_LT_OQ)),
-        _mm256_and_ps(_mm256_cmp_ps(fly, _mm256_setzero_ps(), _CMP_GE_OQ), _mm256_cmp_ps(fly, _mm256_set1_ps(float(h - 1)), _CMP_LT_OQ)));
-    if (_mm256_movemask_ps(inside) != 0xff) return 0;
-    const __m256 one = _mm256_set1_ps(1.0f);
-    const __m256 ax = _mm256_sub_ps(fx, flx), ay = _mm256_sub_ps(fy, fly);
-    const __m256 bx = _mm256_sub_ps(one, ax), by = _mm256_sub_ps(one, ay);
-    const __m256 bw[4] = {_mm256_mul_ps(bx, by), _mm256_mul_ps(ax, by), _mm256_mul_ps(bx, ay), _mm256_mul_ps(ax, ay)};
-    const __m256i base = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(fly), _mm256_set1_epi32(w)),
-                                          _mm256_cvttps_epi32(flx));
+    Bilinear8 taps;
+    if (!taps.footprint(out.prevX.ptr() + i, out.prevY.ptr() + i, w, h)) return 0;
+    const __m256i base = taps.base;
     const __m256i tapOffset[4] = {_mm256_setzero_si256(), _mm256_set1_epi32(1), _mm256_set1_epi32(w), _mm256_set1_epi32(w + 1)};
 
     // The current pixels' features.
@@ -207,7 +197,7 @@ struct TapTest {
         }
         ok = _mm256_and_ps(ok, _mm256_cmp_ps(d2, _mm256_set1_ps(positionTolerance2), _CMP_LE_OQ));
       }
-      wt[t] = _mm256_and_ps(ok, bw[t]);
+      wt[t] = _mm256_and_ps(ok, taps.weight[t]);
       sum = _mm256_add_ps(sum, wt[t]);
     }
     const unsigned good = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(sum, _mm256_set1_ps(1e-4f), _CMP_GT_OQ)));

@@ -74,16 +74,16 @@ void Taa::run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& 
       const float* a = slot(std::max(y - 1, 0));
       const float* c = slot(y);
       const float* b = slot(std::min(y + 1, h - 1));
-      // Bilinear history fetch with clamp-to-edge (gathers: the only scalar loop). A pixel
+      // Bilinear history fetch with clamp-to-edge (eight pixels at a time inside). A pixel
       // whose reprojected centre lies a pixel or more outside the frame has no history: its
       // "history" is the current colour, which the blend then returns unchanged.
       const float *prevX = rp.prevX.row(y), *prevY = rp.prevY.row(y);
       const float *r = color[0].row(y), *g = color[1].row(y), *bl = color[2].row(y);
-      for (int x = 0; x < w; ++x) {
+      auto fetch = [&](int x) {
         const float px = prevX[x] - 0.5f, py = prevY[x] - 0.5f;
         if (!(px > -1.0f && py > -1.0f && px < float(w) && py < float(h))) {
           hr[x] = r[x]; hg[x] = g[x]; hb[x] = bl[x];
-          continue;
+          return;
         }
         const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
         const float ax = px - x0, ay = py - y0;
@@ -102,7 +102,21 @@ void Taa::run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& 
           }
         }
         hr[x] = v[0]; hg[x] = v[1]; hb[x] = v[2];
-      }
+      };
+      int x = 0;
+#ifdef __AVX2__
+      // Eight pixels at a time where all eight footprints are inside the frame.
+      Bilinear8 taps8;
+      for (; x + 8 <= w; x += 8)
+        if (taps8.footprint(prevX + x, prevY + x, w, h)) {
+          _mm256_storeu_ps(hr + x, taps8.gather(hist[0].ptr()));
+          _mm256_storeu_ps(hg + x, taps8.gather(hist[1].ptr()));
+          _mm256_storeu_ps(hb + x, taps8.gather(hist[2].ptr()));
+        } else {
+          for (int k = x; k < x + 8; ++k) fetch(k);
+        }
+#endif
+      for (; x < w; ++x) fetch(x);
       // Clamp to the 3x3 YCoCg box and blend (vectorized over the row).
       float *o[3] = {out[0].row(y), out[1].row(y), out[2].row(y)};
       float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
