@@ -20,7 +20,7 @@ namespace rtd {
 /// rows `stride` floats apart; pad and stride are multiples of 8.
 struct PaddedPlane {
   int width = 0, height = 0, pad = 0, stride = 0;
-  std::vector<float> data;
+  PixelVector<float> data;
 
   void resize(int w, int h, int padding);
   /// Zeroes everything, border included.

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
 
 #include "core/parallel.h"
 
@@ -122,6 +126,121 @@ struct TapTest {
     return c;
   }
 
+  // Depth tolerance of pixel (x, y): relative plus screen-space slope.
+  float depthTolerance(int x, int y, int w, int h) const {
+    return s.depthTolerance * z[size_t(y) * w + x] + s.depthGradientScale * depthSlope(x, y, w, h);
+  }
+
+#ifdef __AVX2__
+  // Pixels x..x+7 of row y (1 <= x, x + 8 < w) whose four bilinear taps all lie inside the
+  // previous frame: the tests of valid() on eight pixels at once, the four taps of each read
+  // with gathers. Writes kind, base and weights of the lanes with a valid tap (sum of accepted
+  // bilinear weights > 1e-4) and returns their bit mask; the other lanes are left to the caller.
+  unsigned bilinear8(int x, int y, int w, int h, Reprojection& out) const {
+    const size_t i = size_t(y) * w + x;
+    const __m256 fx = _mm256_sub_ps(_mm256_loadu_ps(out.prevX.ptr() + i), _mm256_set1_ps(0.5f));
+    const __m256 fy = _mm256_sub_ps(_mm256_loadu_ps(out.prevY.ptr() + i), _mm256_set1_ps(0.5f));
+    const __m256 flx = _mm256_floor_ps(fx), fly = _mm256_floor_ps(fy);
+    const __m256 inside = _mm256_and_ps(
+        _mm256_and_ps(_mm256_cmp_ps(flx, _mm256_setzero_ps(), _CMP_GE_OQ), _mm256_cmp_ps(flx, _mm256_set1_ps(float(w - 1)), _CMP_LT_OQ)),
+        _mm256_and_ps(_mm256_cmp_ps(fly, _mm256_setzero_ps(), _CMP_GE_OQ), _mm256_cmp_ps(fly, _mm256_set1_ps(float(h - 1)), _CMP_LT_OQ)));
+    if (_mm256_movemask_ps(inside) != 0xff) return 0;
+    const __m256 one = _mm256_set1_ps(1.0f);
+    const __m256 ax = _mm256_sub_ps(fx, flx), ay = _mm256_sub_ps(fy, fly);
+    const __m256 bx = _mm256_sub_ps(one, ax), by = _mm256_sub_ps(one, ay);
+    const __m256 bw[4] = {_mm256_mul_ps(bx, by), _mm256_mul_ps(ax, by), _mm256_mul_ps(bx, ay), _mm256_mul_ps(ax, ay)};
+    const __m256i base = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(fly), _mm256_set1_epi32(w)),
+                                          _mm256_cvttps_epi32(flx));
+    const __m256i tapOffset[4] = {_mm256_setzero_si256(), _mm256_set1_epi32(1), _mm256_set1_epi32(w), _mm256_set1_epi32(w + 1)};
+
+    // The current pixels' features.
+    __m256 tol = _mm256_setzero_ps(), cz = tol, cn[3] = {tol, tol, tol}, cid = tol, cp[3] = {tol, tol, tol};
+    __m256 background = tol;
+    if (z) {
+      cz = _mm256_loadu_ps(z + i);
+      const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+      __m256 slope;
+      if (dzdx) {
+        slope = _mm256_max_ps(_mm256_and_ps(_mm256_loadu_ps(dzdx + i), absMask), _mm256_and_ps(_mm256_loadu_ps(dzdy + i), absMask));
+      } else {
+        auto diff = [&](const float* q) { return _mm256_and_ps(_mm256_sub_ps(_mm256_loadu_ps(q), cz), absMask); };
+        const float* up = z + i - (y > 0 ? size_t(w) : 0);
+        const float* down = z + i + (y < h - 1 ? size_t(w) : 0);
+        slope = _mm256_max_ps(_mm256_min_ps(diff(z + i - 1), diff(z + i + 1)), _mm256_min_ps(diff(up), diff(down)));
+      }
+      tol = _mm256_fmadd_ps(_mm256_set1_ps(s.depthTolerance), cz, _mm256_mul_ps(_mm256_set1_ps(s.depthGradientScale), slope));
+    }
+    if (n[0]) {
+      for (int k = 0; k < 3; ++k) cn[k] = _mm256_loadu_ps(n[k] + i);
+      const __m256 len2 = _mm256_fmadd_ps(cn[2], cn[2], _mm256_fmadd_ps(cn[1], cn[1], _mm256_mul_ps(cn[0], cn[0])));
+      background = _mm256_cmp_ps(len2, _mm256_set1_ps(0.25f), _CMP_LT_OQ);
+    }
+    if (id) cid = _mm256_loadu_ps(id + i);
+    if (p[0])
+      for (int k = 0; k < 3; ++k) cp[k] = _mm256_loadu_ps(p[k] + i);
+
+    __m256 wt[4], sum = _mm256_setzero_ps();
+    for (int t = 0; t < 4; ++t) {
+      const __m256i j = _mm256_add_epi32(base, tapOffset[t]);
+      __m256 ok = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+      if (z) {
+        const __m256 dz = _mm256_sub_ps(_mm256_i32gather_ps(zPrev, j, 4), cz);
+        ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(dz, tol, _CMP_LE_OQ),
+                                             _mm256_cmp_ps(dz, _mm256_sub_ps(_mm256_setzero_ps(), tol), _CMP_GE_OQ)));
+      }
+      if (n[0]) {
+        const __m256 qx = _mm256_i32gather_ps(nPrev[0], j, 4), qy = _mm256_i32gather_ps(nPrev[1], j, 4),
+                     qz = _mm256_i32gather_ps(nPrev[2], j, 4);
+        // Background pixels (zero normal) match background pixels only.
+        const __m256 len2 = _mm256_fmadd_ps(qz, qz, _mm256_fmadd_ps(qy, qy, _mm256_mul_ps(qx, qx)));
+        const __m256 dot = _mm256_fmadd_ps(cn[2], qz, _mm256_fmadd_ps(cn[1], qy, _mm256_mul_ps(cn[0], qx)));
+        const __m256 bgOk = _mm256_cmp_ps(len2, _mm256_set1_ps(0.25f), _CMP_LT_OQ);
+        const __m256 fgOk = _mm256_cmp_ps(dot, _mm256_set1_ps(s.normalTolerance), _CMP_GE_OQ);
+        ok = _mm256_and_ps(ok, _mm256_blendv_ps(fgOk, bgOk, background));
+      }
+      if (id) ok = _mm256_and_ps(ok, _mm256_cmp_ps(_mm256_i32gather_ps(idPrev, j, 4), cid, _CMP_EQ_OQ));
+      if (p[0]) {
+        __m256 d2 = _mm256_setzero_ps();
+        for (int k = 0; k < 3; ++k) {
+          const __m256 d = _mm256_sub_ps(cp[k], _mm256_i32gather_ps(pPrev[k], j, 4));
+          d2 = _mm256_fmadd_ps(d, d, d2);
+        }
+        ok = _mm256_and_ps(ok, _mm256_cmp_ps(d2, _mm256_set1_ps(positionTolerance2), _CMP_LE_OQ));
+      }
+      wt[t] = _mm256_and_ps(ok, bw[t]);
+      sum = _mm256_add_ps(sum, wt[t]);
+    }
+    const unsigned good = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(sum, _mm256_set1_ps(1e-4f), _CMP_GT_OQ)));
+    if (!good) return 0;
+    for (auto& v : wt) v = _mm256_div_ps(v, sum);
+    // Weights to the per-pixel {w0, w1, w2, w3} layout: a 4x8 transpose.
+    const __m256 t0 = _mm256_unpacklo_ps(wt[0], wt[1]), t1 = _mm256_unpackhi_ps(wt[0], wt[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(wt[2], wt[3]), t3 = _mm256_unpackhi_ps(wt[2], wt[3]);
+    const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xee);
+    const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xee);
+    const __m256 pixel[4] = {_mm256_permute2f128_ps(u0, u1, 0x20), _mm256_permute2f128_ps(u2, u3, 0x20),
+                             _mm256_permute2f128_ps(u0, u1, 0x31), _mm256_permute2f128_ps(u2, u3, 0x31)};
+    float* weights = out.weights[i].data();
+    if (good == 0xff) {
+      for (int k = 0; k < 4; ++k) _mm256_storeu_ps(weights + 8 * k, pixel[k]);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.base.data() + i), base);
+      std::memset(out.kind.data() + i, Reprojection::Bilinear, 8);
+      return good;
+    }
+    alignas(32) float lanes[32];
+    alignas(32) int32_t baseLanes[8];
+    for (int k = 0; k < 4; ++k) _mm256_store_ps(lanes + 8 * k, pixel[k]);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(baseLanes), base);
+    for (int k = 0; k < 8; ++k)
+      if (good >> k & 1u) {
+        std::memcpy(weights + 4 * k, lanes + 4 * k, 16);
+        out.base[i + k] = baseLanes[k];
+        out.kind[i + k] = Reprojection::Bilinear;
+      }
+    return good;
+  }
+#endif
+
   // Is previous pixel (px, py) a valid history sample for the current pixel c?
   bool valid(const Pixel& c, int px, int py) const {
     if (px < 0 || py < 0 || px >= width || py >= height) return false;
@@ -163,10 +282,55 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
   const float* motionX = motion ? cur.plane(Buffer::Motion, 0).ptr() : nullptr;
   const float* motionY = motion ? cur.plane(Buffer::Motion, 1).ptr() : nullptr;
 
+  // One pixel, scalar: any footprint, the border slide and the 3x3 fallback.
+  auto classify = [&](int x, int y) {
+    const size_t i = size_t(y) * w + x;
+    const float px = out.prevX.data[i], py = out.prevY.data[i];
+    const TapTest::Pixel pixel = test.load(i, test.z ? test.depthTolerance(x, y, w, h) : 0.0f);
+    // Bilinear footprint: taps are pixel centres, so the top-left tap is floor(p - 0.5).
+    const float fx = px - 0.5f, fy = py - 0.5f;
+    out.kind[i] = Reprojection::None;
+    if (!(std::abs(fx) < 1e6f && std::abs(fy) < 1e6f)) return;
+    const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+    const float ax = fx - x0, ay = fy - y0;
+    const float bw[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
+    const int tx[4] = {x0, x0 + 1, x0, x0 + 1}, ty[4] = {y0, y0, y0 + 1, y0 + 1};
+    float sum = 0.0f;
+    std::array<float, 4> wt{0, 0, 0, 0};
+    for (int t = 0; t < 4; ++t)
+      if (bw[t] > 0.0f && test.valid(pixel, tx[t], ty[t])) { wt[t] = bw[t]; sum += bw[t]; }
+    if (sum > 1e-4f && w >= 2 && h >= 2) {
+      for (auto& v : wt) v /= sum;
+      // Taps outside the image have weight 0; slide the 2x2 window inside (moving the weights
+      // with it) so gathers can read all four taps without bounds checks.
+      int bx = x0, by = y0;
+      if (bx < 0) { bx = 0; wt = {wt[1], 0.0f, wt[3], 0.0f}; }
+      if (bx > w - 2) { bx = w - 2; wt = {0.0f, wt[0], 0.0f, wt[2]}; }
+      if (by < 0) { by = 0; wt = {wt[2], wt[3], 0.0f, 0.0f}; }
+      if (by > h - 2) { by = h - 2; wt = {0.0f, 0.0f, wt[0], wt[1]}; }
+      out.kind[i] = Reprojection::Bilinear;
+      out.base[i] = by * w + bx;
+      out.weights[i] = wt;
+      return;
+    }
+    if (!s.fallback3x3) return;
+    const int cx = int(std::floor(px)), cy = int(std::floor(py));
+    uint16_t mask = 0;
+    for (int t = 0; t < 9; ++t)
+      if (test.valid(pixel, cx + t % 3 - 1, cy + t / 3 - 1)) mask |= uint16_t(1u << t);
+    if (mask) {
+      out.kind[i] = Reprojection::Fallback3x3;
+      out.base[i] = cy * w + cx;
+      out.mask3x3[i] = mask;
+    }
+  };
+
   parallelRows(h, [&](int y) {
+    // Continuous previous position of each pixel's centre.
+    float* prevX = out.prevX.row(y);
+    float* prevY = out.prevY.row(y);
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
-      // Continuous previous position of this pixel's centre.
       float px = x + 0.5f, py = y + 0.5f;
       if (motion) {
         px += motionX[i];
@@ -183,48 +347,24 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
           px = py = -1e6f;  // behind the previous camera
         }
       }
-      out.prevX.data[i] = px;
-      out.prevY.data[i] = py;
-
-      const TapTest::Pixel pixel =
-          test.load(i, test.z ? s.depthTolerance * test.z[i] + s.depthGradientScale * test.depthSlope(x, y, w, h) : 0.0f);
-      // Bilinear footprint: taps are pixel centres, so the top-left tap is floor(p - 0.5).
-      const float fx = px - 0.5f, fy = py - 0.5f;
-      out.kind[i] = Reprojection::None;
-      if (!(std::abs(fx) < 1e6f && std::abs(fy) < 1e6f)) continue;
-      const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
-      const float ax = fx - x0, ay = fy - y0;
-      const float bw[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
-      const int tx[4] = {x0, x0 + 1, x0, x0 + 1}, ty[4] = {y0, y0, y0 + 1, y0 + 1};
-      float sum = 0.0f;
-      std::array<float, 4> wt{0, 0, 0, 0};
-      for (int t = 0; t < 4; ++t)
-        if (bw[t] > 0.0f && test.valid(pixel, tx[t], ty[t])) { wt[t] = bw[t]; sum += bw[t]; }
-      if (sum > 1e-4f && w >= 2 && h >= 2) {
-        for (auto& v : wt) v /= sum;
-        // Taps outside the image have weight 0; slide the 2x2 window inside (moving the weights
-        // with it) so gathers can read all four taps without bounds checks.
-        int bx = x0, by = y0;
-        if (bx < 0) { bx = 0; wt = {wt[1], 0.0f, wt[3], 0.0f}; }
-        if (bx > w - 2) { bx = w - 2; wt = {0.0f, wt[0], 0.0f, wt[2]}; }
-        if (by < 0) { by = 0; wt = {wt[2], wt[3], 0.0f, 0.0f}; }
-        if (by > h - 2) { by = h - 2; wt = {0.0f, 0.0f, wt[0], wt[1]}; }
-        out.kind[i] = Reprojection::Bilinear;
-        out.base[i] = by * w + bx;
-        out.weights[i] = wt;
-        continue;
-      }
-      if (!s.fallback3x3) continue;
-      const int cx = int(std::floor(px)), cy = int(std::floor(py));
-      uint16_t mask = 0;
-      for (int t = 0; t < 9; ++t)
-        if (test.valid(pixel, cx + t % 3 - 1, cy + t / 3 - 1)) mask |= uint16_t(1u << t);
-      if (mask) {
-        out.kind[i] = Reprojection::Fallback3x3;
-        out.base[i] = cy * w + cx;
-        out.mask3x3[i] = mask;
+      prevX[x] = px;
+      prevY[x] = py;
+    }
+    int x = 0;
+#ifdef __AVX2__
+    // Eight pixels at a time where every footprint is inside the frame (the common case);
+    // lanes with no valid bilinear tap go through the scalar path. The first and last pixel
+    // of a row always do (their depth slope is one-sided).
+    if (w >= 10) {
+      classify(0, y);
+      for (x = 1; x + 8 <= w - 1; x += 8) {
+        const unsigned bilinear = test.bilinear8(x, y, w, h, out);
+        for (int k = 0; k < 8; ++k)
+          if (!(bilinear >> k & 1u)) classify(x + k, y);
       }
     }
+#endif
+    for (; x < w; ++x) classify(x, y);
   });
 }
 

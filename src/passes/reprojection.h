@@ -15,10 +15,10 @@ namespace rtd {
 struct Reprojection {
   enum Kind : uint8_t { None = 0, Bilinear = 1, Fallback3x3 = 2 };
   int width = 0, height = 0;
-  std::vector<uint8_t> kind;                     ///< per pixel
-  std::vector<int32_t> base;                     ///< bilinear: index of the top-left tap (always inside); 3x3: of the centre
-  std::vector<std::array<float, 4>> weights;     ///< bilinear: renormalized weights of the 2x2 taps
-  std::vector<uint16_t> mask3x3;                 ///< 3x3: bit (dy+1)*3+(dx+1) set where the tap is valid
+  PixelVector<uint8_t> kind;                     ///< per pixel
+  PixelVector<int32_t> base;                     ///< bilinear: index of the top-left tap (always inside); 3x3: of the centre
+  PixelVector<std::array<float, 4>> weights;     ///< bilinear: renormalized weights of the 2x2 taps
+  PixelVector<uint16_t> mask3x3;                 ///< 3x3: bit (dy+1)*3+(dx+1) set where the tap is valid
   Plane prevX, prevY;                            ///< reprojected continuous position, pixel units (centre of pixel i at i + 0.5)
 
   void resize(int w, int h);

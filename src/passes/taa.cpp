@@ -1,118 +1,126 @@
 #include "passes/taa.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
-#include "core/parallel.h"
-
 namespace rtd {
 
-namespace {
-struct YCoCg {
-  float y, co, cg;
-};
-inline YCoCg toYCoCg(float r, float g, float b) {
-  return {0.25f * r + 0.5f * g + 0.25f * b, 0.5f * r - 0.5f * b, -0.25f * r + 0.5f * g - 0.25f * b};
-}
-inline void fromYCoCg(const YCoCg& c, float& r, float& g, float& b) {
-  r = c.y + c.co - c.cg;
-  g = c.y + c.cg;
-  b = c.y - c.co - c.cg;
-}
-}  // namespace
-
 void Taa::resize(int w, int h) {
-  for (Plane3* p : {&history_, &ycocg_, &rowMin_, &rowMax_, &lo_, &hi_}) rtd::resize(*p, w, h);
+  for (auto& hst : history_) rtd::resize(hst, w, h);
+  width_ = w;
+  windows_.clear();  // re-sized on first use per thread
   valid_ = false;
 }
 
 namespace {
-// out[x] = op(in[x-1], in[x], in[x+1]) with the border pixel repeated.
-template <class Op> void horizontal3(const float* in, float* out, int w, Op op) {
-  if (w == 1) { out[0] = in[0]; return; }
-  out[0] = op(in[0], in[1]);
-  for (int x = 1; x < w - 1; ++x) out[x] = op(op(in[x - 1], in[x]), in[x + 1]);
-  out[w - 1] = op(in[w - 2], in[w - 1]);
-}
+constexpr int kSlotRows = 9;  // Y Co Cg, min Y Co Cg, max Y Co Cg
+
 inline float fmin(float a, float b) { return a < b ? a : b; }
 inline float fmax(float a, float b) { return a > b ? a : b; }
+
+// YCoCg of row y and its horizontal 3-tap min/max (border pixel repeated) into `slot`.
+void buildSlot(const Plane3& color, int y, int w, float* slot) {
+  const float *r = color[0].row(y), *g = color[1].row(y), *b = color[2].row(y);
+  float* c[3] = {slot, slot + w, slot + 2 * w};
+  for (int x = 0; x < w; ++x) {
+    c[0][x] = 0.25f * r[x] + 0.5f * g[x] + 0.25f * b[x];
+    c[1][x] = 0.5f * r[x] - 0.5f * b[x];
+    c[2][x] = -0.25f * r[x] + 0.5f * g[x] - 0.25f * b[x];
+  }
+  for (int k = 0; k < 3; ++k) {
+    const float* in = c[k];
+    float *lo = slot + (3 + k) * w, *hi = slot + (6 + k) * w;
+    if (w == 1) { lo[0] = hi[0] = in[0]; continue; }
+    lo[0] = fmin(in[0], in[1]);
+    hi[0] = fmax(in[0], in[1]);
+    for (int x = 1; x < w - 1; ++x) {
+      lo[x] = fmin(fmin(in[x - 1], in[x]), in[x + 1]);
+      hi[x] = fmax(fmax(in[x - 1], in[x]), in[x + 1]);
+    }
+    lo[w - 1] = fmin(in[w - 2], in[w - 1]);
+    hi[w - 1] = fmax(in[w - 2], in[w - 1]);
+  }
+}
 }  // namespace
 
 void Taa::run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& out) {
   const int w = color[0].width, h = color[0].height;
-  if (history_[0].width != w || history_[0].height != h || lo_[0].width != w) resize(w, h);
+  if (width_ != w || history_[0][0].height != h) resize(w, h);
   for (auto& p : out)
     if (p.width != w || p.height != h) p.resize(w, h);
+  const int prev = cur_;
+  cur_ ^= 1;
   if (!valid_) {
-    for (int c = 0; c < 3; ++c) { out[c].data = color[c].data; history_[c].data = color[c].data; }
+    for (int c = 0; c < 3; ++c) { out[c].data = color[c].data; history_[cur_][c].data = color[c].data; }
     valid_ = true;
     return;
   }
-  // The min/max box of the 3x3 neighbourhood in YCoCg, separably: rows, then columns. Every
-  // loop here runs over whole rows and vectorizes.
-  parallelRows(h, [&](int y) {
-    const float *r = color[0].row(y), *g = color[1].row(y), *b = color[2].row(y);
-    float *Y = ycocg_[0].row(y), *Co = ycocg_[1].row(y), *Cg = ycocg_[2].row(y);
-    for (int x = 0; x < w; ++x) {
-      Y[x] = 0.25f * r[x] + 0.5f * g[x] + 0.25f * b[x];
-      Co[x] = 0.5f * r[x] - 0.5f * b[x];
-      Cg[x] = -0.25f * r[x] + 0.5f * g[x] - 0.25f * b[x];
-    }
-    for (int c = 0; c < 3; ++c) {
-      horizontal3(ycocg_[c].row(y), rowMin_[c].row(y), w, fmin);
-      horizontal3(ycocg_[c].row(y), rowMax_[c].row(y), w, fmax);
-    }
-  });
-  parallelRows(h, [&](int y) {
-    const int ya = std::max(y - 1, 0), yb = std::min(y + 1, h - 1);
-    for (int c = 0; c < 3; ++c) {
-      const float *a0 = rowMin_[c].row(ya), *a1 = rowMin_[c].row(y), *a2 = rowMin_[c].row(yb);
-      const float *b0 = rowMax_[c].row(ya), *b1 = rowMax_[c].row(y), *b2 = rowMax_[c].row(yb);
-      float *lo = lo_[c].row(y), *hi = hi_[c].row(y);
+  const Plane3& hist = history_[prev];
+  Plane3& next = history_[cur_];
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& range) {
+    Window& win = windows_.local();
+    if (win.rows.size() != size_t(3 * kSlotRows + 3) * w) win.rows.assign(size_t(3 * kSlotRows + 3) * w, 0.0f);
+    auto slot = [&](int y) {
+      float* s = win.rows.data() + size_t(y % 3) * kSlotRows * w;
+      if (win.slotRow[y % 3] != y) { buildSlot(color, y, w, s); win.slotRow[y % 3] = y; }
+      return s;
+    };
+    float *hr = win.rows.data() + size_t(3 * kSlotRows) * w, *hg = hr + w, *hb = hg + w;
+    win.slotRow[0] = win.slotRow[1] = win.slotRow[2] = -1;  // colour changes every frame
+    for (int y = range.begin(); y != range.end(); ++y) {
+      const float* a = slot(std::max(y - 1, 0));
+      const float* c = slot(y);
+      const float* b = slot(std::min(y + 1, h - 1));
+      // Bilinear history fetch with clamp-to-edge (gathers: the only scalar loop). A pixel
+      // whose reprojected centre lies a pixel or more outside the frame has no history: its
+      // "history" is the current colour, which the blend then returns unchanged.
+      const float *prevX = rp.prevX.row(y), *prevY = rp.prevY.row(y);
+      const float *r = color[0].row(y), *g = color[1].row(y), *bl = color[2].row(y);
       for (int x = 0; x < w; ++x) {
-        lo[x] = fmin(fmin(a0[x], a1[x]), a2[x]);
-        hi[x] = fmax(fmax(b0[x], b1[x]), b2[x]);
-      }
-    }
-  });
-  parallelRows(h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      const YCoCg cur{ycocg_[0].data[i], ycocg_[1].data[i], ycocg_[2].data[i]};
-      const float px = rp.prevX.data[i] - 0.5f, py = rp.prevY.data[i] - 0.5f;
-      float r = color[0].data[i], g = color[1].data[i], b = color[2].data[i];
-      if (px > -1.0f && py > -1.0f && px < float(w) && py < float(h)) {
-        // Bilinear history fetch with clamp-to-edge.
+        const float px = prevX[x] - 0.5f, py = prevY[x] - 0.5f;
+        if (!(px > -1.0f && py > -1.0f && px < float(w) && py < float(h))) {
+          hr[x] = r[x]; hg[x] = g[x]; hb[x] = bl[x];
+          continue;
+        }
         const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
         const float ax = px - x0, ay = py - y0;
         const float wt[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
-        float hist[3] = {0, 0, 0};
+        float v[3] = {0, 0, 0};
         if (x0 >= 0 && y0 >= 0 && x0 < w - 1 && y0 < h - 1) {
-          // Interior: the four taps without clamping.
           const size_t j = size_t(y0) * w + x0;
-          for (int c = 0; c < 3; ++c) {
-            const float* hp = history_[c].ptr() + j;
-            hist[c] = wt[0] * hp[0] + wt[1] * hp[1] + wt[2] * hp[w] + wt[3] * hp[w + 1];
+          for (int k = 0; k < 3; ++k) {
+            const float* hp = hist[k].ptr() + j;
+            v[k] = wt[0] * hp[0] + wt[1] * hp[1] + wt[2] * hp[w] + wt[3] * hp[w + 1];
           }
         } else {
           for (int t = 0; t < 4; ++t) {
             const int tx = std::clamp(x0 + (t & 1), 0, w - 1), ty = std::clamp(y0 + (t >> 1), 0, h - 1);
-            for (int c = 0; c < 3; ++c) hist[c] += wt[t] * history_[c](tx, ty);
+            for (int k = 0; k < 3; ++k) v[k] += wt[t] * hist[k](tx, ty);
           }
         }
-        YCoCg hy = toYCoCg(hist[0], hist[1], hist[2]);
-        hy = {std::clamp(hy.y, lo_[0].data[i], hi_[0].data[i]), std::clamp(hy.co, lo_[1].data[i], hi_[1].data[i]),
-              std::clamp(hy.cg, lo_[2].data[i], hi_[2].data[i])};
-        const YCoCg blended{alpha * cur.y + (1 - alpha) * hy.y, alpha * cur.co + (1 - alpha) * hy.co,
-                            alpha * cur.cg + (1 - alpha) * hy.cg};
-        fromYCoCg(blended, r, g, b);
+        hr[x] = v[0]; hg[x] = v[1]; hb[x] = v[2];
       }
-      out[0].data[i] = std::max(r, 0.0f);
-      out[1].data[i] = std::max(g, 0.0f);
-      out[2].data[i] = std::max(b, 0.0f);
+      // Clamp to the 3x3 YCoCg box and blend (vectorized over the row).
+      float *o[3] = {out[0].row(y), out[1].row(y), out[2].row(y)};
+      float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
+      for (int x = 0; x < w; ++x) {
+        float hy = 0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x];
+        float hco = 0.5f * hr[x] - 0.5f * hb[x];
+        float hcg = -0.25f * hr[x] + 0.5f * hg[x] - 0.25f * hb[x];
+        hy = fmin(fmax(hy, fmin(fmin(a[3 * w + x], c[3 * w + x]), b[3 * w + x])), fmax(fmax(a[6 * w + x], c[6 * w + x]), b[6 * w + x]));
+        hco = fmin(fmax(hco, fmin(fmin(a[4 * w + x], c[4 * w + x]), b[4 * w + x])), fmax(fmax(a[7 * w + x], c[7 * w + x]), b[7 * w + x]));
+        hcg = fmin(fmax(hcg, fmin(fmin(a[5 * w + x], c[5 * w + x]), b[5 * w + x])), fmax(fmax(a[8 * w + x], c[8 * w + x]), b[8 * w + x]));
+        const float by = alpha * c[x] + (1 - alpha) * hy;
+        const float bco = alpha * c[w + x] + (1 - alpha) * hco;
+        const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hcg;
+        const float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
+        for (int k = 0; k < 3; ++k) { o[k][x] = rgb[k]; n[k][x] = rgb[k]; }
+      }
     }
   });
-  for (int c = 0; c < 3; ++c) history_[c].data = out[c].data;
 }
 
 }  // namespace rtd

@@ -2,6 +2,10 @@
 // output, reprojected bilinearly, is clamped to the min/max box of the current 3x3
 // neighbourhood in YCoCg and blended with the current frame.
 #pragma once
+#include <tbb/enumerable_thread_specific.h>
+
+#include <vector>
+
 #include "core/plane.h"
 #include "passes/reprojection.h"
 #include "rtd/methods/taa.h"
@@ -17,8 +21,16 @@ class Taa {
   void run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& out);
 
  private:
-  Plane3 history_;
-  Plane3 ycocg_, rowMin_, rowMax_, lo_, hi_;  // the 3x3 box, separably, in YCoCg
+  /// Per-thread rows: the 3x3 box is built from a rolling window of three rows' YCoCg and
+  /// their horizontal min/max, so it never goes through memory (the pass is bandwidth-bound).
+  struct Window {
+    std::vector<float> rows;  // 3 slots x {Y, Co, Cg, min Y, min Co, min Cg, max Y, max Co, max Cg} + 3 history rows
+    int slotRow[3] = {-1, -1, -1};
+  };
+  Plane3 history_[2];
+  int cur_ = 0;
+  int width_ = 0;
+  tbb::enumerable_thread_specific<Window> windows_;
   bool valid_ = false;
 };
 

@@ -164,3 +164,87 @@ TEST(Reprojection, HistoryLengthFollowsReprojectionAndResets) {
 
 }  // namespace
 }  // namespace rtd
+
+namespace rtd {
+namespace {
+
+// The reprojection's fast paths (eight pixels at a time, gathers) against a direct reading of
+// the tap tests, on random features and a random motion field: every pixel whose bilinear
+// footprint lies inside the previous frame and has a valid tap must get exactly the
+// renormalized bilinear weights of its valid taps.
+TEST(Reprojection, BilinearTapsMatchADirectEvaluationOfTheTests) {
+  const int w = 67, h = 41;
+  uint32_t state = 12345;
+  auto rnd = [&] { state = state * 1664525u + 1013904223u; return float(state >> 8) / 16777216.0f; };
+  auto frame = [&](bool withMotion) {
+    FrameData f;
+    f.width = w;
+    f.height = h;
+    auto planes = [&](Buffer b, int n) -> std::vector<Plane>& {
+      f.buffers[int(b)].assign(n, Plane(w, h));
+      return f.buffers[int(b)];
+    };
+    auto& z = planes(Buffer::Depth, 1);
+    auto& nrm = planes(Buffer::Normal, 3);
+    auto& id = planes(Buffer::ObjectId, 1);
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+      z[0].data[i] = 2.0f + 0.3f * rnd();                   // depth test passes and fails
+      const float a = 0.6f * rnd();                          // normals up to ~34 degrees apart
+      nrm[0].data[i] = std::sin(a);
+      nrm[1].data[i] = 0.0f;
+      nrm[2].data[i] = rnd() < 0.05f ? 0.0f : std::cos(a);  // some background-like normals
+      if (nrm[2].data[i] == 0.0f) nrm[0].data[i] = 0.0f;
+      id[0].data[i] = rnd() < 0.9f ? 1.0f : 2.0f;
+    }
+    if (withMotion) {
+      auto& m = planes(Buffer::Motion, 2);
+      for (size_t i = 0; i < size_t(w) * h; ++i) { m[0].data[i] = 6.0f * rnd() - 3.0f; m[1].data[i] = 6.0f * rnd() - 3.0f; }
+    }
+    return f;
+  };
+  const FrameData prev = frame(false), cur = frame(true);
+  const ReprojectionSettings s;
+  Reprojection rp;
+  reproject(cur, &prev, s, rp);
+
+  const float* z = cur.plane(Buffer::Depth).ptr();
+  int checked = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const float fx = x + cur.plane(Buffer::Motion, 0).data[i], fy = y + cur.plane(Buffer::Motion, 1).data[i];
+      const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+      if (x0 < 0 || y0 < 0 || x0 >= w - 1 || y0 >= h - 1) continue;
+      // Depth slope: per axis the smaller one-sided difference (clamped at the border).
+      auto at = [&](int xx, int yy) { return z[size_t(std::clamp(yy, 0, h - 1)) * w + std::clamp(xx, 0, w - 1)]; };
+      const float c = z[i];
+      const float gx = std::min(std::abs(at(x - 1, y) - c), std::abs(at(x + 1, y) - c));
+      const float gy = std::min(std::abs(at(x, y - 1) - c), std::abs(at(x, y + 1) - c));
+      const double tol = double(s.depthTolerance) * c + double(s.depthGradientScale) * std::max(gx, gy);
+      const float ax = fx - x0, ay = fy - y0;
+      const double bw[4] = {(1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, double(ax) * ay};
+      double wt[4], sum = 0;
+      const float* n[3] = {cur.plane(Buffer::Normal, 0).ptr(), cur.plane(Buffer::Normal, 1).ptr(), cur.plane(Buffer::Normal, 2).ptr()};
+      const float* np[3] = {prev.plane(Buffer::Normal, 0).ptr(), prev.plane(Buffer::Normal, 1).ptr(), prev.plane(Buffer::Normal, 2).ptr()};
+      const bool background = n[2][i] == 0.0f;
+      for (int t = 0; t < 4; ++t) {
+        const size_t j = size_t(y0 + t / 2) * w + x0 + t % 2;
+        const bool prevBackground = np[2][j] == 0.0f;
+        const double dot = double(n[0][i]) * np[0][j] + double(n[2][i]) * np[2][j];
+        const bool ok = std::abs(double(prev.plane(Buffer::Depth).data[j]) - c) <= tol &&
+                        (background ? prevBackground : dot >= s.normalTolerance) &&
+                        prev.plane(Buffer::ObjectId).data[j] == cur.plane(Buffer::ObjectId).data[i];
+        wt[t] = ok ? bw[t] : 0.0;
+        sum += wt[t];
+      }
+      if (sum <= 1e-4) continue;
+      ASSERT_EQ(rp.kind[i], Reprojection::Bilinear) << x << "," << y;
+      ASSERT_EQ(rp.base[i], y0 * w + x0) << x << "," << y;
+      for (int t = 0; t < 4; ++t) EXPECT_NEAR(rp.weights[i][t], wt[t] / sum, 2e-5) << x << "," << y << " tap " << t;
+      ++checked;
+    }
+  EXPECT_GT(checked, w * h / 2);
+}
+
+}  // namespace
+}  // namespace rtd
