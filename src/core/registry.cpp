@@ -17,6 +17,7 @@ std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena&);
 #define RTD_VULKAN_FACTORY(f) &f
 std::unique_ptr<Denoiser> createAccumulateVulkan(vk::Context&);
 std::unique_ptr<Denoiser> createSvgfVulkan(vk::Context&);
+std::unique_ptr<Denoiser> createBmfrVulkan(vk::Context&);
 #else
 #define RTD_VULKAN_FACTORY(f) nullptr
 #endif
@@ -30,7 +31,7 @@ const std::vector<MethodEntry>& methodRegistry() {
       {"svgf", "spatiotemporal variance-guided filtering (Schied 2017; Dundr, Gersthofer, Voorhuis variants)",
        &defaultsOf<SvgfSettings>, &createSvgfCpu, RTD_VULKAN_FACTORY(createSvgfVulkan)},
       {"bmfr", "blockwise multi-order feature regression (Koskela et al. 2019)", &defaultsOf<BmfrSettings>,
-       &createBmfrCpu, nullptr},
+       &createBmfrCpu, RTD_VULKAN_FACTORY(createBmfrVulkan)},
   };
   return entries;
 }

@@ -168,22 +168,36 @@ VkPhysicalDevice select(const std::vector<VkPhysicalDevice>& devices, const std:
 }
 
 void reflect(const EmbeddedShader& s, Pipeline& p) {
-  // Scan the SPIR-V for Binding decorations and the LocalSize execution mode, so the C++ side
-  // needs no hand-kept table of bindings per shader.
-  uint32_t maxBinding = 0;
-  bool any = false;
+  // Scan the SPIR-V for Binding decorations, the variables they decorate and their types, and
+  // the LocalSize execution mode, so the C++ side needs no hand-kept table of bindings per
+  // shader. A binding is a storage buffer unless its variable is an image: OpTypeImage with
+  // Sampled = 1 (texture2D, read with texelFetch) or 2 (image2D, a storage image).
+  std::map<uint32_t, uint32_t> bindingOf;        // variable id -> binding
+  std::map<uint32_t, uint32_t> pointee;          // pointer type id -> pointed-to type id
+  std::map<uint32_t, VkDescriptorType> imageType;  // image type id -> descriptor type
+  std::map<uint32_t, uint32_t> variableType;     // variable id -> pointer type id
   for (size_t i = 5; i < s.words;) {
     const uint32_t op = s.code[i] & 0xffffu, len = s.code[i] >> 16;
     if (len == 0) break;
-    if (op == 71 /*OpDecorate*/ && len >= 4 && s.code[i + 2] == 33 /*Binding*/) {
-      maxBinding = std::max(maxBinding, s.code[i + 3]);
-      any = true;
-    }
+    if (op == 71 /*OpDecorate*/ && len >= 4 && s.code[i + 2] == 33 /*Binding*/) bindingOf[s.code[i + 1]] = s.code[i + 3];
+    if (op == 32 /*OpTypePointer*/ && len >= 4) pointee[s.code[i + 1]] = s.code[i + 3];
+    if (op == 25 /*OpTypeImage*/ && len >= 9)
+      imageType[s.code[i + 1]] = s.code[i + 7] == 2 ? VK_DESCRIPTOR_TYPE_STORAGE_IMAGE : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+    if (op == 59 /*OpVariable*/ && len >= 4) variableType[s.code[i + 2]] = s.code[i + 1];
     if (op == 16 /*OpExecutionMode*/ && len >= 6 && s.code[i + 2] == 17 /*LocalSize*/)
       for (int k = 0; k < 3; ++k) p.localSize[k] = s.code[i + 3 + k];
     i += len;
   }
-  p.bindings = any ? maxBinding + 1 : 0;
+  p.bindings = 0;
+  for (const auto& [variable, binding] : bindingOf) p.bindings = std::max(p.bindings, binding + 1);
+  p.types.assign(p.bindings, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  for (const auto& [variable, binding] : bindingOf) {
+    auto v = variableType.find(variable);
+    if (v == variableType.end()) continue;
+    auto t = pointee.find(v->second);
+    if (t == pointee.end()) continue;
+    if (auto im = imageType.find(t->second); im != imageType.end()) p.types[binding] = im->second;
+  }
 }
 
 }  // namespace
@@ -365,7 +379,7 @@ const Pipeline& Context::pipeline(const std::string& name) {
 
   std::vector<VkDescriptorSetLayoutBinding> b(p.bindings);
   for (uint32_t i = 0; i < p.bindings; ++i)
-    b[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    b[i] = {i, p.types[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   li.bindingCount = p.bindings;
   li.pBindings = b.data();
@@ -448,11 +462,13 @@ DescriptorCache::~DescriptorCache() {
 }
 
 void DescriptorCache::addPool() {
-  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4096};
+  const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4096},
+                                        {VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, 256},
+                                        {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 64}};
   VkDescriptorPoolCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   info.maxSets = 512;
-  info.poolSizeCount = 1;
-  info.pPoolSizes = &size;
+  info.poolSizeCount = 3;
+  info.pPoolSizes = sizes;
   VkDescriptorPool pool;
   check(vkCreateDescriptorPool(ctx_.device(), &info, nullptr, &pool), "vkCreateDescriptorPool");
   pools_.push_back(pool);
@@ -470,7 +486,7 @@ VkDescriptorSet DescriptorCache::get(const Pipeline& p, const std::vector<Bindin
                 std::to_string(bindings.size()));
   auto key = std::make_pair(p.setLayout, bindings);
   if (auto it = sets_.find(key); it != sets_.end()) {
-    if (rewrite) write(it->second, bindings);
+    if (rewrite) write(it->second, p, bindings);
     return it->second;
   }
   if (pools_.empty()) addPool();
@@ -486,22 +502,29 @@ VkDescriptorSet DescriptorCache::get(const Pipeline& p, const std::vector<Bindin
     r = vkAllocateDescriptorSets(ctx_.device(), &ai, &set);
   }
   check(r, "vkAllocateDescriptorSets");
-  write(set, bindings);
+  write(set, p, bindings);
   sets_.emplace(std::move(key), set);
   return set;
 }
 
-void DescriptorCache::write(VkDescriptorSet set, const std::vector<Binding>& bindings) {
+void DescriptorCache::write(VkDescriptorSet set, const Pipeline& p, const std::vector<Binding>& bindings) {
   std::vector<VkDescriptorBufferInfo> infos(bindings.size());
+  std::vector<VkDescriptorImageInfo> images(bindings.size());
   std::vector<VkWriteDescriptorSet> writes(bindings.size());
   for (size_t i = 0; i < bindings.size(); ++i) {
+    const VkDescriptorType type = p.types[i];
+    const bool image = type != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    if (image != (bindings[i].view != VK_NULL_HANDLE))
+      throw Error("Vulkan: internal error: binding " + std::to_string(i) + (image ? " needs an image view" : " needs a buffer"));
     infos[i] = {bindings[i].buffer, bindings[i].offset, bindings[i].range};
+    images[i] = {VK_NULL_HANDLE, bindings[i].view, bindings[i].layout};
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     writes[i].dstSet = set;
     writes[i].dstBinding = uint32_t(i);
     writes[i].descriptorCount = 1;
-    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[i].pBufferInfo = &infos[i];
+    writes[i].descriptorType = type;
+    if (image) writes[i].pImageInfo = &images[i];
+    else writes[i].pBufferInfo = &infos[i];
   }
   vkUpdateDescriptorSets(ctx_.device(), uint32_t(writes.size()), writes.data(), 0, nullptr);
 }
@@ -524,7 +547,8 @@ void Recorder::dispatchRaw(const std::string& name, const std::vector<Binding>& 
   const Pipeline& p = ctx_.pipeline(name);
   bool rewrite = false;
   for (const Binding& b : bindings)
-    rewrite |= std::find(external_.begin(), external_.end(), b.buffer) != external_.end();
+    rewrite |= b.view ? std::find(externalViews_.begin(), externalViews_.end(), b.view) != externalViews_.end()
+                      : std::find(external_.begin(), external_.end(), b.buffer) != external_.end();
   VkDescriptorSet set = cache_.get(p, bindings, rewrite);
   if (pendingBarrier_) barrier();
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);

@@ -68,27 +68,38 @@ struct Planes {
   size_t planeSize() const { return size_t(width) * height; }
 };
 
-/// A compute pipeline for one embedded shader: descriptor set layout with one storage buffer
-/// per binding (0..bindings-1) and a 128-byte push-constant block.
+/// A compute pipeline for one embedded shader: descriptor set layout with one descriptor per
+/// binding (0..bindings-1; storage buffers, or sampled / storage images where the shader
+/// declares a texture or image) and a 128-byte push-constant block.
 struct Pipeline {
   VkShaderModule module = VK_NULL_HANDLE;
   VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkPipeline pipeline = VK_NULL_HANDLE;
   uint32_t bindings = 0;
+  std::vector<VkDescriptorType> types;  ///< per binding, reflected from the SPIR-V
   uint32_t localSize[3] = {1, 1, 1};
 };
 
-/// A storage-buffer binding: a buffer and the byte range of it the shader sees.
+/// A binding: a storage buffer and the byte range of it the shader sees, or an image view in
+/// a layout (for the shaders' texture2D / image2D bindings: the application's VkImages).
 struct Binding {
   VkBuffer buffer = VK_NULL_HANDLE;
   VkDeviceSize offset = 0;
   VkDeviceSize range = VK_WHOLE_SIZE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
   Binding() = default;
   Binding(VkBuffer b, VkDeviceSize o = 0, VkDeviceSize r = VK_WHOLE_SIZE) : buffer(b), offset(o), range(r) {}
   Binding(const DeviceBuffer& b) : buffer(b.handle()) {}
   Binding(const Planes& p) : buffer(p.handle()) {}
-  auto key() const { return std::tie(buffer, offset, range); }
+  static Binding image(VkImageView v, VkImageLayout l) {
+    Binding b;
+    b.view = v;
+    b.layout = l;
+    return b;
+  }
+  auto key() const { return std::tie(buffer, offset, range, view, layout); }
   bool operator<(const Binding& o) const { return key() < o.key(); }
 };
 
@@ -179,7 +190,7 @@ class DescriptorCache {
 
  private:
   void addPool();
-  void write(VkDescriptorSet set, const std::vector<Binding>& bindings);
+  void write(VkDescriptorSet set, const Pipeline& p, const std::vector<Binding>& bindings);
   Context& ctx_;
   std::vector<VkDescriptorPool> pools_;
   std::map<std::pair<VkDescriptorSetLayout, std::vector<Binding>>, VkDescriptorSet> sets_;
@@ -210,6 +221,7 @@ class Recorder {
   /// Marks a buffer as the application's: descriptor sets that bind it are rewritten at every
   /// dispatch rather than reused from the cache (its handle value may be recycled).
   void external(VkBuffer b) { external_.push_back(b); }
+  void external(VkImageView v) { externalViews_.push_back(v); }
   /// Starts a named pass (ends the previous one): per-pass GPU times come from these marks.
   void pass(const std::string& name);
   /// Ends the last pass.
@@ -224,6 +236,7 @@ class Recorder {
   void mark();
   Context& ctx_;
   std::vector<VkBuffer> external_;
+  std::vector<VkImageView> externalViews_;
   DescriptorCache& cache_;
   VkCommandBuffer cmd_;
   VkQueryPool queries_;

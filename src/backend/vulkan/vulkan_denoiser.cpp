@@ -17,6 +17,34 @@ std::string describe(Buffer b) { return "buffer '" + std::string(bufferName(b)) 
 
 std::string sizeText(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
+// Input image formats (rtd/vulkan.h): channels and the import shader for their texel type.
+// Sampling these formats is a mandatory Vulkan feature, so no format query is needed.
+struct InputImageFormat {
+  VkFormat format;
+  int channels;
+  const char* shader;
+};
+constexpr InputImageFormat kInputImageFormats[] = {
+    {VK_FORMAT_R32G32B32A32_SFLOAT, 4, "import_image_float"},
+    {VK_FORMAT_R16G16B16A16_SFLOAT, 4, "import_image_float"},
+    {VK_FORMAT_R32G32_SFLOAT, 2, "import_image_float"},
+    {VK_FORMAT_R16G16_SFLOAT, 2, "import_image_float"},
+    {VK_FORMAT_R32_SFLOAT, 1, "import_image_float"},
+    {VK_FORMAT_R16_SFLOAT, 1, "import_image_float"},
+    {VK_FORMAT_R8G8B8A8_UNORM, 4, "import_image_float"},
+    {VK_FORMAT_R16G16B16A16_UNORM, 4, "import_image_float"},
+    {VK_FORMAT_A2B10G10R10_UNORM_PACK32, 4, "import_image_float"},
+    {VK_FORMAT_B10G11R11_UFLOAT_PACK32, 3, "import_image_float"},
+    {VK_FORMAT_R32_SINT, 1, "import_image_int"},
+    {VK_FORMAT_R32_UINT, 1, "import_image_uint"},
+};
+
+const InputImageFormat* inputImageFormat(VkFormat f) {
+  for (const auto& e : kInputImageFormats)
+    if (e.format == f) return &e;
+  return nullptr;
+}
+
 }  // namespace
 
 VulkanDenoiserBase::VulkanDenoiserBase(Context& ctx) : keepAlive_(ctx.weak_from_this().lock()), ctx_(ctx), descriptors_(ctx) {
@@ -96,8 +124,12 @@ void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& 
   if (queries_) vkCmdResetQueryPool(cmd, queries_, 0, kMaxQueries);
 
   Recorder rec(ctx_, descriptors_, cmd, queries_, kMaxQueries);
-  for (const auto& im : imports) rec.external(im.source.buffer);
-  rec.external(out.target.buffer);
+  for (const auto& im : imports) {
+    if (im.source.view) rec.external(im.source.view);
+    else rec.external(im.source.buffer);
+  }
+  if (out.target.view) rec.external(out.target.view);
+  else rec.external(out.target.buffer);
   rec.fill(counter_, 0);
   float matrices[32];
   std::memcpy(matrices, camera.worldToCamera.data(), 16 * sizeof(float));
@@ -107,6 +139,13 @@ void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& 
 
   rec.pass("import");
   for (const auto& im : imports) {
+    if (im.imageShader) {
+      struct PC {
+        uint32_t width, height, channels, radiance;
+      } pc{uint32_t(width_), uint32_t(height_), uint32_t(bufferChannelCount(im.which)), isRadianceBuffer(im.which)};
+      rec.dispatch(im.imageShader, {im.source, f.planes[int(im.which)], counter_}, pc, width_, height_);
+      continue;
+    }
     struct PC {
       uint32_t width, height, srcOffset, pixelStride, rowStride, channels, isInt, radiance;
     } pc{uint32_t(width_), uint32_t(height_), im.offsetWords, im.pixelStrideWords, im.rowStrideWords,
@@ -128,11 +167,20 @@ void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& 
   const Planes& result = process(rec, f, hasPrevious_ ? &frames_[cur_ ^ 1] : nullptr);
 
   rec.pass("export");
-  struct PC {
-    uint32_t width, height, dstOffset, pixelStride, rowStride, channels, addEmission;
-  } pc{uint32_t(width_), uint32_t(height_), out.offsetWords, out.pixelStrideWords, out.rowStrideWords, out.channels,
-       emission};
-  rec.dispatch("export", {result, out.target, emission ? f.planes[int(Buffer::Emission)] : result}, pc, width_, height_);
+  if (out.imageShader) {
+    struct PC {
+      uint32_t width, height, addEmission;
+    } pc{uint32_t(width_), uint32_t(height_), emission};
+    rec.dispatch(out.imageShader, {result, out.target, emission ? f.planes[int(Buffer::Emission)] : result}, pc, width_,
+                 height_);
+  } else {
+    struct PC {
+      uint32_t width, height, dstOffset, pixelStride, rowStride, channels, addEmission;
+    } pc{uint32_t(width_), uint32_t(height_), out.offsetWords, out.pixelStrideWords, out.rowStrideWords, out.channels,
+         emission};
+    rec.dispatch("export", {result, out.target, emission ? f.planes[int(Buffer::Emission)] : result}, pc, width_,
+                 height_);
+  }
   rec.endPasses();
 
   // Our writes are visible to whatever comes next: the host read-back or the application.
@@ -267,45 +315,83 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
 }
 
 void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanBufferView& output, VkCommandBuffer cmd) {
+  if (output.empty() || (output.format != Format::Float3 && output.format != Format::Float4))
+    throw Error("output VkBuffer view must be set and Float3 or Float4");
+  if (in.width <= 0 || in.height <= 0) throw Error("VulkanFrameInputs: width and height must be positive");
+  Export ex{};
+  ex.channels = uint32_t(channelCount(output.format));
+  bindBufferView(output, "output", ex.channels, in.width, in.height, ex.target, ex.offsetWords, ex.pixelStrideWords,
+                 ex.rowStrideWords);
+  denoiseGpu(in, ex, cmd);
+}
+
+void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanImageView& output, VkCommandBuffer cmd) {
+  Export ex{};
+  if (output.empty()) throw Error("output VkImageView must be set");
+  if (output.format == VK_FORMAT_R32G32B32A32_SFLOAT) ex.imageShader = "export_image_rgba32f";
+  else if (output.format == VK_FORMAT_R16G16B16A16_SFLOAT) ex.imageShader = "export_image_rgba16f";
+  else
+    throw Error("output image: format " + std::to_string(int(output.format)) +
+                " is not supported (R32G32B32A32_SFLOAT or R16G16B16A16_SFLOAT, as a storage image)");
+  if (output.layout != VK_IMAGE_LAYOUT_GENERAL) throw Error("output image: layout must be VK_IMAGE_LAYOUT_GENERAL (a storage image)");
+  ex.target = Binding::image(output.view, output.layout);
+  ex.channels = 4;
+  denoiseGpu(in, ex, cmd);
+}
+
+void VulkanDenoiserBase::bindBufferView(const VulkanBufferView& v, const std::string& what, uint32_t channels, int w,
+                                        int h, Binding& binding, uint32_t& offsetWords, uint32_t& pixelWords,
+                                        uint32_t& rowWords) const {
+  // A view as a binding: the offset rounded down to the alignment the device needs, the rest
+  // passed to the shader in words; the range covers exactly the pixels read or written.
+  const VkDeviceSize align = std::max<VkDeviceSize>(ctx_.limits().minStorageBufferOffsetAlignment, 4);
+  const uint32_t pixel = v.pixelStride ? v.pixelStride : uint32_t(channelCount(v.format)) * 4;
+  const uint32_t row = v.rowStride ? v.rowStride : pixel * uint32_t(w);
+  if (v.offset % 4 || pixel % 4 || row % 4) throw Error(what + ": offset and strides must be multiples of 4 bytes");
+  const VkDeviceSize base = v.offset / align * align;
+  binding = Binding(v.buffer, base, VkDeviceSize(v.offset - base) + VkDeviceSize(h - 1) * row +
+                                        VkDeviceSize(w - 1) * pixel + channels * 4);
+  offsetWords = uint32_t((v.offset - base) / 4);
+  pixelWords = pixel / 4;
+  rowWords = row / 4;
+}
+
+void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& ex, VkCommandBuffer cmd) {
   const int w = in.width, h = in.height;
   if (w <= 0 || h <= 0) throw Error("VulkanFrameInputs: width and height must be positive");
   if (!in.has(Buffer::Color)) throw Error("missing required " + describe(Buffer::Color));
   for (Buffer b : requiredBuffers())
     if (!in.has(b)) throw Error("missing required " + describe(b));
-  if (output.empty() || (output.format != Format::Float3 && output.format != Format::Float4))
-    throw Error("output VkBuffer view must be set and Float3 or Float4");
-
-  const VkDeviceSize align = std::max<VkDeviceSize>(ctx_.limits().minStorageBufferOffsetAlignment, 4);
-  // A view as a binding: the offset rounded down to the alignment the device needs, the rest
-  // passed to the shader in words; the range covers exactly the pixels read or written.
-  auto bind = [&](const VulkanBufferView& v, const std::string& what, uint32_t channels, Binding& binding,
-                  uint32_t& offsetWords, uint32_t& pixelWords, uint32_t& rowWords) {
-    const uint32_t pixel = v.pixelStride ? v.pixelStride : uint32_t(channelCount(v.format)) * 4;
-    const uint32_t row = v.rowStride ? v.rowStride : pixel * uint32_t(w);
-    if (v.offset % 4 || pixel % 4 || row % 4) throw Error(what + ": offset and strides must be multiples of 4 bytes");
-    const VkDeviceSize base = v.offset / align * align;
-    binding = Binding(v.buffer, base, VkDeviceSize(v.offset - base) + VkDeviceSize(h - 1) * row +
-                                          VkDeviceSize(w - 1) * pixel + channels * 4);
-    offsetWords = uint32_t((v.offset - base) / 4);
-    pixelWords = pixel / 4;
-    rowWords = row / 4;
-  };
 
   std::vector<Import> imports;
   for (Buffer b : usedBuffers()) {
+    if (!in.has(b)) continue;
+    const VulkanImageView& image = in.image(b);
+    if (!image.empty()) {
+      const InputImageFormat* f = inputImageFormat(image.format);
+      if (!f)
+        throw Error(describe(b) + ": image format " + std::to_string(int(image.format)) +
+                    " is not supported (rtd/vulkan.h lists the sampleable formats rtdenoise reads)");
+      if (f->channels < bufferChannelCount(b))
+        throw Error(describe(b) + " needs " + std::to_string(bufferChannelCount(b)) + " channels, the image format has " +
+                    std::to_string(f->channels));
+      if (image.layout != VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL && image.layout != VK_IMAGE_LAYOUT_GENERAL &&
+          image.layout != VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL)
+        throw Error(describe(b) + ": image layout " + std::to_string(int(image.layout)) +
+                    " cannot be sampled (use VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL or GENERAL)");
+      Import im{b, Binding::image(image.view, image.layout), 0, 0, 0, false, f->shader};
+      imports.push_back(im);
+      continue;
+    }
     const VulkanBufferView& v = in[b];
-    if (v.empty()) continue;
     if (channelCount(v.format) < bufferChannelCount(b))
       throw Error(describe(b) + " needs " + std::to_string(bufferChannelCount(b)) + " channels, the view has " +
                   std::to_string(channelCount(v.format)));
     Import im{b, {}, 0, 0, 0, v.format == Format::Int32};
-    bind(v, describe(b), uint32_t(bufferChannelCount(b)), im.source, im.offsetWords, im.pixelStrideWords,
-         im.rowStrideWords);
+    bindBufferView(v, describe(b), uint32_t(bufferChannelCount(b)), w, h, im.source, im.offsetWords,
+                   im.pixelStrideWords, im.rowStrideWords);
     imports.push_back(im);
   }
-  Export ex{};
-  ex.channels = uint32_t(channelCount(output.format));
-  bind(output, "output", ex.channels, ex.target, ex.offsetWords, ex.pixelStrideWords, ex.rowStrideWords);
 
   const auto start = std::chrono::steady_clock::now();
   if (cmd) {

@@ -28,8 +28,9 @@ class VulkanDenoiserBase : public Denoiser {
     resetHistory();
   }
   void denoise(const FrameInputs& frame, const ImageView& output) final;
-  /// rtd::denoiseVulkan (rtd/vulkan.h).
+  /// rtd::denoiseVulkan (rtd/vulkan.h): into a VkBuffer range or a storage image.
   void denoiseGpu(const VulkanFrameInputs& frame, const VulkanBufferView& output, VkCommandBuffer cmd);
+  void denoiseGpu(const VulkanFrameInputs& frame, const VulkanImageView& output, VkCommandBuffer cmd);
 
  protected:
   /// Buffers imported when the frame has them: the required ones and every feature the shared
@@ -50,16 +51,23 @@ class VulkanDenoiserBase : public Denoiser {
   int width_ = 0, height_ = 0;
 
  private:
+  /// Where the pixels come from and go to: a buffer with strides, or an image (`shader` then
+  /// names the import_image_* / export_image_* pass that reads or writes its format).
   struct Import {
     Buffer which;
     Binding source;
     uint32_t offsetWords, pixelStrideWords, rowStrideWords;
     bool isInt;
+    const char* imageShader = nullptr;
   };
   struct Export {
     Binding target;
     uint32_t offsetWords, pixelStrideWords, rowStrideWords, channels;
+    const char* imageShader = nullptr;
   };
+  void denoiseGpu(const VulkanFrameInputs& frame, const Export& out, VkCommandBuffer cmd);
+  void bindBufferView(const VulkanBufferView& v, const std::string& what, uint32_t channels, int w, int h,
+                      Binding& binding, uint32_t& offsetWords, uint32_t& pixelWords, uint32_t& rowWords) const;
   void prepare(int w, int h, bool cameraCut);
   void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera, const Export& out);
   void submitAndWait();

@@ -42,6 +42,13 @@ void denoiseVulkan(Denoiser& denoiser, const VulkanFrameInputs& frame, const Vul
   d->denoiseGpu(frame, output, commandBuffer);
 }
 
+void denoiseVulkan(Denoiser& denoiser, const VulkanFrameInputs& frame, const VulkanImageView& output,
+                   VkCommandBuffer commandBuffer) {
+  auto* d = dynamic_cast<vk::VulkanDenoiserBase*>(&denoiser);
+  if (!d) throw Error("denoiseVulkan: the denoiser was not created on a Vulkan device");
+  d->denoiseGpu(frame, output, commandBuffer);
+}
+
 std::vector<DeviceInfo> listVulkanDevices() {
   std::vector<DeviceInfo> out;
   for (const auto& d : vk::enumeratePhysicalDevices()) {

@@ -14,6 +14,7 @@
 #include "backend/cpu/cpu_denoiser.h"
 #include "core/parallel.h"
 #include "methods/bmfr/blocks.h"
+#include "methods/bmfr/bmfr_common.h"
 #include "methods/bmfr/qr.h"
 #include "passes/demodulation.h"
 #include "passes/reprojection.h"
@@ -28,15 +29,9 @@ namespace {
 using bmfr::kMaxChannels;
 using bmfr::kMaxFeatures;
 
-/// Where a feature column comes from. Positions enter the squares centred on the block
-/// (w - c)^2, which spans the same space as {1, w, w^2} but keeps float precision when the
-/// scene is far from the origin.
-enum class FeatureKind : uint8_t { Constant, Normal, Position, PositionSquared, MaterialId, Roughness };
-
-struct Feature {
-  FeatureKind kind;
-  int channel;
-};
+using bmfr::Feature;
+using bmfr::FeatureKind;
+using bmfr::hashUniform;
 
 /// What phase II leaves per block for the synthesis: the weights and the normalization that
 /// maps a raw feature f to (f - centre) * scale in [-1, 1].
@@ -55,14 +50,6 @@ struct BlockScratch {
 
 constexpr int kMaxBlock = 64;
 constexpr size_t kMaxStride = size_t(kMaxBlock) * kMaxBlock;
-
-// Integer hash (a PCG output permutation) to a uniform float in [0, 1).
-inline float hashUniform(uint32_t a, uint32_t b, uint32_t c) {
-  uint32_t h = a * 747796405u + b * 2891336453u + c * 3266489917u + 0x9e3779b9u;
-  h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
-  h = (h >> 22u) ^ h;
-  return float(h >> 8) * (1.0f / 16777216.0f);
-}
 
 // Eight-wide float vectors (GCC/Clang vector extensions: AVX where available, SSE pairs
 // otherwise), for reductions the compiler will not vectorize on its own without -ffast-math.
@@ -98,12 +85,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   using CpuDenoiser::CpuDenoiser;
 
   std::vector<Buffer> extraBuffers() const override { return {Buffer::MaterialId, Buffer::Roughness}; }
-  std::vector<Buffer> requiredBuffers() const override {
-    std::vector<Buffer> b{Buffer::Color};
-    if (settings_.featureNormal) b.push_back(Buffer::Normal);
-    if (settings_.featurePosition || settings_.featurePositionSquared) b.push_back(Buffer::Position);
-    return b;
-  }
+  std::vector<Buffer> requiredBuffers() const override { return bmfr::requiredBuffers(settings_); }
 
  protected:
   void resizeHistory(int w, int h) override {
@@ -198,18 +180,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   }
 
   void selectFeatures(const FrameData& frame) {
-    const BmfrSettings& s = settings_;
-    features_.clear();
-    features_.push_back({FeatureKind::Constant, 0});
-    auto add = [&](bool on, Buffer b, FeatureKind kind, int channels) {
-      if (!on || !frame.has(b)) return;
-      for (int c = 0; c < channels; ++c) features_.push_back({kind, c});
-    };
-    add(s.featureNormal, Buffer::Normal, FeatureKind::Normal, 3);
-    add(s.featurePosition, Buffer::Position, FeatureKind::Position, 3);
-    add(s.featurePositionSquared, Buffer::Position, FeatureKind::PositionSquared, 3);
-    add(s.featureMaterialId, Buffer::MaterialId, FeatureKind::MaterialId, 1);
-    add(s.featureRoughness, Buffer::Roughness, FeatureKind::Roughness, 1);
+    bmfr::selectFeatures(settings_, [&](Buffer b) { return frame.has(b); }, features_);
   }
 
   const Plane& rawPlane(const FrameData& frame, const Feature& f) const {
