@@ -25,6 +25,7 @@ inline float fmax(float a, float b) { return a > b ? a : b; }
 void buildSlot(const Plane3& color, int y, int w, float* slot) {
   const float *r = color[0].row(y), *g = color[1].row(y), *b = color[2].row(y);
   float* c[3] = {slot, slot + w, slot + 2 * w};
+#pragma GCC ivdep
   for (int x = 0; x < w; ++x) {
     c[0][x] = 0.25f * r[x] + 0.5f * g[x] + 0.25f * b[x];
     c[1][x] = 0.5f * r[x] - 0.5f * b[x];
@@ -36,6 +37,7 @@ void buildSlot(const Plane3& color, int y, int w, float* slot) {
     if (w == 1) { lo[0] = hi[0] = in[0]; continue; }
     lo[0] = fmin(in[0], in[1]);
     hi[0] = fmax(in[0], in[1]);
+#pragma GCC ivdep
     for (int x = 1; x < w - 1; ++x) {
       lo[x] = fmin(fmin(in[x - 1], in[x]), in[x + 1]);
       hi[x] = fmax(fmax(in[x - 1], in[x]), in[x + 1]);
@@ -120,6 +122,7 @@ void Taa::run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& 
       // Clamp to the 3x3 YCoCg box and blend (vectorized over the row).
       float *o[3] = {out[0].row(y), out[1].row(y), out[2].row(y)};
       float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
+#pragma GCC ivdep  // outputs never alias the window rows: lets GCC vectorize
       for (int x = 0; x < w; ++x) {
         float hy = 0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x];
         float hco = 0.5f * hr[x] - 0.5f * hb[x];
