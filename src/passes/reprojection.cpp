@@ -170,17 +170,24 @@ struct TapTest {
       for (int k = 0; k < 3; ++k) cp[k] = _mm256_loadu_ps(p[k] + i);
 
     __m256 wt[4], sum = _mm256_setzero_ps();
+    // Consecutive footprints (a locally uniform integer motion) read their taps as vector
+    // loads; others gather.
+    const ptrdiff_t first = _mm256_extract_epi32(base, 0);
     for (int t = 0; t < 4; ++t) {
       const __m256i j = _mm256_add_epi32(base, tapOffset[t]);
+      const ptrdiff_t start = first + (t & 1) + (t >> 1) * w;
+      auto fetch = [&](const float* plane) {
+        return taps.consecutive ? _mm256_loadu_ps(plane + start) : _mm256_i32gather_ps(plane, j, 4);
+      };
       __m256 ok = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
       if (z) {
-        const __m256 dz = _mm256_sub_ps(_mm256_i32gather_ps(zPrev, j, 4), cz);
+        const __m256 dz = _mm256_sub_ps(fetch(zPrev), cz);
         ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(dz, tol, _CMP_LE_OQ),
                                              _mm256_cmp_ps(dz, _mm256_sub_ps(_mm256_setzero_ps(), tol), _CMP_GE_OQ)));
       }
       if (n[0]) {
-        const __m256 qx = _mm256_i32gather_ps(nPrev[0], j, 4), qy = _mm256_i32gather_ps(nPrev[1], j, 4),
-                     qz = _mm256_i32gather_ps(nPrev[2], j, 4);
+        const __m256 qx = fetch(nPrev[0]), qy = fetch(nPrev[1]),
+                     qz = fetch(nPrev[2]);
         // Background pixels (zero normal) match background pixels only.
         const __m256 len2 = _mm256_fmadd_ps(qz, qz, _mm256_fmadd_ps(qy, qy, _mm256_mul_ps(qx, qx)));
         const __m256 dot = _mm256_fmadd_ps(cn[2], qz, _mm256_fmadd_ps(cn[1], qy, _mm256_mul_ps(cn[0], qx)));
@@ -188,11 +195,11 @@ struct TapTest {
         const __m256 fgOk = _mm256_cmp_ps(dot, _mm256_set1_ps(s.normalTolerance), _CMP_GE_OQ);
         ok = _mm256_and_ps(ok, _mm256_blendv_ps(fgOk, bgOk, background));
       }
-      if (id) ok = _mm256_and_ps(ok, _mm256_cmp_ps(_mm256_i32gather_ps(idPrev, j, 4), cid, _CMP_EQ_OQ));
+      if (id) ok = _mm256_and_ps(ok, _mm256_cmp_ps(fetch(idPrev), cid, _CMP_EQ_OQ));
       if (p[0]) {
         __m256 d2 = _mm256_setzero_ps();
         for (int k = 0; k < 3; ++k) {
-          const __m256 d = _mm256_sub_ps(cp[k], _mm256_i32gather_ps(pPrev[k], j, 4));
+          const __m256 d = _mm256_sub_ps(cp[k], fetch(pPrev[k]));
           d2 = _mm256_fmadd_ps(d, d, d2);
         }
         ok = _mm256_and_ps(ok, _mm256_cmp_ps(d2, _mm256_set1_ps(positionTolerance2), _CMP_LE_OQ));
