@@ -1,5 +1,6 @@
 #include "passes/atrous.h"
 
+#include <cassert>
 #include <cstring>
 
 #include "core/parallel.h"
@@ -139,10 +140,10 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
       const vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
       vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
       vf sv = kPropagate ? w0 * w0 * load(pv + c) : splat(0.0f);
-      for (const Tap& t : taps) {
+      auto tap = [&](const Tap& t, vf depthScale) {
         const size_t q = c + t.offset;
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-        vf expo = vabs(zc - load(pz + q)) * vrcp(vabs(gx * t.ox + gy * t.oy) + epsZ) + vabs(lc - load(pl + q)) * inv;
+        vf expo = vabs(zc - load(pz + q)) * depthScale + vabs(lc - load(pl + q)) * inv;
         vf wt;
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
@@ -160,6 +161,14 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
         sg += wt * load(pg + q);
         sb += wt * load(pb + q);
         if constexpr (kPropagate) sv += wt * wt * load(pv + q);
+      };
+      // Taps come in opposite pairs (q, 2p - q) whose w_z denominators sigma_z |grad z . (p - q)|
+      // + eps are equal: one reciprocal serves both (atrousLevel orders the list that way).
+      for (size_t k = 0, n = taps.size(); k < n / 2; ++k) {
+        const Tap& a = taps[k];
+        const vf depthScale = vrcp(vabs(gx * a.ox + gy * a.oy) + epsZ);
+        tap(a, depthScale);
+        tap(taps[n - 1 - k], depthScale);
       }
       vf rcp;
       if constexpr (kMasked) {
@@ -262,6 +271,8 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       taps.push_back({ptrdiff_t(oy) * z.stride + ox, float(ox), float(oy),
                       kernelWeight1D(lv.kernel, dx) * kernelWeight1D(lv.kernel, dy)});
     }
+  // atrousRows pairs tap k with tap n-1-k: the list above is point-symmetric.
+  for (size_t k = 0; k < taps.size(); ++k) assert(taps[k].offset == -taps[taps.size() - 1 - k].offset);
   const float h0 = kernelWeight1D(lv.kernel, 0) * kernelWeight1D(lv.kernel, 0);
   // The series form of w_n is accurate for large exponents (the papers' 64 and 128); small
   // ones use the exact power.
