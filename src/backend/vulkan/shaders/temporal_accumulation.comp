@@ -38,18 +38,16 @@ void main() {
 
   // BMFR rounds the reprojected length to an integer (8-bit counts); std::round semantics.
   // Disoccluded pixels: n = 1, weight 1. Port of the fused TemporalAccumulator::run.
-  const float histLength = none ? 0.0 : floor(gatherPlane(i, 5u * plane, w, plane) + 0.5);
 #ifdef RTD_SAMPLE_MASK
   if (sampleMask[i] == 0.0) {
-    // No sample this frame: the history carries over unchanged; without history the pixel
-    // stays missing (length 0).
-    outp[5u * plane + i] = histLength;
-    for (uint k = 0; k < 6; ++k)
-      if (k != 5u) outp[k * plane + i] = none ? 0.0 : gatherPlane(i, k * plane, w, plane);
+    // No sample this frame: the history carries over unchanged (length rounded as below);
+    // without history the pixel stays missing (length 0).
+    for (uint k = 0; k < 5; ++k) outp[k * plane + i] = none ? 0.0 : gatherPlane(i, k * plane, w, plane);
+    outp[5u * plane + i] = none ? 0.0 : floor(gatherPlane(i, 5u * plane, w, plane) + 0.5);
     return;
   }
 #endif
-  const float n = none ? 1.0 : min(histLength + 1.0, pc.maxHistoryLength);
+  const float n = none ? 1.0 : min(floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) + 1.0, pc.maxHistoryLength);
   outp[5u * plane + i] = n;
 
   const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
