@@ -52,8 +52,8 @@ inline vf vsqrt(vf x) {
 // with n = round(u), |f| <= 1/2, and 2^f = e^(f ln 2) by its degree-5 Taylor polynomial in
 // Estrin's form. Relative error <= 5e-6. The pass is bound by the latency of this chain (a tap's
 // weight is ~20 dependent operations), so its depth matters more than its operation count.
-inline vf expNeg(vf x) {
-  const vf u = vmax(splat(0.0f) - x, splat(-87.0f)) * 1.44269504088896341f;
+inline vf expNeg(vf x, vf factor = vf{} + 1.0f) {
+  const vf u = vmax(x * -1.44269504088896341f, splat(-125.5f));  // e^-87
 #ifdef __AVX__
   const vf n = __builtin_ia32_roundps256(u, 0x8);  // to nearest, no exceptions
 #else
@@ -66,7 +66,7 @@ inline vf expNeg(vf x) {
   vi bits = (__builtin_convertvector(n, vi) + 127) << 23;
   vf scale;
   std::memcpy(&scale, &bits, sizeof scale);
-  return p * scale;
+  return p * (scale * factor);  // factor * exp(-x): the product with the factor off the chain
 }
 
 // d^e by repeated squaring; kSquarings >= 0: e = 2^kSquarings, unrolled (sigma_n = 128 is
@@ -88,6 +88,20 @@ template <int kSquarings> inline vf ipow(vf d, int e) {
 inline vf lumVector(MomentLuminance m, vf r, vf g, vf b) {
   if (m == MomentLuminance::Rec601) return 0.299f * r + 0.587f * g + 0.114f * b;
   return 0.2126f * r + 0.7152f * g + 0.0722f * b;
+}
+
+// fn(y) for every row, in the order y = r, r + step, r + 2 step, ... for r = 0 .. step-1, split
+// into contiguous chunks: successive rows of a chunk share four of their five tap rows, so a
+// level with a large step reads each input row from memory about once instead of five times
+// (in row order the rows y +- 2 step would have left the cache before they are used again).
+template <class Fn> void stridedRows(int height, int step, Fn&& fn) {
+  const int perResidue = (height + step - 1) / step;
+  tbb::parallel_for(tbb::blocked_range<int>(0, perResidue * step, 2), [&](const tbb::blocked_range<int>& r) {
+    for (int k = r.begin(); k != r.end(); ++k) {
+      const int y = k / perResidue + (k % perResidue) * step;
+      if (y < height) fn(y);
+    }
+  });
 }
 
 struct Tap {
@@ -119,7 +133,7 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
   const float* pvalid = kMasked ? lv.validIn->data.data() : nullptr;
   float* qvalid = kMasked ? lv.validOut->data.data() : nullptr;
 
-  parallelRows(z.height, [&](int y) {
+  stridedRows(z.height, lv.step, [&](int y) {
     for (int x = 0; x < w; x += kLanes) {
       const size_t c = z.index(x, y);
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
@@ -149,9 +163,10 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
           // series is exact to 1e-5 relative where w_n matters (d > 0.9 for sigma_n = 64) and
           // makes w_n ~ 0 where d <= 0, so it joins the one exp.
+          // Evaluated as expo + sigma_n x + x^2 (sigma_n/2 + sigma_n x/3): three steps deep.
           const vf x = 1.0f - d;
-          expo += sigmaN * (x * (1.0f + x * (0.5f + x * (1.0f / 3.0f))));
-          wt = t.h * expNeg(expo);
+          expo = (expo + sigmaN * x) + (x * x) * (0.5f * sigmaN + x * (sigmaN / 3.0f));
+          wt = expNeg(expo, splat(t.h));
         } else {
           wt = (t.h * ipow<-1>(vmax(d, splat(0.0f)), e)) * expNeg(expo);
         }
@@ -196,7 +211,7 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
         std::memcpy(ql + c, lo, sizeof lo);
       }
     }
-  }, 2);
+  });
 }
 
 }  // namespace
@@ -320,7 +335,7 @@ void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const Padd
           vf wt;
           if constexpr (kLogNormal) {
             const vf xx = 1.0f - d;
-            expo += sigmaN * (xx * (1.0f + xx * (0.5f + xx * (1.0f / 3.0f))));
+            expo = (expo + sigmaN * xx) + (xx * xx) * (0.5f * sigmaN + xx * (sigmaN / 3.0f));
             wt = expNeg(expo);
           } else {
             wt = ipow<-1>(vmax(d, splat(0.0f)), e) * expNeg(expo);

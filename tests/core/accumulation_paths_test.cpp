@@ -1,0 +1,114 @@
+// The shared per-pixel passes take eight pixels at a time where they can (Bilinear8); these
+// tests check those fast paths against the scalar definitions on random data, and the plane
+// allocator they rely on.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <set>
+
+#include "passes/reprojection.h"
+#include "passes/temporal_accumulation.h"
+
+namespace rtd {
+namespace {
+
+struct Lcg {
+  uint32_t state = 2024;
+  float operator()() {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) / 16777216.0f;
+  }
+};
+
+// A frame of flat features (every tap valid) whose motion is consecutive in some runs of
+// eight pixels and random in others, so both the vector-load and the gather path run.
+FrameData frameWithMotion(int w, int h, Lcg& rnd, bool withMotion) {
+  FrameData f;
+  f.width = w;
+  f.height = h;
+  f.buffers[int(Buffer::Depth)].assign(1, Plane(w, h, 3.0f));
+  f.buffers[int(Buffer::Normal)] = {Plane(w, h, 0.0f), Plane(w, h, 0.0f), Plane(w, h, 1.0f)};
+  if (withMotion) {
+    f.buffers[int(Buffer::Motion)] = {Plane(w, h), Plane(w, h)};
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const bool uniform = (x / 8 + y) % 2 == 0;
+        f.plane(Buffer::Motion, 0)(x, y) = uniform ? 1.3f : 4.0f * rnd() - 2.0f;
+        f.plane(Buffer::Motion, 1)(x, y) = uniform ? -0.6f : 4.0f * rnd() - 2.0f;
+      }
+  }
+  return f;
+}
+
+TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
+  const int w = 75, h = 23;
+  Lcg rnd;
+  const FrameData prev = frameWithMotion(w, h, rnd, false), cur = frameWithMotion(w, h, rnd, true);
+  Reprojection none, rp;
+  reproject(prev, nullptr, ReprojectionSettings{}, none);
+  reproject(cur, &prev, ReprojectionSettings{}, rp);
+  const auto counts = rp.counts();
+  ASSERT_GT(counts[Reprojection::Bilinear], size_t(w * h / 2));
+
+  auto image = [&] {
+    Plane3 p;
+    resize(p, w, h);
+    for (auto& c : p)
+      for (float& v : c.data) v = rnd();
+    return p;
+  };
+  const Plane3 first = image(), second = image();
+  TemporalAccumulator acc;
+  acc.resize(w, h);
+  for (int k = 0; k < 3; ++k) acc.run(none, first, 0.2f, 0.2f, 255);  // history length 3 everywhere
+  // Copy the history the second run reads (run() swaps its buffers).
+  const Plane3 hColor = acc.color();
+  const Plane hLength = acc.historyLength(), hM1 = acc.moment1(), hM2 = acc.moment2();
+  acc.run(rp, second, 0.2f, 0.1f, 255);
+
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    if (rp.kind[i] != Reprojection::Bilinear) continue;
+    const float n = std::min(std::round(rp.gather(hLength, i)) + 1.0f, 255.0f);
+    ASSERT_EQ(acc.historyLength().data[i], n) << i;
+    const float a = std::max(1.0f / n, 0.2f), am = std::max(1.0f / n, 0.1f);
+    const float l = luminance(second[0].data[i], second[1].data[i], second[2].data[i]);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(acc.color()[c].data[i], a * second[c].data[i] + (1 - a) * rp.gather(hColor[c], i), 1e-6f) << i;
+    EXPECT_NEAR(acc.moment1().data[i], am * l + (1 - am) * rp.gather(hM1, i), 1e-6f) << i;
+    EXPECT_NEAR(acc.moment2().data[i], am * l * l + (1 - am) * rp.gather(hM2, i), 1e-6f) << i;
+  }
+
+  // BMFR's phase III accumulation of three planes with the same taps.
+  Plane3 out;
+  resize(out, w, h);
+  const Plane3 history = image();
+  accumulatePlanes(rp, acc.historyLength(), 0.1f, second, history, out);
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    if (rp.kind[i] == Reprojection::None) continue;
+    const float a = std::max(1.0f / acc.historyLength().data[i], 0.1f);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(out[c].data[i], a * second[c].data[i] + (1 - a) * rp.gather(history[c], i), 1e-6f) << i;
+  }
+}
+
+// Planes of one size must not share their offset within a page (see StaggeredAllocator).
+TEST(SharedPassPaths, PlanesStartOnDistinctCacheLinesOfAPage) {
+  std::vector<Plane> planes;
+  for (int k = 0; k < 16; ++k) planes.emplace_back(1280, 720);
+  std::set<uintptr_t> lines;
+  for (const Plane& p : planes) {
+    const auto address = reinterpret_cast<uintptr_t>(p.ptr());
+    EXPECT_EQ(address % 64, 0u);
+    lines.insert(address % 4096 / 64);
+  }
+  EXPECT_EQ(lines.size(), planes.size());
+  // Copies and moves keep working with the allocator.
+  Plane copy = planes[3];
+  copy.data[5] = 7.0f;
+  EXPECT_EQ(planes[3].data[5], 0.0f);
+  EXPECT_EQ(copy.data.size(), planes[3].data.size());
+}
+
+}  // namespace
+}  // namespace rtd
