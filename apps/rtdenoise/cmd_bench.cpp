@@ -19,6 +19,7 @@ struct BenchOptions {
   int warmup = 5;
   int threads = 0;
   std::string json;
+  bool sampleMask = false;
 };
 
 double median(std::vector<double> v) {
@@ -41,6 +42,17 @@ void runBench(const BenchOptions& o) {
   std::vector<Frame> inputs;
   for (int i = 0; i < 4; ++i) inputs.push_back(synthetic::makeFrame(scene, i));
   Image output(w, h, 3);
+  // --sample-mask: a quarter of the pixels per frame (position in a 2x2 block, rotating over four
+  // frames) as the frames' sampleMask, to time a progressive mode (svgf's useSampleMask). Only
+  // the mask changes: the colour is left dense, which costs the same.
+  std::vector<Image> masks;
+  if (o.sampleMask)
+    for (int phase = 0; phase < 4; ++phase) {
+      Image m(w, h, 1);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) m.at(x, y) = ((x & 1) + 2 * (y & 1)) == phase ? 1.0f : 0.0f;
+      masks.push_back(std::move(m));
+    }
 
   std::map<std::string, std::vector<double>> passes;
   std::vector<std::string> order;
@@ -49,7 +61,9 @@ void runBench(const BenchOptions& o) {
   for (int i = 0; i < o.warmup + o.frames; ++i) {
     // Cycle 0,1,2,3,2,1,0,... so consecutive frames are always one camera step apart.
     const int k = i % 6, idx = k < 4 ? k : 6 - k;
-    denoiser->denoise(inputs[idx].inputs(), output.view());
+    FrameInputs in = inputs[idx].inputs();
+    if (o.sampleMask) in[Buffer::SampleMask] = masks[size_t(i % 4)].view();
+    denoiser->denoise(in, output.view());
     progress.update(i + 1);
     if (i < o.warmup) continue;
     for (const auto& p : denoiser->stats().passes) {
@@ -60,10 +74,11 @@ void runBench(const BenchOptions& o) {
   }
   progress.finish();
 
-  std::printf("method %s, %dx%d, %s, %d frames after %d warm-up (medians)\n", o.method.c_str(), w, h,
-              device->name().c_str(), o.frames, o.warmup);
+  std::printf("method %s, %dx%d, %s, %d frames after %d warm-up (medians)%s\n", o.method.c_str(), w, h,
+              device->name().c_str(), o.frames, o.warmup, o.sampleMask ? ", 1/4 sample mask" : "");
   nlohmann::json j = {{"method", o.method}, {"width", w}, {"height", h}, {"device", device->name()},
-                      {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames}};
+                      {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames},
+                      {"sampleMask", o.sampleMask}};
   for (const auto& name : order) {
     const double m = median(passes[name]);
     std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
@@ -88,6 +103,7 @@ void addBench(CLI::App& app) {
   cmd->add_option("--warmup", o->warmup, "untimed frames first")->capture_default_str();
   cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
   cmd->add_option("--json", o->json, "also write the medians to this JSON file");
+  cmd->add_flag("--sample-mask", o->sampleMask, "frames carry a rotating 1/4 sampleMask (progressive modes)");
   cmd->callback([o] { runBench(*o); });
 }
 

@@ -180,6 +180,74 @@ TEST(VulkanPasses, TemporalAccumulationMatchesCpu) {
   EXPECT_EQ(cpu.historyLength().data[size_t(kHeight / 2) * kWidth + kWidth / 2], 4.0f);
 }
 
+// Progressive mode (AccumulationOptions::sampleMask, Dundr Sec. 5): unsampled pixels carry
+// their history over unchanged, or stay missing (length 0) without one; lengths exact.
+TEST(VulkanPasses, TemporalAccumulationWithSampleMaskMatchesCpu) {
+  REQUIRE_CONTEXT();
+  auto frames = syntheticFrames(5);
+  TemporalAccumulator cpu;
+  cpu.resize(kWidth, kHeight);
+  vk::GpuTemporalAccumulator gpu;
+  gpu.resize(ctx, kWidth, kHeight);
+  vk::Planes rp, color, mask;
+  rp.allocate(ctx, kWidth, kHeight, 8);
+  vk::GpuFrame prevGpu;
+  FrameData prevCpu;
+  const size_t n = size_t(kWidth) * kHeight;
+  size_t carried = 0, missing = 0;
+  for (int k = 0; k < 5; ++k) {
+    FrameData f = toCpu(frames[size_t(k)], true);
+    Plane m(kWidth, kHeight);
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) m(x, y) = ((x & 1) + 2 * (y & 1)) == k % 4 ? 1.0f : 0.0f;
+    Reprojection r;
+    reproject(f, k ? &prevCpu : nullptr, {}, r);
+    Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
+    const std::vector<float> before = k ? download(ctx, gpu.current()) : std::vector<float>();
+    AccumulationOptions opt;
+    opt.sampleMask = &m;
+    cpu.run(r, c, 0.2f, 0.1f, 255, opt);
+
+    vk::GpuFrame g;
+    toGpu(ctx, f, g);
+    uploadPlanes(ctx, f.planes(Buffer::Color), color);
+    uploadPlanes(ctx, {m}, mask);
+    recordAndRun(ctx, [&](vk::Recorder& rec) {
+      vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
+      rec.barrier();
+      gpu.run(rec, rp, color, 0.2f, 0.1f, 255, 0, true, &mask);
+    });
+    const std::vector<float> out = download(ctx, gpu.current());
+    const Plane* want[6] = {&cpu.color()[0], &cpu.color()[1], &cpu.color()[2], &cpu.moment1(), &cpu.moment2(),
+                            &cpu.historyLength()};
+    for (int p = 0; p < 6; ++p) {
+      double maxErr = 0, maxRef = 0;
+      for (size_t i = 0; i < n; ++i) {
+        maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - want[p]->data[i])));
+        maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
+      }
+      EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << k << " plane " << p;
+      if (p == 5) EXPECT_EQ(maxErr, 0.0) << "history lengths are integers";
+    }
+    // Independent of the CPU: an unsampled pixel with an exact (integer) reprojection keeps the
+    // value of the pixel it came from; one without history stays at length 0.
+    for (size_t i = 0; i < n; ++i) {
+      if (m.data[i] != 0.0f) continue;
+      if (r.kind[i] == Reprojection::None) {
+        EXPECT_EQ(out[5 * n + i], 0.0f);
+        ++missing;
+      } else if (r.kind[i] == Reprojection::Bilinear && r.weights[i][0] == 1.0f) {
+        for (int p = 0; p < 6; ++p) EXPECT_EQ(out[p * n + i], before[p * n + size_t(r.base[i])]) << "plane " << p;
+        ++carried;
+      }
+    }
+    prevCpu = std::move(f);
+    prevGpu = std::move(g);
+  }
+  EXPECT_GT(missing, n / 2) << "frame 0: three quarters of the pixels have neither sample nor history";
+  EXPECT_GT(carried, 0u) << "some unsampled pixels should reproject exactly onto one pixel";
+}
+
 TEST(VulkanPasses, TaaMatchesCpu) {
   REQUIRE_CONTEXT();
   auto frames = syntheticFrames(3);

@@ -67,7 +67,8 @@ void GpuTemporalAccumulator::resize(Context& ctx, int w, int h) {
 }
 
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
-                                 int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments) {
+                                 int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments,
+                                 const Planes* sampleMask) {
   const int prev = cur_;
   cur_ ^= 1;
   if (clear_) {
@@ -80,7 +81,11 @@ void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& 
     uint32_t luminanceMode, cumulativeMoments;
   } pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength), luminanceMode,
        cumulativeMoments};
-  rec.dispatch("temporal_accumulation", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
+  if (sampleMask)
+    rec.dispatch("temporal_accumulation_masked", {rp, color, history_[prev], history_[cur_], *sampleMask}, pc,
+                 color.width, color.height);
+  else
+    rec.dispatch("temporal_accumulation", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
 }
 
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient) {
@@ -101,16 +106,21 @@ void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, c
     float sigmaDepth, depthEpsilon;
     int32_t normalExponent;
     float sigmaLuminance, luminanceEpsilon;
-    uint32_t flags, luminanceMode;
+    uint32_t flags, luminanceMode, validPlane;
   } pc{uint32_t(in.width), uint32_t(in.height), lv.step, lv.radius, lv.sigmaDepth, lv.depthEpsilon,
        std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
            (lv.propagateVariance ? 8u : 0u),
-       lv.luminanceMode};
-  rec.dispatch("atrous",
-               {frame[Buffer::Depth], frame[Buffer::Normal], gradient, in, out,
-                lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())},
-               pc, in.width, in.height);
+       lv.luminanceMode, uint32_t(lv.validInPlane)};
+  std::vector<Binding> bindings{frame[Buffer::Depth], frame[Buffer::Normal], gradient, in, out,
+                                lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())};
+  if (lv.validIn && lv.validOut) {
+    bindings.push_back(*lv.validIn);
+    bindings.push_back(*lv.validOut);
+    rec.dispatch("atrous_masked", bindings, pc, in.width, in.height);
+  } else {
+    rec.dispatch("atrous", bindings, pc, in.width, in.height);
+  }
 }
 
 void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int dstPlane) {

@@ -44,8 +44,10 @@ class GpuTemporalAccumulator {
   void reset() { clear_ = true; }
   /// luminanceMode: MomentLuminance (0 Rec709, 1 Rec601, 2 CIE L*); cumulativeMoments: moments
   /// weighted max(1/n, momentsAlpha) like the colour, else a plain EMA (AccumulationOptions).
+  /// sampleMask (Buffer::SampleMask, AccumulationOptions::sampleMask): where it is 0 the
+  /// history carries over unchanged (shader variant temporal_accumulation_masked).
   void run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha, int maxHistoryLength,
-           uint32_t luminanceMode = 0, bool cumulativeMoments = true);
+           uint32_t luminanceMode = 0, bool cumulativeMoments = true, const Planes* sampleMask = nullptr);
   /// This frame's result; methods that feed a filtered colour back (SVGF) write its planes 0-2.
   Planes& current() { return history_[cur_]; }
   const Planes& current() const { return history_[cur_]; }
@@ -66,6 +68,12 @@ struct GpuAtrousLevel {
   bool prefilterVariance = true, varianceScale = false, propagateVariance = true;
   const Planes* sigmaScale = nullptr;
   uint32_t luminanceMode = 0;
+  /// Sparse input (AtrousLevel::validIn/validOut, shader variant atrous_masked): a pixel is
+  /// valid where plane `validInPlane` of `validIn` is > 0 (a history length works as well as a
+  /// 0/1 validity); `validOut` (1 plane) receives 1 where the pixel got any weight. Both null: dense.
+  const Planes* validIn = nullptr;
+  int validInPlane = 0;
+  Planes* validOut = nullptr;
 };
 
 /// The a-trous guide's depth gradient (2 planes) from the frame's depth (AtrousGuide::build).

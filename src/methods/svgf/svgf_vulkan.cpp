@@ -1,6 +1,6 @@
 // Method "svgf" on the Vulkan backend: the passes of svgf.cpp, pass for pass, as compute
 // shaders (shared ones in src/backend/vulkan/shaders, SVGF's own in shaders/ here). Every
-// setting of SvgfSettings is honoured, variants included.
+// setting of SvgfSettings is honoured, variants and the progressive sub-1-spp mode included.
 #if defined(RTD_HAS_VULKAN) && __has_include("rtd/methods/svgf.h")
 #include <cmath>
 
@@ -50,6 +50,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     auto used = VulkanDenoiserBase::usedBuffers();
     for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::Roughness})
       used.push_back(b);
+    if (settings_.useSampleMask) used.push_back(Buffer::SampleMask);
     return used;
   }
 
@@ -58,6 +59,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     gradient_.allocate(ctx_, w, h, 2);
     for (auto& l : levels_) l.allocate(ctx_, w, h, 5);
     sigmaScale_.allocate(ctx_, w, h, 1);
+    for (auto& v : valid_) v.allocate(ctx_, w, h, 1);
     for (auto& s : streams_) {
       s.demod.allocate(ctx_, w, h, 3);
       s.accumulator.resize(ctx_, w, h);
@@ -75,6 +77,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   const vk::Planes& process(vk::Recorder& rec, const vk::GpuFrame& frame, const vk::GpuFrame* previous) override {
     const SvgfSettings& s = settings_;
     const int nStreams = chooseStreams(frame);
+    mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame[Buffer::SampleMask] : nullptr;
     const vk::Planes* albedo = frame.has(Buffer::Albedo) ? &frame[Buffer::Albedo] : nullptr;
     rec.pass("reproject");
     vk::reproject(rec, frame, previous, s.reprojection, reprojection_);
@@ -130,7 +133,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     vk::demodulate(rec, frame[st.plan.buffer], albedo, st.demod);
     rec.pass("accumulate" + suffix);
     st.accumulator.run(rec, reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, lum,
-                       s.momentsTrueAverage);
+                       s.momentsTrueAverage, mask_);
     const int normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
     rec.pass("variance" + suffix);
     {
@@ -174,11 +177,31 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       lv.sigmaScale = &sigmaScale_;
       lv.propagateVariance = propagate && i + 1 < n;  // the last level's variance is not used
       lv.luminanceMode = lum;
+      if (mask_) {
+        // Level-0 validity is historyLength > 0 (the CPU's markValid), read straight from the
+        // accumulator's length plane; later levels read the previous level's validity.
+        if (i == 0) {
+          lv.validIn = &st.accumulator.current();
+          lv.validInPlane = 5;
+        } else {
+          lv.validIn = &valid_[(i - 1) & 1];
+        }
+        lv.validOut = &valid_[i & 1];
+      }
       vk::atrousLevel(rec, frame, gradient_, lv, levels_[cur], levels_[cur ^ 1]);
       cur ^= 1;
       // The feedback level's output becomes next frame's colour history (Schied Sec. 4.3).
-      if (i + 1 == s.feedbackLevel)
-        rec.copy(levels_[cur].buffer, st.accumulator.current().buffer, 3 * planeBytes);
+      if (i + 1 == s.feedbackLevel) {
+        if (mask_) {
+          struct PC {
+            uint32_t width, height;
+          } pc{uint32_t(frame.width), uint32_t(frame.height)};
+          rec.dispatch("svgf_feedback_sampled", {levels_[cur], *mask_, st.accumulator.current()}, pc, frame.width,
+                       frame.height);
+        } else {
+          rec.copy(levels_[cur].buffer, st.accumulator.current().buffer, 3 * planeBytes);
+        }
+      }
     }
     if (n == 0) rec.copy(st.accumulator.current().buffer, levels_[cur].buffer, 3 * planeBytes);
     return levels_[cur];
@@ -194,6 +217,8 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   }
 
   vk::Planes reprojection_, gradient_, levels_[3], sigmaScale_, sum_, display_, remodulated_;
+  vk::Planes valid_[2];                  // a-trous validity per level in the progressive mode
+  const vk::Planes* mask_ = nullptr;     // this frame's sample mask, or null (dense)
   GpuStream streams_[kMaxStreams];
   vk::GpuTaa taa_;
 };

@@ -6,6 +6,12 @@
 // zero border: normal 0 gives w_n = 0), and so does the variance prefilter's outside read.
 // For steps 1 and 2 the taps are read from a shared-memory tile of the workgroup (16 + 4 step)^2
 // (guide features, colour, luminance): one load per tile pixel instead of 25 per pixel.
+// Variant atrous_masked (RTD_SAMPLE_MASK, AtrousLevel::validIn/validOut): sparse input (Dundr
+// Sec. 5). A pixel is valid where plane `validPlane` of binding 6 is > 0 (the history length
+// for the first level, the previous level's validity after it); invalid pixels weigh 0, the
+// centre included; a pixel that receives any weight is valid in binding 7 and gets the
+// normalized sum, one with none stays invalid with colour 0.
+// variant: atrous_masked RTD_SAMPLE_MASK
 #include "common.glsl"
 #include "atrous.glsl"
 RTD_LOCAL_SIZE
@@ -16,6 +22,10 @@ layout(std430, binding = 2) readonly buffer Grad { float grad[]; };
 layout(std430, binding = 3) readonly buffer In { float img[]; };
 layout(std430, binding = 4) writeonly buffer Out { float outp[]; };
 layout(std430, binding = 5) readonly buffer Scale { float sigmaScale[]; };
+#ifdef RTD_SAMPLE_MASK
+layout(std430, binding = 6) readonly buffer ValidIn { float validIn[]; };
+layout(std430, binding = 7) writeonly buffer ValidOut { float validOut[]; };
+#endif
 
 #define F_PREFILTER 1u
 #define F_VARIANCE_SCALE 2u
@@ -30,6 +40,7 @@ layout(push_constant) uniform PC {
   float sigmaLuminance, luminanceEpsilon;
   uint flags;
   uint luminanceMode;
+  uint validPlane;  // atrous_masked: plane of binding 6 holding the input validity
 } pc;
 
 float kernel1D(int d) {
@@ -59,6 +70,10 @@ void main() {
       const uint j = uint(q.y) * W + uint(q.x);
       sZ[k] = depth[j];
       sNx[k] = normal[j]; sNy[k] = normal[plane + j]; sNz[k] = normal[2u * plane + j];
+#ifdef RTD_SAMPLE_MASK
+      // An invalid tap weighs 0 like a tap outside the image: through w_n = 0.
+      if (!(validIn[pc.validPlane * plane + j] > 0.0)) { sNx[k] = 0.0; sNy[k] = 0.0; sNz[k] = 0.0; }
+#endif
       sR[k] = img[j]; sG[k] = img[plane + j]; sB[k] = img[2u * plane + j]; sL[k] = img[3u * plane + j];
     }
     barrier();
@@ -93,7 +108,11 @@ void main() {
   const float inv = k > 0.0 ? 1.0 / (pc.sigmaLuminance * k * sdev + pc.luminanceEpsilon) : 0.0;
 
   const bool propagate = (pc.flags & F_PROPAGATE) != 0u;
+#ifdef RTD_SAMPLE_MASK
+  const float h0 = validIn[pc.validPlane * plane + c] > 0.0 ? kernel1D(0) * kernel1D(0) : 0.0;
+#else
   const float h0 = kernel1D(0) * kernel1D(0);
+#endif
   float sw = h0, sv = propagate ? h0 * h0 * img[4u * plane + c] : 0.0;
   vec3 sc = h0 * vec3(img[c], img[plane + c], img[2u * plane + c]);
   for (int dy = -pc.radius; dy <= pc.radius; ++dy)
@@ -109,6 +128,9 @@ void main() {
         const int t = (qy - origin.y) * side + (qx - origin.x);
         zq = sZ[t]; nq = vec3(sNx[t], sNy[t], sNz[t]); cq = vec3(sR[t], sG[t], sB[t]); lq = sL[t];
       } else {
+#ifdef RTD_SAMPLE_MASK
+        if (!(validIn[pc.validPlane * plane + q] > 0.0)) continue;
+#endif
         zq = depth[q];
         nq = vec3(normal[q], normal[plane + q], normal[2u * plane + q]);
         cq = vec3(img[q], img[plane + q], img[2u * plane + q]);
@@ -122,7 +144,14 @@ void main() {
       sc += wt * cq;
       if (propagate) sv += wt * wt * img[4u * plane + q];
     }
+#ifdef RTD_SAMPLE_MASK
+  // Total weights this small are the CPU exp's e^-87 floor, not data (as atrousRows<kMasked>).
+  const bool any = sw > 1e-20;
+  const float rcp = any ? 1.0 / sw : 0.0;
+  validOut[c] = any ? 1.0 : 0.0;
+#else
   const float rcp = 1.0 / sw;
+#endif
   const vec3 r = sc * rcp;
   outp[c] = r.r;
   outp[plane + c] = r.g;

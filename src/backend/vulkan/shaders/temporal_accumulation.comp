@@ -3,6 +3,9 @@
 // Sec. 4.1, 4.2) with the new-sample weight w = max(1/n, alpha) (Koskela et al. 2019 Sec. 4.1).
 // History and output hold 6 planes: colour R, G, B, moment 1, moment 2, history length.
 // Port of TemporalAccumulator::run (src/passes/temporal_accumulation.cpp).
+// Variant temporal_accumulation_masked (RTD_SAMPLE_MASK, AccumulationOptions::sampleMask):
+// progressive rendering below 1 spp (Dundr Sec. 5) with the frame's sample mask at binding 4.
+// variant: temporal_accumulation_masked RTD_SAMPLE_MASK
 #include "common.glsl"
 RTD_LOCAL_SIZE
 
@@ -10,6 +13,9 @@ layout(std430, binding = 0) readonly buffer Rp { uint rp[]; };
 layout(std430, binding = 1) readonly buffer Color { float color[]; };
 layout(std430, binding = 2) readonly buffer Hist { float hist[]; };
 layout(std430, binding = 3) writeonly buffer Out { float outp[]; };
+#ifdef RTD_SAMPLE_MASK
+layout(std430, binding = 4) readonly buffer Mask { float sampleMask[]; };
+#endif
 
 float histAt(uint j) { return hist[j]; }
 #define RP_GATHER
@@ -32,6 +38,15 @@ void main() {
 
   // BMFR rounds the reprojected length to an integer (8-bit counts); std::round semantics.
   // Disoccluded pixels: n = 1, weight 1. Port of the fused TemporalAccumulator::run.
+#ifdef RTD_SAMPLE_MASK
+  if (sampleMask[i] == 0.0) {
+    // No sample this frame: the history carries over unchanged (length rounded as below);
+    // without history the pixel stays missing (length 0).
+    for (uint k = 0; k < 5; ++k) outp[k * plane + i] = none ? 0.0 : gatherPlane(i, k * plane, w, plane);
+    outp[5u * plane + i] = none ? 0.0 : floor(gatherPlane(i, 5u * plane, w, plane) + 0.5);
+    return;
+  }
+#endif
   const float n = none ? 1.0 : min(floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) + 1.0, pc.maxHistoryLength);
   outp[5u * plane + i] = n;
 
