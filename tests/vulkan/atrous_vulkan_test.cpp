@@ -114,7 +114,9 @@ TEST(VulkanAtrous, LevelsMatchCpu) {
   out.allocate(fx.ctx, kWidth, kHeight, 5);
   for (AtrousKernel kernel : {AtrousKernel::B3Spline5x5, AtrousKernel::Binomial3x3})
     for (int step : {1, 2, 4})
-      for (bool propagate : {true, false}) {
+      for (bool propagate : {true, false})
+      for (bool sharedTile : {true, false}) {  // the tiled shader and its untiled variant
+        if (!sharedTile && step == 4) continue;  // step 4 is never tiled
         AtrousLevel lv;
         lv.kernel = kernel;
         lv.step = step;
@@ -130,6 +132,7 @@ TEST(VulkanAtrous, LevelsMatchCpu) {
         g.step = step;
         g.propagateVariance = propagate;
         g.varianceScale = lv.varianceScale;
+        g.sharedTile = sharedTile;
         fx.run([&](vk::Recorder& rec) {
           vk::atrousGuide(rec, fx.gpu, 0.0f, fx.gradient);
           vk::atrousLevel(rec, fx.gpu, fx.gradient, g, fx.image, out);
@@ -138,8 +141,9 @@ TEST(VulkanAtrous, LevelsMatchCpu) {
         const size_t n = size_t(kWidth) * kHeight;
         const PaddedPlane* want[5] = {&cpuOut.color[0], &cpuOut.color[1], &cpuOut.color[2], &cpuOut.lum, &cpuOut.var};
         for (int p = 0; p < 5; ++p)
-          EXPECT_LE(relError(o.data() + p * n, *want[p]), 1e-5)
-              << "kernel " << int(kernel) << " step " << step << " propagate " << propagate << " plane " << p;
+          EXPECT_LE(relError(o.data() + p * n, *want[p]), 1e-5) << "kernel " << int(kernel) << " step " << step
+                                                                << " propagate " << propagate << " tile " << sharedTile
+                                                                << " plane " << p;
         // The filter must actually have smoothed: the output differs from the input.
         double change = 0;
         for (int y = 0; y < kHeight; ++y)
@@ -201,6 +205,7 @@ TEST(VulkanAtrous, MaskedLevelsMatchCpu) {
         g.validIn = fromLength ? &gpuLength : &gpuValidIn;
         g.validInPlane = fromLength ? 1 : 0;
         g.validOut = &gpuValidOut;
+        g.sharedTile = !fromLength;  // both the tiled shader and its untiled variant
         fx.run([&](vk::Recorder& rec) {
           vk::atrousGuide(rec, fx.gpu, 0.0f, fx.gradient);
           vk::atrousLevel(rec, fx.gpu, fx.gradient, g, fx.image, out);

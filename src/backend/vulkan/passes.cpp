@@ -114,12 +114,15 @@ void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, c
        lv.luminanceMode, uint32_t(lv.validInPlane)};
   std::vector<Binding> bindings{frame[Buffer::Depth], frame[Buffer::Normal], gradient, in, out,
                                 lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())};
+  // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
+  constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);
+  const bool tiled = lv.sharedTile && rec.context().limits().maxComputeSharedMemorySize >= kTileBytes;
   if (lv.validIn && lv.validOut) {
     bindings.push_back(*lv.validIn);
     bindings.push_back(*lv.validOut);
-    rec.dispatch("atrous_masked", bindings, pc, in.width, in.height);
+    rec.dispatch(tiled ? "atrous_masked" : "atrous_masked_untiled", bindings, pc, in.width, in.height);
   } else {
-    rec.dispatch("atrous", bindings, pc, in.width, in.height);
+    rec.dispatch(tiled ? "atrous" : "atrous_untiled", bindings, pc, in.width, in.height);
   }
 }
 

@@ -74,6 +74,9 @@ struct GpuAtrousLevel {
   const Planes* validIn = nullptr;
   int validInPlane = 0;
   Planes* validOut = nullptr;
+  /// Read small-step taps through the shared-memory tile where the device has the 18 KiB it
+  /// needs; false forces the untiled variant (tests).
+  bool sharedTile = true;
 };
 
 /// The a-trous guide's depth gradient (2 planes) from the frame's depth (AtrousGuide::build).

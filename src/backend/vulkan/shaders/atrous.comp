@@ -11,7 +11,15 @@
 // for the first level, the previous level's validity after it); invalid pixels weigh 0, the
 // centre included; a pixel that receives any weight is valid in binding 7 and gets the
 // normalized sum, one with none stays invalid with colour 0.
+// Variants atrous_untiled / atrous_masked_untiled (RTD_UNTILED): the same without the shared
+// tile, for devices with less than the tile's 18 KiB of shared memory (Vulkan guarantees 16).
 // variant: atrous_masked RTD_SAMPLE_MASK
+// variant: atrous_untiled RTD_UNTILED
+// variant: atrous_masked_untiled RTD_MASKED_UNTILED
+#ifdef RTD_MASKED_UNTILED
+#define RTD_SAMPLE_MASK
+#define RTD_UNTILED
+#endif
 #include "common.glsl"
 #include "atrous.glsl"
 RTD_LOCAL_SIZE
@@ -48,17 +56,25 @@ float kernel1D(int d) {
   return d == 0 ? 0.5 : 0.25;
 }
 
-// Shared tile for small steps: 16 + 2 * 2 * step <= 24 pixels a side.
+#ifndef RTD_UNTILED
+// Shared tile for small steps: 16 + 2 * 2 * step <= 24 pixels a side (8 x 24^2 floats = 18 KiB;
+// passes.cpp picks the untiled variant where the device has less).
 const int kTile = 24;
 shared float sZ[kTile * kTile], sNx[kTile * kTile], sNy[kTile * kTile], sNz[kTile * kTile];
 shared float sR[kTile * kTile], sG[kTile * kTile], sB[kTile * kTile], sL[kTile * kTile];
+#endif
 
 void main() {
   const uint W = pc.width, H = pc.height, plane = W * H;
   const int reach = pc.radius * pc.step;
+#ifdef RTD_UNTILED
+  const bool tiled = false;
+#else
   const bool tiled = 16 + 2 * reach <= kTile;
+#endif
   const ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16 - reach;
   const int side = 16 + 2 * reach;
+#ifndef RTD_UNTILED
   if (tiled) {
     for (int k = int(gl_LocalInvocationIndex); k < side * side; k += 256) {
       const ivec2 q = origin + ivec2(k % side, k / side);
@@ -78,6 +94,7 @@ void main() {
     }
     barrier();
   }
+#endif
 
   const uvec2 p = gl_GlobalInvocationID.xy;
   if (outside(p, W, H)) return;
@@ -124,10 +141,13 @@ void main() {
       const uint q = uint(qy) * W + uint(qx);
       float zq, lq;
       vec3 nq, cq;
+#ifndef RTD_UNTILED
       if (tiled) {
         const int t = (qy - origin.y) * side + (qx - origin.x);
         zq = sZ[t]; nq = vec3(sNx[t], sNy[t], sNz[t]); cq = vec3(sR[t], sG[t], sB[t]); lq = sL[t];
-      } else {
+      } else
+#endif
+      {
 #ifdef RTD_SAMPLE_MASK
         if (!(validIn[pc.validPlane * plane + q] > 0.0)) continue;
 #endif
