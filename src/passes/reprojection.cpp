@@ -80,7 +80,7 @@ struct TapTest {
   TapTest(const FrameData& cur, const FrameData& prev, const ReprojectionSettings& st)
       : s(st), width(prev.width), height(prev.height),
         positionTolerance2(st.positionTolerance * st.positionTolerance) {
-    if (cur.has(Buffer::Depth) && prev.has(Buffer::Depth)) {
+    if (st.testDepth && cur.has(Buffer::Depth) && prev.has(Buffer::Depth)) {
       z = cur.plane(Buffer::Depth).ptr();
       zPrev = prev.plane(Buffer::Depth).ptr();
       if (cur.has(Buffer::DepthGradient)) {

@@ -54,15 +54,14 @@ struct BmfrSettings {
   /// Phase I/III reprojection: BMFR tests only world position and shading normal per tap.
   /// positionTolerance 0.04 is the authors' Sponza value (sqrt(0.0016)); it is in world units
   /// and must be set per scene. normalTolerance 0.875 is |dn|^2 < 0.25 for unit normals.
-  /// The depth test is disabled (huge tolerance), object ids and the 3x3 fallback are off.
+  /// The depth and object-id tests and the 3x3 fallback are off.
   ReprojectionSettings reprojection = defaultReprojection();
   /// Final TAA; the authors' code blends 20% of the current frame.
   TaaSettings taa = defaultTaa();
 
   static ReprojectionSettings defaultReprojection() {
     ReprojectionSettings s;
-    s.depthTolerance = 1e9f;
-    s.depthGradientScale = 0.0f;
+    s.testDepth = false;
     s.normalTolerance = 0.875f;
     s.testObjectId = false;
     s.positionTolerance = 0.04f;

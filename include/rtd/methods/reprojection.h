@@ -9,6 +9,8 @@ namespace rtd {
 /// reprojected position is tested separately (Schied et al. 2017; Koskela et al. 2019);
 /// invalid taps get zero weight and the valid ones are renormalized.
 struct ReprojectionSettings {
+  /// Run the depth test below (SVGF's; BMFR tests world positions instead).
+  bool testDepth = true;
   /// Reject a tap when |z_prev - z| > depthTolerance * z + depthGradientScale * |grad z|,
   /// |grad z| being the screen-space depth slope (pixel units). Not given by the papers
   /// (Higginson: "[UNCLEAR]"); 5% relative plus two pixels of slope keeps grazing floors.
@@ -27,6 +29,7 @@ struct ReprojectionSettings {
   bool fallback3x3 = true;
 
   template <class V> void visit(V& v) {
+    v("testDepth", testDepth, "reject history taps by view depth (SVGF); BMFR tests world positions instead");
     v("depthTolerance", depthTolerance, "relative depth difference that rejects a history tap", Range{0, 1e9});
     v("depthGradientScale", depthGradientScale, "pixels of screen-space depth slope added to the depth tolerance", Range{0, 1e9});
     v("normalTolerance", normalTolerance, "min cosine between current and history normals", Range{-1, 1});

@@ -42,7 +42,7 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
   if (usable) {
     pc.flags |= kPrevious;
     auto both = [&](Buffer b) { return cur.has(b) && p.has(b); };
-    if (both(Buffer::Depth)) pc.flags |= kDepth;
+    if (s.testDepth && both(Buffer::Depth)) pc.flags |= kDepth;
     if (both(Buffer::Normal)) pc.flags |= kNormal;
     if (s.testObjectId && both(Buffer::ObjectId)) pc.flags |= kId;
     if (s.positionTolerance > 0 && both(Buffer::Position)) pc.flags |= kPosition;
