@@ -23,14 +23,17 @@ void accumulatePlane(const Reprojection& rp, const Plane& length, float alpha, c
   });
 }
 
-void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, const Plane3& current,
-                      const Plane3& history, Plane3& out) {
+void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, const float* const current[3],
+                   const Plane3& history, Plane3& out, int y) {
   const int w = rp.width;
   const float* hPrev[3] = {history[0].ptr(), history[1].ptr(), history[2].ptr()};
-  auto pixel = [&](size_t i, Reprojection::Taps& taps) {
+  const size_t row = size_t(y) * w;
+  Reprojection::Taps taps;
+  auto pixel = [&](int x) {
+    const size_t i = row + x;
     const uint8_t kind = rp.kind[i];
     if (kind == Reprojection::None) {
-      for (int k = 0; k < 3; ++k) out[k].data[i] = current[k].data[i];
+      for (int k = 0; k < 3; ++k) out[k].data[i] = current[k][x];
       return;
     }
     float hist[3];
@@ -41,28 +44,33 @@ void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, 
       for (int k = 0; k < 3; ++k) hist[k] = taps.gather(history[k]);
     }
     const float a = newSampleWeight(length.data[i], alpha);
-    for (int k = 0; k < 3; ++k) out[k].data[i] = a * current[k].data[i] + (1.0f - a) * hist[k];
+    for (int k = 0; k < 3; ++k) out[k].data[i] = a * current[k][x] + (1.0f - a) * hist[k];
   };
-  parallelRows(rp.height, [&](int y) {
-    Reprojection::Taps taps;
-    int x = 0;
+  int x = 0;
 #ifdef __AVX2__
-    // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-    Bilinear8 taps8;
-    const __m256 one = _mm256_set1_ps(1.0f), vAlpha = _mm256_set1_ps(alpha);
-    for (; x + 8 <= w; x += 8) {
-      const size_t i = size_t(y) * w + x;
-      if (!taps8.load(rp, i)) {
-        for (int k = 0; k < 8; ++k) pixel(i + k, taps);
-        continue;
-      }
-      const __m256 a = _mm256_max_ps(_mm256_div_ps(one, _mm256_loadu_ps(length.ptr() + i)), vAlpha);
-      for (int k = 0; k < 3; ++k)
-        _mm256_storeu_ps(out[k].ptr() + i, _mm256_fmadd_ps(a, _mm256_loadu_ps(current[k].ptr() + i),
-                                                           _mm256_mul_ps(_mm256_sub_ps(one, a), taps8.gather(hPrev[k]))));
+  // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
+  Bilinear8 taps8;
+  const __m256 one = _mm256_set1_ps(1.0f), vAlpha = _mm256_set1_ps(alpha);
+  for (; x + 8 <= w; x += 8) {
+    const size_t i = row + x;
+    if (!taps8.load(rp, i)) {
+      for (int k = 0; k < 8; ++k) pixel(x + k);
+      continue;
     }
+    const __m256 a = _mm256_max_ps(_mm256_div_ps(one, _mm256_loadu_ps(length.ptr() + i)), vAlpha);
+    for (int k = 0; k < 3; ++k)
+      _mm256_storeu_ps(out[k].ptr() + i, _mm256_fmadd_ps(a, _mm256_loadu_ps(current[k] + x),
+                                                         _mm256_mul_ps(_mm256_sub_ps(one, a), taps8.gather(hPrev[k]))));
+  }
 #endif
-    for (; x < w; ++x) pixel(size_t(y) * w + x, taps);
+  for (; x < w; ++x) pixel(x);
+}
+
+void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, const Plane3& current,
+                      const Plane3& history, Plane3& out) {
+  parallelRows(rp.height, [&](int y) {
+    const float* row[3] = {current[0].row(y), current[1].row(y), current[2].row(y)};
+    accumulateRow(rp, length, alpha, row, history, out, y);
   });
 }
 

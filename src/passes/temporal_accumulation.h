@@ -22,6 +22,10 @@ void accumulatePlane(const Reprojection& rp, const Plane& length, float alpha, c
 /// accumulation of the fitted colour with phase I's taps and history length.
 void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, const Plane3& current,
                       const Plane3& history, Plane3& out);
+/// accumulatePlanes() for row y only, the current values given as row pointers: lets a method
+/// produce a row and accumulate it while it is in cache.
+void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, const float* const current[3],
+                   const Plane3& history, Plane3& out, int y);
 
 /// CIE 1976 lightness L* of relative luminance y (reference white Y_n = 1; HDR values above 1
 /// continue the cube-root branch). Gersthofer Sec. 3.4.1 accumulates moments of L*.

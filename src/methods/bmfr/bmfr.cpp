@@ -134,7 +134,8 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       noisy_.run(reprojection_, demodulated_, s.alphaNoisy, s.alphaNoisy, s.maxHistoryLength);
     }
     const Plane& length = noisy_.historyLength();
-    const Plane3* fitted = &noisy_.color();
+    // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
+    const Plane3* filtered = &noisy_.color();  // without phases II and III the accumulation passes through
     if (s.fit) {
       selectFeatures(frame);
       const int size = s.blockSize == BmfrBlockSize::Block64 ? 64 : 32;
@@ -143,17 +144,24 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         PassTimer t(stats, "fit");
         fitBlocks(frame, noisy_.color());
       }
-      {
+      if (s.accumulateFiltered) {
+        // Each synthesized row goes into phase III while it is in cache: the fitted image
+        // never goes through memory.
+        PassTimer t(stats, "synthesize+accumulate");
+        synthesize(frame, [&](const float* const row[3], int y) {
+          accumulateRow(reprojection_, length, s.alphaFiltered, row, filtered_[prev], filtered_[cur_], y);
+        });
+        filtered = &filtered_[cur_];
+      } else {
         PassTimer t(stats, "synthesize");
-        synthesize(frame);
+        synthesize(frame, [&](const float* const row[3], int y) {
+          for (int c = 0; c < 3; ++c) std::copy(row[c], row[c] + frame.width, fitted_[c].row(y));
+        });
+        filtered = &fitted_;
       }
-      fitted = &fitted_;
-    }
-    const Plane3* filtered = fitted;
-    if (s.accumulateFiltered) {
-      // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
+    } else if (s.accumulateFiltered) {
       PassTimer t(stats, "accumulateFiltered");
-      accumulatePlanes(reprojection_, length, s.alphaFiltered, *fitted, filtered_[prev], filtered_[cur_]);
+      accumulatePlanes(reprojection_, length, s.alphaFiltered, noisy_.color(), filtered_[prev], filtered_[cur_]);
       filtered = &filtered_[cur_];
     }
     {
@@ -395,14 +403,17 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   }
 
   // Eq. 6: y = T alpha per pixel with its block's weights and normalization, clamped >= 0.
-  void synthesize(const FrameData& frame) {
+  // Eq. 6 for every row: sink(row, y) receives the row's fitted colour (three row pointers).
+  template <class Sink> void synthesize(const FrameData& frame, Sink&& sink) {
     const int w = frame.width, m = int(features_.size());
     const Plane* planes[kMaxFeatures];
     for (int k = 0; k < m; ++k)
       planes[k] = features_[size_t(k)].kind == FeatureKind::Constant ? nullptr : &rawPlane(frame, features_[size_t(k)]);
     parallelRows(frame.height, [&](int y) {
       float feature[kMaxBlock];
-      float* outRow[3] = {fitted_[0].row(y), fitted_[1].row(y), fitted_[2].row(y)};
+      RowScratch& scratch = rows_.local();
+      if (scratch.rgb.size() < size_t(3 * w)) scratch.rgb.assign(size_t(3 * w), 0.0f);
+      float* outRow[3] = {scratch.rgb.data(), scratch.rgb.data() + w, scratch.rgb.data() + 2 * w};
       const int by = grid_.blockY(y);
       for (int x0 = 0; x0 < w;) {
         const int bx = grid_.blockX(x0);
@@ -431,8 +442,14 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
           for (int i = 0; i < n; ++i) outRow[c][x0 + i] = std::max(outRow[c][x0 + i], 0.0f);
         x0 = x1;
       }
+      sink(outRow, y);
     });
   }
+
+  struct RowScratch {
+    std::vector<float> rgb;  // one row of the fitted colour
+  };
+  tbb::enumerable_thread_specific<RowScratch> rows_;
 
   Plane3 demodulated_, fitted_, remodulated_;
   TemporalAccumulator noisy_;  // phase I history: accumulated colour and sample count
