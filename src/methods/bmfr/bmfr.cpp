@@ -136,6 +136,8 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     const Plane& length = noisy_.historyLength();
     // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
     const Plane3* filtered = &noisy_.color();  // without phases II and III the accumulation passes through
+    Plane3& remodulated = s.taa.taa ? remodulated_ : out;
+    bool remodulatedAlready = false;
     if (s.fit) {
       selectFeatures(frame);
       const int size = s.blockSize == BmfrBlockSize::Block64 ? 64 : 32;
@@ -145,13 +147,15 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         fitBlocks(frame, noisy_.color());
       }
       if (s.accumulateFiltered) {
-        // Each synthesized row goes into phase III while it is in cache: the fitted image
-        // never goes through memory.
-        PassTimer t(stats, "synthesize+accumulate");
+        // Each synthesized row goes through phase III and the remodulation while it is in
+        // cache: the fitted image never goes through memory.
+        PassTimer t(stats, "synthesize+accumulate+remodulate");
         synthesize(frame, [&](const float* const row[3], int y) {
           accumulateRow(reprojection_, length, s.alphaFiltered, row, filtered_[prev], filtered_[cur_], y);
+          remodulateRow(filtered_[cur_], albedo, remodulated, y);
         });
         filtered = &filtered_[cur_];
+        remodulatedAlready = true;
       } else {
         PassTimer t(stats, "synthesize");
         synthesize(frame, [&](const float* const row[3], int y) {
@@ -164,9 +168,9 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       accumulatePlanes(reprojection_, length, s.alphaFiltered, noisy_.color(), filtered_[prev], filtered_[cur_]);
       filtered = &filtered_[cur_];
     }
-    {
+    if (!remodulatedAlready) {
       PassTimer t(stats, "remodulate");
-      remodulateInto(*filtered, albedo, s.taa.taa ? remodulated_ : out);
+      parallelRows(frame.height, [&](int y) { remodulateRow(*filtered, albedo, remodulated, y); });
     }
     if (s.taa.taa) {
       PassTimer t(stats, "taa");
@@ -177,20 +181,18 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
 
  private:
   // out = illumination * albedo' (the shared remodulation's factor), without a copy first.
-  static void remodulateInto(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out) {
+  static void remodulateRow(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out, int y) {
     const int w = illumination[0].width;
-    parallelRows(illumination[0].height, [&](int y) {
-      for (int c = 0; c < 3; ++c) {
-        const float* in = illumination[c].row(y);
-        float* o = out[c].row(y);
-        if (!albedo) {
-          std::copy(in, in + w, o);
-          continue;
-        }
-        const float* a = (*albedo)[c].row(y);
-        for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(a[x]);
+    for (int c = 0; c < 3; ++c) {
+      const float* in = illumination[c].row(y);
+      float* o = out[c].row(y);
+      if (!albedo) {
+        std::copy(in, in + w, o);
+        continue;
       }
-    });
+      const float* a = (*albedo)[c].row(y);
+      for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(a[x]);
+    }
   }
 
   void selectFeatures(const FrameData& frame) {
