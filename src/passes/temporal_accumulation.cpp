@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/parallel.h"
+#include "passes/demodulation.h"
 
 namespace rtd {
 
@@ -97,16 +98,29 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
 
 void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha,
                               int maxHistoryLength, const AccumulationOptions& options) {
+  run(rp, color.data(), alpha, momentsAlpha, maxHistoryLength, options);
+}
+
+void TemporalAccumulator::run(const Reprojection& rp, const std::vector<Plane>& color, float alpha,
+                              float momentsAlpha, int maxHistoryLength, const AccumulationOptions& options) {
+  run(rp, color.data(), alpha, momentsAlpha, maxHistoryLength, options);
+}
+
+void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float alpha, float momentsAlpha,
+                              int maxHistoryLength, const AccumulationOptions& options) {
   const int prev = cur_;
   cur_ ^= 1;
   const int w = rp.width;
   const float maxLength = float(maxHistoryLength);
   const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
+  const Plane* albedo = options.albedo ? options.albedo->data() : nullptr;
   const float *lenPrev = length_[prev].ptr(), *m1Prev = m1_[prev].ptr(), *m2Prev = m2_[prev].ptr();
   const float* cPrev[3] = {color_[prev][0].ptr(), color_[prev][1].ptr(), color_[prev][2].ptr()};
   // One fused pass per pixel: history length, colour and both moments from the same taps.
   auto pixel = [&](size_t i, Reprojection::Taps& taps) {
-    const float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
+    float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
+    if (albedo)
+      for (int k = 0; k < 3; ++k) c[k] /= demodulationFactor(albedo[k].data[i]);
     const float l = options.luminance == MomentLuminance::Rec709 ? luminance(c[0], c[1], c[2])
                                                                  : momentLuminance(options.luminance, c[0], c[1], c[2]);
     float histLength = 0.0f, hist[3] = {0, 0, 0}, hist1 = 0.0f, hist2 = 0.0f;
@@ -175,6 +189,10 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane3& color, float
         __m256 c[3];
         for (int k = 0; k < 3; ++k) {
           c[k] = _mm256_loadu_ps(color[k].ptr() + i);
+          if (albedo) {
+            const __m256 a = _mm256_loadu_ps(albedo[k].ptr() + i);
+            c[k] = _mm256_div_ps(c[k], _mm256_blendv_ps(one, a, _mm256_cmp_ps(a, _mm256_set1_ps(kAlbedoEpsilon), _CMP_GT_OQ)));
+          }
           const __m256 hist = taps8.gather(cPrev[k]);
           _mm256_storeu_ps(color_[cur_][k].ptr() + i, _mm256_fmadd_ps(a, c[k], _mm256_mul_ps(_mm256_sub_ps(one, a), hist)));
         }

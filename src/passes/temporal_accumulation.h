@@ -57,6 +57,10 @@ struct AccumulationOptions {
   /// plane (Buffer::SampleMask) is 0 the pixel got no sample, so colour, moments and history
   /// length are the reprojected history unchanged (0 where there is none: still missing).
   const Plane* sampleMask = nullptr;
+  /// When set, the colour passed to run() is radiance, demodulated on the fly (divided by
+  /// demodulationFactor of these three albedo planes, as demodulate() does) so the demodulated
+  /// image is never stored. Methods that need it stored (SVGF's variance) demodulate first.
+  const std::vector<Plane>* albedo = nullptr;
 };
 
 /// Owns the history of one radiance stream: accumulated colour (three planes), the first and
@@ -71,6 +75,10 @@ class TemporalAccumulator {
   void run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha, int maxHistoryLength);
   void run(const Reprojection& rp, const Plane3& color, float alpha, float momentsAlpha, int maxHistoryLength,
            const AccumulationOptions& options);
+  /// The same with the colour as a frame's buffer (three planes), typically radiance with
+  /// options.albedo set.
+  void run(const Reprojection& rp, const std::vector<Plane>& color, float alpha, float momentsAlpha,
+           int maxHistoryLength, const AccumulationOptions& options);
 
   const Plane3& color() const { return color_[cur_]; }
   /// Methods that feed a filtered result back as history (SVGF: first a-trous level) write here.
@@ -85,6 +93,8 @@ class TemporalAccumulator {
   }
 
  private:
+  void run(const Reprojection& rp, const Plane* color, float alpha, float momentsAlpha, int maxHistoryLength,
+           const AccumulationOptions& options);
   Plane3 color_[2];
   Plane m1_[2], m2_[2], length_[2];
   int cur_ = 0;

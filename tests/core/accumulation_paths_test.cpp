@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <set>
 
+#include "passes/demodulation.h"
 #include "passes/reprojection.h"
 #include "passes/temporal_accumulation.h"
 
@@ -90,6 +91,39 @@ TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(out[c].data[i], a * second[c].data[i] + (1 - a) * rp.gather(history[c], i), 1e-6f) << i;
   }
+}
+
+// Demodulating on the fly (AccumulationOptions::albedo) gives exactly what demodulate()
+// followed by the accumulation gives, albedo below the epsilon included.
+TEST(SharedPassPaths, OnTheFlyDemodulationEqualsTheDemodulatePass) {
+  const int w = 75, h = 23;
+  Lcg rnd;
+  const FrameData prev = frameWithMotion(w, h, rnd, false), cur = frameWithMotion(w, h, rnd, true);
+  Reprojection none, rp;
+  reproject(prev, nullptr, ReprojectionSettings{}, none);
+  reproject(cur, &prev, ReprojectionSettings{}, rp);
+  auto planes = [&](float zeroShare) {
+    std::vector<Plane> p(3, Plane(w, h));
+    for (auto& c : p)
+      for (float& v : c.data) v = rnd() < zeroShare ? 0.0f : rnd();
+    return p;
+  };
+  const std::vector<Plane> albedo = planes(0.1f);
+  TemporalAccumulator fused, separate;
+  fused.resize(w, h);
+  separate.resize(w, h);
+  AccumulationOptions opt;
+  opt.albedo = &albedo;
+  for (const Reprojection* r : {&none, &rp}) {
+    const std::vector<Plane> radiance = planes(0.0f);
+    Plane3 demodulated;
+    demodulate(radiance, &albedo, demodulated);
+    fused.run(*r, radiance, 0.2f, 0.2f, 255, opt);
+    separate.run(*r, demodulated, 0.2f, 0.2f, 255);
+  }
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(fused.color()[c].data, separate.color()[c].data);
+  EXPECT_EQ(fused.moment1().data, separate.moment1().data);
+  EXPECT_EQ(fused.moment2().data, separate.moment2().data);
 }
 
 // Planes of one size must not share their offset within a page (see StaggeredAllocator).

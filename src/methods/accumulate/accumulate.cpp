@@ -15,25 +15,21 @@ class AccumulateCpu final : public CpuDenoiser<AccumulateSettings> {
   std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color}; }
 
  protected:
-  void resizeHistory(int w, int h) override {
-    accumulator_.resize(w, h);
-    resize(demodulated_, w, h);
-  }
+  void resizeHistory(int w, int h) override { accumulator_.resize(w, h); }
   void resetHistory() override { accumulator_.reset(); }
 
   void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
     const auto* albedo = settings_.demodulate && frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
     {
-      PassTimer t(stats, "demodulate");
-      demodulate(frame.planes(Buffer::Color), albedo, demodulated_);
-    }
-    {
       PassTimer t(stats, "reproject");
       reproject(frame, previous, settings_.reprojection, reprojection_);
     }
     {
-      PassTimer t(stats, "accumulate");
-      accumulator_.run(reprojection_, demodulated_, settings_.alpha, settings_.alpha, settings_.maxHistoryLength);
+      PassTimer t(stats, "accumulate");  // of the radiance, demodulated on the fly
+      AccumulationOptions opt;
+      opt.albedo = albedo;
+      accumulator_.run(reprojection_, frame.planes(Buffer::Color), settings_.alpha, settings_.alpha,
+                       settings_.maxHistoryLength, opt);
     }
     PassTimer t(stats, "remodulate");
     for (int c = 0; c < 3; ++c) out[c].data = accumulator_.color()[c].data;
@@ -41,7 +37,6 @@ class AccumulateCpu final : public CpuDenoiser<AccumulateSettings> {
   }
 
  private:
-  Plane3 demodulated_;
   Reprojection reprojection_;
   TemporalAccumulator accumulator_;
 };

@@ -95,7 +95,6 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
 
  protected:
   void resizeHistory(int w, int h) override {
-    resize(demodulated_, w, h);
     noisy_.resize(w, h);
     for (auto& f : filtered_) resize(f, w, h);
     resize(fitted_, w, h);
@@ -120,18 +119,17 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     const int prev = cur_;
     cur_ ^= 1;
     {
-      PassTimer t(stats, "demodulate");
-      demodulate(frame.planes(Buffer::Color), albedo, demodulated_);
-    }
-    {
       PassTimer t(stats, "reproject");
       reproject(frame, previous, s.reprojection, reprojection_);
     }
     {
       // Phase I: cumulative then exponential average, w = max(1/n, 0.2) (Sec. 4.1), with the
-      // 8-bit-capped sample count (the accumulator's luminance moments are not used).
+      // 8-bit-capped sample count (the accumulator's luminance moments are not used), of the
+      // radiance demodulated on the fly.
       PassTimer t(stats, "accumulateNoisy");
-      noisy_.run(reprojection_, demodulated_, s.alphaNoisy, s.alphaNoisy, s.maxHistoryLength);
+      AccumulationOptions opt;
+      opt.albedo = albedo;
+      noisy_.run(reprojection_, frame.planes(Buffer::Color), s.alphaNoisy, s.alphaNoisy, s.maxHistoryLength, opt);
     }
     const Plane& length = noisy_.historyLength();
     // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
@@ -453,7 +451,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   };
   tbb::enumerable_thread_specific<RowScratch> rows_;
 
-  Plane3 demodulated_, fitted_, remodulated_;
+  Plane3 fitted_, remodulated_;
   TemporalAccumulator noisy_;  // phase I history: accumulated colour and sample count
   Plane3 filtered_[2];         // phase III history
   int cur_ = 0;
