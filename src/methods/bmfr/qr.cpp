@@ -45,6 +45,40 @@ inline float sumOfSquares(const float* x, int begin, int end) {
 
 }  // namespace
 
+namespace {
+
+// One pass over rows [begin, end): every column y[j] -= scale[j] * u, and, for the next
+// reflection, dot[j] += x * y[j] with the already updated next column x (look-ahead: the
+// update of reflection k and the dot products of reflection k + 1 share one pass).
+template <int Count>
+void reflectAndDot(const float* u, const float* x, const float* scale, float* const* y, float* dot, int begin, int end) {
+  Float8 acc[Count] = {};
+  for (int i = begin; i < end; i += 8) {
+    const Float8 uu = load(u + i), xx = load(x + i);
+    for (int j = 0; j < Count; ++j) {
+      const Float8 v = load(y[j] + i) - scale[j] * uu;
+      store(y[j] + i, v);
+      acc[j] += xx * v;
+    }
+  }
+  for (int j = 0; j < Count; ++j) dot[j] = sum(acc[j]);
+}
+
+// dot[j] = x . y[j] over rows [begin, end), four columns per pass over x.
+void dots(const float* x, float* const* y, int count, float* dot, int begin, int end) {
+  for (int j = 0; j < count; j += 4) {
+    Float8 acc[4] = {};
+    const int n = std::min(4, count - j);
+    for (int i = begin; i < end; i += 8) {
+      const Float8 xx = load(x + i);
+      for (int q = 0; q < n; ++q) acc[q] += xx * load(y[j + q] + i);
+    }
+    for (int q = 0; q < n; ++q) dot[j + q] = sum(acc[q]);
+  }
+}
+
+}  // namespace
+
 void householderQr(float* cols, int rows, size_t stride, int features, int channels, TriangularSystem& out) {
   out.features = features;
   out.channels = channels;
@@ -54,25 +88,35 @@ void householderQr(float* cols, int rows, size_t stride, int features, int chann
   // multiple of 8, with column k's entries above the diagonal zeroed once they are in R.
   const int padded = (rows + 7) & ~7;
   for (int j = 0; j < columns; ++j) std::fill(cols + size_t(j) * stride + rows, cols + size_t(j) * stride + padded, 0.0f);
+  auto column = [&](int j) { return cols + size_t(j) * stride; };
+  // dot[j] = x . y_j over rows [k & ~7, padded) for the current column x = column k (its rows
+  // above k zeroed), computed by the previous reflection's update pass (or directly).
+  float dot[kMaxFeatures + kMaxChannels];
+  bool dotsReady = false;
   for (int k = 0; k < features; ++k) {
-    auto store = [&](int j, float v) {
+    auto keep = [&](int j, float v) {  // entry (k, j) of [R | r]
       if (j < features) out.R[k][j] = v;
       else out.r[j - features][k] = v;
     };
     if (k >= rows) {  // fewer rows than features: nothing left below the diagonal
-      for (int j = k; j < columns; ++j) store(j, 0.0f);
+      for (int j = k; j < columns; ++j) keep(j, 0.0f);
       continue;
     }
-    float* x = cols + size_t(k) * stride;
+    float* x = column(k);
     const int begin = k & ~7;
     std::fill(x + begin, x + k, 0.0f);  // R[0..k)[k], already stored by earlier reflections
+    float* y[kMaxFeatures + kMaxChannels];
+    const int later = columns - k - 1;
+    for (int q = 0; q < later; ++q) y[q] = column(k + 1 + q);
+    if (!dotsReady) dots(x, y, later, dot, begin, padded);
     const float xk = x[k];
     x[k] = 0.0f;
     const float below = sumOfSquares(x, begin, padded);
     if (below == 0.0f) {  // already upper triangular in this column (or all zero: R_kk = 0)
       x[k] = xk;
       out.R[k][k] = xk;
-      for (int j = k + 1; j < columns; ++j) store(j, cols[size_t(j) * stride + k]);
+      for (int j = k + 1; j < columns; ++j) keep(j, column(j)[k]);
+      dotsReady = false;
       continue;
     }
     const float norm = std::sqrt(below + xk * xk);
@@ -81,19 +125,37 @@ void householderQr(float* cols, int rows, size_t stride, int features, int chann
     const float uk = xk - alpha;
     x[k] = uk;  // column k now holds u (rows k..)
     const float beta = 2.0f / (below + uk * uk);
-    for (int j = k + 1; j < columns; j += 4) {
-      const int count = std::min(4, columns - j);
-      float* y[4] = {};
-      for (int q = 0; q < count; ++q) y[q] = cols + size_t(j + q) * stride;
-      switch (count) {
-        case 1: reflect<1>(x, beta, y, begin, padded); break;
-        case 2: reflect<2>(x, beta, y, begin, padded); break;
-        case 3: reflect<3>(x, beta, y, begin, padded); break;
-        default: reflect<4>(x, beta, y, begin, padded); break;
-      }
-      for (int q = 0; q < count; ++q) store(j + q, y[q][k]);
-    }
+    // beta u . y_j, from x . y_j: u differs from x only in row k.
+    float scale[kMaxFeatures + kMaxChannels];
+    for (int q = 0; q < later; ++q) scale[q] = beta * (dot[q] + (uk - xk) * y[q][k]);
     out.R[k][k] = alpha;
+    if (k + 1 < features && k + 1 < rows) {
+      // The next column first: it is the next reflection's x, whose dot products with the
+      // other columns the remaining update passes accumulate.
+      float* next = y[0];
+      for (int i = begin; i < padded; i += 8) store(next + i, load(next + i) - scale[0] * load(x + i));
+      keep(k + 1, next[k]);
+      std::fill(next + begin, next + k + 1, 0.0f);  // rows above k + 1 are in R now
+      for (int q = 1; q < later; q += 4) {
+        const int count = std::min(4, later - q);
+        switch (count) {
+          case 1: reflectAndDot<1>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
+          case 2: reflectAndDot<2>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
+          case 3: reflectAndDot<3>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
+          default: reflectAndDot<4>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
+        }
+        for (int c = 0; c < count; ++c) keep(k + 1 + q + c, y[q + c][k]);
+      }
+      // The next reflection starts at (k + 1) & ~7 >= begin; the rows in between are zero in
+      // its column, so the dot products over [begin, padded) are the ones it needs.
+      dotsReady = true;
+    } else {
+      for (int q = 0; q < later; ++q) {
+        for (int i = begin; i < padded; i += 8) store(y[q] + i, load(y[q] + i) - scale[q] * load(x + i));
+        keep(k + 1 + q, y[q][k]);
+      }
+      dotsReady = false;
+    }
   }
 }
 
