@@ -18,22 +18,6 @@ inline float sum(Float8 v) {
   return a + b;
 }
 
-// Applies the reflection I - beta u u^T to Count columns over rows [begin, end): all dot
-// products in one pass over u, then all updates in a second one.
-template <int Count> void reflect(const float* u, float beta, float* const* y, int begin, int end) {
-  Float8 acc[Count] = {};
-  for (int i = begin; i < end; i += 8) {
-    const Float8 uu = load(u + i);
-    for (int j = 0; j < Count; ++j) acc[j] += uu * load(y[j] + i);
-  }
-  float scale[Count];
-  for (int j = 0; j < Count; ++j) scale[j] = beta * sum(acc[j]);
-  for (int i = begin; i < end; i += 8) {
-    const Float8 uu = load(u + i);
-    for (int j = 0; j < Count; ++j) store(y[j] + i, load(y[j] + i) - scale[j] * uu);
-  }
-}
-
 inline float sumOfSquares(const float* x, int begin, int end) {
   Float8 acc = {};
   for (int i = begin; i < end; i += 8) {
@@ -42,10 +26,6 @@ inline float sumOfSquares(const float* x, int begin, int end) {
   }
   return sum(acc);
 }
-
-}  // namespace
-
-namespace {
 
 // One pass over rows [begin, end): every column y[j] -= scale[j] * u, and, for the next
 // reflection, dot[j] += x * y[j] with the already updated next column x (look-ahead: the
