@@ -45,7 +45,7 @@ TEST(Reprojection, KnownCameraTranslationGivesAnalyticPreviousPositions) {
   Reprojection rm;
   reproject(cm, &p, ReprojectionSettings{}, rm);
   for (size_t i = 0; i < rp.prevX.size(); ++i)
-    if (withMotion[Buffer::ObjectId].pixels[i] != 0) ASSERT_NEAR(rm.prevX.data[i], rp.prevX.data[i], 2e-3);
+    if (withMotion[Buffer::ObjectId].pixels[i] != 0) { ASSERT_NEAR(rm.prevX.data[i], rp.prevX.data[i], 2e-3); }
 }
 
 TEST(Reprojection, StaticCameraMapsEveryPixelToItselfWithFullWeight) {

@@ -69,7 +69,7 @@ TEST(NativeSequence, RoundTripsEveryBufferAndTheCameras) {
     EXPECT_EQ(got.number, k + 1);
     for (int b = 0; b < kBufferCount; ++b) {
       ASSERT_EQ(expected.has(Buffer(b)), got.has(Buffer(b))) << bufferName(Buffer(b));
-      if (expected.has(Buffer(b))) EXPECT_EQ(expected.buffers[b].pixels, got.buffers[b].pixels) << bufferName(Buffer(b));
+      if (expected.has(Buffer(b))) { EXPECT_EQ(expected.buffers[b].pixels, got.buffers[b].pixels) << bufferName(Buffer(b)); }
     }
     EXPECT_TRUE(got.camera.valid);
     EXPECT_EQ(got.camera.worldToCamera, expected.camera.worldToCamera);

@@ -243,7 +243,7 @@ TEST(VulkanAtrous, MaskedLevelsMatchCpu) {
               EXPECT_TRUE(reach) << what << ": valid without any valid tap at " << x << "," << y;
             }
           }
-        if (kernel == AtrousKernel::Binomial3x3 && step == 1) EXPECT_GT(empty, 0) << what << ": the hole stays";
+        if (kernel == AtrousKernel::Binomial3x3 && step == 1) { EXPECT_GT(empty, 0) << what << ": the hole stays"; }
         // Step 1 fills every gap of the pattern; with step 4 a pixel's taps share its position
         // in the pattern, so about the valid quarter stays valid.
         EXPECT_GT(filled, step == 1 ? int(n) * 3 / 4 : int(n) / 5) << what;

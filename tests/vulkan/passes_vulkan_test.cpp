@@ -107,7 +107,7 @@ void checkReprojection(bool motion, const ReprojectionSettings& s) {
   const auto counts = cpu.counts();
   EXPECT_GT(counts[Reprojection::Bilinear], n / 2) << "the scene should reproject most pixels";
   EXPECT_GT(counts[Reprojection::None], 0u);
-  if (s.positionTolerance == 0) EXPECT_GT(counts[Reprojection::Fallback3x3], 0u);  // else the 3x3 taps fail it too
+  if (s.positionTolerance == 0) { EXPECT_GT(counts[Reprojection::Fallback3x3], 0u); }  // else the 3x3 taps fail it too
   for (size_t i = 0; i < n; ++i) {
     const uint32_t kind = word(0, i) & 3u;
     ASSERT_EQ(kind, cpu.kind[i]) << "pixel " << i % kWidth << "," << i / kWidth;
@@ -172,7 +172,7 @@ TEST(VulkanPasses, TemporalAccumulationMatchesCpu) {
         maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
       }
       EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << k << " plane " << p;
-      if (p == 5) EXPECT_EQ(maxErr, 0.0) << "history lengths are integers";
+      if (p == 5) { EXPECT_EQ(maxErr, 0.0) << "history lengths are integers"; }
     }
     prevCpu = std::move(f);
     prevGpu = std::move(g);
@@ -227,7 +227,7 @@ TEST(VulkanPasses, TemporalAccumulationWithSampleMaskMatchesCpu) {
         maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
       }
       EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << k << " plane " << p;
-      if (p == 5) EXPECT_EQ(maxErr, 0.0) << "history lengths are integers";
+      if (p == 5) { EXPECT_EQ(maxErr, 0.0) << "history lengths are integers"; }
     }
     // Independent of the CPU: an unsampled pixel with an exact (integer) reprojection keeps the
     // value of the pixel it came from; one without history stays at length 0.
@@ -284,7 +284,7 @@ TEST(VulkanPasses, TaaMatchesCpu) {
         changed = std::max(changed, double(std::abs(cpuOut[p].data[i] - c[p].data[i])));
       }
     EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << k;
-    if (k > 0) EXPECT_GT(changed, 0.1) << "TAA should blend history on frame " << k;
+    if (k > 0) { EXPECT_GT(changed, 0.1) << "TAA should blend history on frame " << k; }
     prevCpu = std::move(f);
     prevGpu = std::move(g);
   }

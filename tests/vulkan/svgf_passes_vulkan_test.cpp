@@ -74,7 +74,7 @@ TEST(VulkanSvgfPasses, VarianceMatchesCpu) {
     PaddedPlane scratch[2];
     for (auto& sp : scratch) sp.resize(w, h, 8);
     const size_t spatial = svgf::estimateVariance(guide, {&len, &m1, &m2, &cur, &acc}, p, cpuOut, scratch);
-    if (!cs.disable) EXPECT_GT(spatial, n / 4) << "the spatial estimate must be exercised";
+    if (!cs.disable) { EXPECT_GT(spatial, n / 4) << "the spatial estimate must be exercised"; }
     SvgfSettings s;
     s.shortHistoryBandwidth = cs.bandwidth;
     s.shortHistory = p.shortHistory;
