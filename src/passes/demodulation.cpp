@@ -1,5 +1,7 @@
 #include "passes/demodulation.h"
 
+#include <algorithm>
+
 #include "core/parallel.h"
 
 namespace rtd {
@@ -22,16 +24,23 @@ void demodulate(const std::vector<Plane>& radiance, const std::vector<Plane>* al
   });
 }
 
+void remodulateRow(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out, int y) {
+  const int w = illumination[0].width;
+  for (int c = 0; c < 3; ++c) {
+    const float* in = illumination[c].row(y);
+    float* o = out[c].row(y);
+    if (!albedo) {
+      if (o != in) std::copy(in, in + w, o);
+      continue;
+    }
+    const float* a = (*albedo)[c].row(y);
+    for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(a[x]);
+  }
+}
+
 void remodulate(Plane3& illumination, const std::vector<Plane>* albedo) {
   if (!albedo) return;
-  const int w = illumination[0].width;
-  parallelRows(illumination[0].height, [&](int y) {
-    for (int c = 0; c < 3; ++c) {
-      float* o = illumination[c].row(y);
-      const float* a = (*albedo)[c].row(y);
-      for (int x = 0; x < w; ++x) o[x] *= demodulationFactor(a[x]);
-    }
-  });
+  parallelRows(illumination[0].height, [&](int y) { remodulateRow(illumination, albedo, illumination, y); });
 }
 
 }  // namespace rtd

@@ -42,13 +42,24 @@ FrameData frameWithMotion(int w, int h, Lcg& rnd, bool withMotion) {
   return f;
 }
 
-TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
-  const int w = 75, h = 23;
-  Lcg rnd;
-  const FrameData prev = frameWithMotion(w, h, rnd, false), cur = frameWithMotion(w, h, rnd, true);
+constexpr int kWidth = 75, kHeight = 23;
+
+// A first frame (no history) and a second one with motion, and their reprojections.
+struct TwoFrames {
+  FrameData prev, cur;
   Reprojection none, rp;
-  reproject(prev, nullptr, ReprojectionSettings{}, none);
-  reproject(cur, &prev, ReprojectionSettings{}, rp);
+  explicit TwoFrames(Lcg& rnd)
+      : prev(frameWithMotion(kWidth, kHeight, rnd, false)), cur(frameWithMotion(kWidth, kHeight, rnd, true)) {
+    reproject(prev, nullptr, ReprojectionSettings{}, none);
+    reproject(cur, &prev, ReprojectionSettings{}, rp);
+  }
+};
+
+TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
+  const int w = kWidth, h = kHeight;
+  Lcg rnd;
+  const TwoFrames frames(rnd);
+  const Reprojection &none = frames.none, &rp = frames.rp;
   const auto counts = rp.counts();
   ASSERT_GT(counts[Reprojection::Bilinear], size_t(w * h / 2));
 
@@ -96,12 +107,10 @@ TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
 // Demodulating on the fly (AccumulationOptions::albedo) gives exactly what demodulate()
 // followed by the accumulation gives, albedo below the epsilon included.
 TEST(SharedPassPaths, OnTheFlyDemodulationEqualsTheDemodulatePass) {
-  const int w = 75, h = 23;
+  const int w = kWidth, h = kHeight;
   Lcg rnd;
-  const FrameData prev = frameWithMotion(w, h, rnd, false), cur = frameWithMotion(w, h, rnd, true);
-  Reprojection none, rp;
-  reproject(prev, nullptr, ReprojectionSettings{}, none);
-  reproject(cur, &prev, ReprojectionSettings{}, rp);
+  const TwoFrames frames(rnd);
+  const Reprojection &none = frames.none, &rp = frames.rp;
   auto planes = [&](float zeroShare) {
     std::vector<Plane> p(3, Plane(w, h));
     for (auto& c : p)

@@ -178,21 +178,6 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   }
 
  private:
-  // out = illumination * albedo' (the shared remodulation's factor), without a copy first.
-  static void remodulateRow(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out, int y) {
-    const int w = illumination[0].width;
-    for (int c = 0; c < 3; ++c) {
-      const float* in = illumination[c].row(y);
-      float* o = out[c].row(y);
-      if (!albedo) {
-        std::copy(in, in + w, o);
-        continue;
-      }
-      const float* a = (*albedo)[c].row(y);
-      for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(a[x]);
-    }
-  }
-
   void selectFeatures(const FrameData& frame) {
     bmfr::selectFeatures(settings_, [&](Buffer b) { return frame.has(b); }, features_);
   }
