@@ -5,6 +5,7 @@
 #if defined(RTD_HAS_VULKAN)
 #include <algorithm>
 #include <cstddef>
+#include <utility>
 
 #include "backend/vulkan/vulkan_denoiser.h"
 #include "methods/bmfr/blocks.h"
@@ -39,9 +40,12 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
 
  protected:
   std::vector<Buffer> usedBuffers() const override {
+    // Optional feature buffers, imported only when their feature is on (as on the CPU).
     auto used = VulkanDenoiserBase::usedBuffers();
-    for (Buffer b : {Buffer::MaterialId, Buffer::Roughness})
-      if (std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
+    const std::pair<bool, Buffer> optional[] = {{settings_.featureMaterialId, Buffer::MaterialId},
+                                                {settings_.featureRoughness, Buffer::Roughness}};
+    for (const auto& [on, b] : optional)
+      if (on && std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
     return used;
   }
 
