@@ -20,10 +20,14 @@ bool isRadianceBuffer(Buffer b) {
 
 static std::string describe(Buffer b) { return "buffer '" + std::string(bufferName(b)) + "'"; }
 
-const std::vector<Buffer>& sharedPassBuffers() {
-  static const std::vector<Buffer> buffers = {Buffer::Color,    Buffer::Albedo,   Buffer::Normal,
-                                              Buffer::Depth,    Buffer::Position, Buffer::Motion,
-                                              Buffer::ObjectId, Buffer::DepthGradient, Buffer::Emission};
+std::vector<Buffer> sharedPassBuffers(const ReprojectionSettings& reprojection) {
+  std::vector<Buffer> buffers = {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Position, Buffer::Motion,
+                                 Buffer::Emission};
+  if (reprojection.testDepth) {
+    buffers.push_back(Buffer::Depth);
+    buffers.push_back(Buffer::DepthGradient);
+  }
+  if (reprojection.testObjectId) buffers.push_back(Buffer::ObjectId);
   return buffers;
 }
 

@@ -6,6 +6,7 @@
 
 #include "core/plane.h"
 #include "rtd/frame.h"
+#include "rtd/methods/reprojection.h"
 
 namespace rtd {
 
@@ -25,9 +26,10 @@ struct FrameData {
 /// True for buffers holding radiance (sanitized on import: NaN, Inf and negatives become 0).
 bool isRadianceBuffer(Buffer b);
 
-/// Buffers the shared passes read (reprojection guides, demodulation, emission): every method
+/// Buffers the shared passes read (reprojection guides, demodulation, emission) with these
+/// reprojection settings (depth and object ids only where their tests are on): every method
 /// imports these when the frame has them, plus its own (Cpu/VulkanDenoiser usedBuffers()).
-const std::vector<Buffer>& sharedPassBuffers();
+std::vector<Buffer> sharedPassBuffers(const ReprojectionSettings& reprojection);
 
 /// Copies the views of `in` into `out` (reusing its allocations): only the buffers in `used`
 /// (all of them if null), so a frame carrying many buffers costs only what the method reads.

@@ -36,7 +36,8 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
     auto start = std::chrono::steady_clock::now();
     // Recomputed per frame: requiredBuffers() may depend on the settings.
     used_ = this->requiredBuffers();
-    for (const auto* list : {&sharedPassBuffers(), &extra})
+    const std::vector<Buffer> shared = sharedPassBuffers(this->settings_.reprojection);
+    for (const auto* list : {&shared, &extra})
       for (Buffer b : *list)
         if (std::find(used_.begin(), used_.end(), b) == used_.end()) used_.push_back(b);
     if (output.empty() || output.width != frame[Buffer::Color].width || output.height != frame[Buffer::Color].height)

@@ -78,7 +78,7 @@ VulkanDenoiserBase::~VulkanDenoiserBase() {
 
 std::vector<Buffer> VulkanDenoiserBase::usedBuffers() const {
   std::vector<Buffer> used = requiredBuffers();
-  for (Buffer b : sharedPassBuffers())
+  for (Buffer b : sharedPassBuffers(reprojectionSettings()))
     if (std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
   return used;
 }

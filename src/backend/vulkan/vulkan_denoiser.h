@@ -36,6 +36,8 @@ class VulkanDenoiserBase : public Denoiser {
   /// Buffers imported when the frame has them: the required ones and every feature the shared
   /// reprojection uses. A method that reads more adds them.
   virtual std::vector<Buffer> usedBuffers() const;
+  /// The method's reprojection settings (which guides the shared passes read).
+  virtual const ReprojectionSettings& reprojectionSettings() const = 0;
   /// (Re)allocate history for a new size (the GPU is idle); called before the first frame.
   virtual void resizeHistory(int width, int height) = 0;
   /// Forget history (allocations stay).
@@ -92,6 +94,9 @@ class VulkanDenoiserBase : public Denoiser {
 template <class S> class VulkanDenoiser : public TypedSettings<S, VulkanDenoiserBase> {
  public:
   using TypedSettings<S, VulkanDenoiserBase>::TypedSettings;
+
+ protected:
+  const ReprojectionSettings& reprojectionSettings() const override { return this->settings_.reprojection; }
 };
 
 }  // namespace rtd::vk

@@ -40,7 +40,8 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   using CpuDenoiser::CpuDenoiser;
   std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color, Buffer::Normal, Buffer::Depth}; }
   std::vector<Buffer> extraBuffers() const override {
-    return {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::Roughness, Buffer::SampleMask};
+    return {Buffer::Direct,    Buffer::Indirect,  Buffer::Diffuse,      Buffer::Specular,
+            Buffer::Roughness, Buffer::SampleMask, Buffer::DepthGradient};  // the a-trous guide's
   }
 
   void set(std::string_view name, std::string_view value) override {

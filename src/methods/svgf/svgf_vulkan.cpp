@@ -2,6 +2,7 @@
 // shaders (shared ones in src/backend/vulkan/shaders, SVGF's own in shaders/ here). Every
 // setting of SvgfSettings is honoured, variants and the progressive sub-1-spp mode included.
 #if defined(RTD_HAS_VULKAN) && __has_include("rtd/methods/svgf.h")
+#include <algorithm>
 #include <cmath>
 
 #include "backend/vulkan/vulkan_denoiser.h"
@@ -48,8 +49,9 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
  protected:
   std::vector<Buffer> usedBuffers() const override {
     auto used = VulkanDenoiserBase::usedBuffers();
-    for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::Roughness})
-      used.push_back(b);
+    for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::Roughness,
+                     Buffer::DepthGradient})  // the last for the a-trous guide
+      if (std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
     if (settings_.useSampleMask) used.push_back(Buffer::SampleMask);
     return used;
   }
