@@ -48,17 +48,15 @@ void buildSlot(const Plane3& color, int y, int w, float* slot) {
 }
 }  // namespace
 
-void Taa::run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& out) {
+const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, float alpha) {
   const int w = color[0].width, h = color[0].height;
   if (width_ != w || history_[0][0].height != h) resize(w, h);
-  for (auto& p : out)
-    if (p.width != w || p.height != h) p.resize(w, h);
   const int prev = cur_;
   cur_ ^= 1;
   if (!valid_) {
-    for (int c = 0; c < 3; ++c) { out[c].data = color[c].data; history_[cur_][c].data = color[c].data; }
+    for (int c = 0; c < 3; ++c) history_[cur_][c].data = color[c].data;
     valid_ = true;
-    return;
+    return history_[cur_];
   }
   const Plane3& hist = history_[prev];
   Plane3& next = history_[cur_];
@@ -120,7 +118,6 @@ void Taa::run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& 
 #endif
       for (; x < w; ++x) fetch(x);
       // Clamp to the 3x3 YCoCg box and blend (vectorized over the row).
-      float *o[3] = {out[0].row(y), out[1].row(y), out[2].row(y)};
       float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
 #pragma GCC ivdep  // outputs never alias the window rows: lets GCC vectorize
       for (int x = 0; x < w; ++x) {
@@ -134,10 +131,11 @@ void Taa::run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& 
         const float bco = alpha * c[w + x] + (1 - alpha) * hco;
         const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hcg;
         const float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
-        for (int k = 0; k < 3; ++k) { o[k][x] = rgb[k]; n[k][x] = rgb[k]; }
+        for (int k = 0; k < 3; ++k) n[k][x] = rgb[k];
       }
     }
   });
+  return next;
 }
 
 }  // namespace rtd

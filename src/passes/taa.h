@@ -16,9 +16,10 @@ class Taa {
  public:
   void resize(int w, int h);
   void reset() { valid_ = false; }
-  /// `color` is the current remodulated output; the result goes to `out` and becomes history.
-  /// Uses the reprojected positions of `rp` (no consistency tests: the clamp rejects ghosts).
-  void run(const Reprojection& rp, const Plane3& color, float alpha, Plane3& out);
+  /// `color` is the current remodulated output; returns the result, which is also the next
+  /// frame's history (valid until the next run()). Uses the reprojected positions of `rp` (no
+  /// consistency tests: the clamp rejects ghosts).
+  const Plane3& run(const Reprojection& rp, const Plane3& color, float alpha);
 
  private:
   /// Per-thread rows: the 3x3 box is built from a rolling window of three rows' YCoCg and

@@ -34,7 +34,7 @@ TEST(Taa, ConstantImageIsAFixedPoint) {
   Taa taa;
   Plane3 out;
   const Reprojection rp = shifted(0.37f);
-  for (int f = 0; f < 4; ++f) taa.run(rp, in, 0.1f, out);
+  for (int f = 0; f < 4; ++f) out = taa.run(rp, in, 0.1f);
   for (int c = 0; c < 3; ++c)
     for (size_t i = 0; i < out[c].size(); ++i) EXPECT_NEAR(out[c].data[i], in[c].data[i], 1e-6f);
 }
@@ -48,16 +48,16 @@ TEST(Taa, ExactMotionReproducesAMovingImage) {
   };
   Taa taa;
   Plane3 out;
-  taa.run(shifted(1.0f), frame(0), 0.1f, out);
+  out = taa.run(shifted(1.0f), frame(0), 0.1f);
   const Plane3 cur = frame(1);
-  taa.run(shifted(1.0f), cur, 0.1f, out);
+  out = taa.run(shifted(1.0f), cur, 0.1f);
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW - 1; ++x)
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c](x, y), cur[c](x, y), 2e-6f) << x << "," << y;
 
   Taa still;
-  still.run(shifted(0.0f), frame(0), 0.1f, out);
-  still.run(shifted(0.0f), cur, 0.1f, out);
+  out = still.run(shifted(0.0f), frame(0), 0.1f);
+  out = still.run(shifted(0.0f), cur, 0.1f);
   double err = 0;
   for (int c = 0; c < 3; ++c)
     for (size_t i = 0; i < out[c].size(); ++i) err = std::max(err, double(std::abs(out[c].data[i] - cur[c].data[i])));
@@ -69,8 +69,8 @@ TEST(Taa, ExactMotionReproducesAMovingImage) {
 TEST(Taa, ClampRejectsHistoryOutsideTheNeighbourhood) {
   Taa taa;
   Plane3 out;
-  taa.run(shifted(0.0f), image([](int, int, int) { return 1.0f; }), 0.1f, out);
-  taa.run(shifted(0.0f), image([](int, int, int) { return 0.0f; }), 0.1f, out);
+  out = taa.run(shifted(0.0f), image([](int, int, int) { return 1.0f; }), 0.1f);
+  out = taa.run(shifted(0.0f), image([](int, int, int) { return 0.0f; }), 0.1f);
   for (int c = 0; c < 3; ++c)
     for (float v : out[c].data) EXPECT_EQ(v, 0.0f);
 }
@@ -81,9 +81,9 @@ TEST(Taa, HistoryInsideTheBoxIsBlendedWithAlpha) {
   Taa taa;
   Plane3 out;
   const float alpha = 0.25f;
-  taa.run(shifted(0.0f), image([](int, int, int) { return 0.5f; }), alpha, out);
+  out = taa.run(shifted(0.0f), image([](int, int, int) { return 0.5f; }), alpha);
   const Plane3 checker = image([](int x, int y, int) { return (x + y) % 2 ? 0.6f : 0.4f; });
-  taa.run(shifted(0.0f), checker, alpha, out);
+  out = taa.run(shifted(0.0f), checker, alpha);
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x)
       for (int c = 0; c < 3; ++c)
@@ -94,9 +94,9 @@ TEST(Taa, HistoryInsideTheBoxIsBlendedWithAlpha) {
 TEST(Taa, PixelsWithoutHistoryKeepTheCurrentColour) {
   Taa taa;
   Plane3 out;
-  taa.run(shifted(0.0f), image([](int, int, int) { return 0.9f; }), 0.1f, out);
+  out = taa.run(shifted(0.0f), image([](int, int, int) { return 0.9f; }), 0.1f);
   const Plane3 cur = image([](int x, int, int c) { return 0.1f * c + 0.01f * x; });
-  taa.run(shifted(-float(kW) - 2.0f), cur, 0.1f, out);
+  out = taa.run(shifted(-float(kW) - 2.0f), cur, 0.1f);
   for (int c = 0; c < 3; ++c)
     for (size_t i = 0; i < out[c].size(); ++i) EXPECT_NEAR(out[c].data[i], cur[c].data[i], 1e-6f);
 }

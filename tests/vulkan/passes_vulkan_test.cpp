@@ -263,8 +263,8 @@ TEST(VulkanPasses, TaaMatchesCpu) {
     FrameData f = toCpu(frames[size_t(k)], true);
     Reprojection r;
     reproject(f, k ? &prevCpu : nullptr, {}, r);
-    Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)}, cpuOut;
-    cpu.run(r, c, 0.1f, cpuOut);
+    Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
+    const Plane3& cpuOut = cpu.run(r, c, 0.1f);
 
     vk::GpuFrame g;
     toGpu(ctx, f, g);

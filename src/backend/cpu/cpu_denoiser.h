@@ -57,10 +57,10 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
       } else if (frame.cameraCut) {
         reset();
       }
-      process(current_, hasPrevious_ ? &previous_ : nullptr, output_, stats);
+      const Plane3& result = process(current_, hasPrevious_ ? &previous_ : nullptr, output_, stats);
       {
         PassTimer t(stats, "export");
-        exportRgb(output_, current_.has(Buffer::Emission) ? &current_.planes(Buffer::Emission) : nullptr, output);
+        exportRgb(result, current_.has(Buffer::Emission) ? &current_.planes(Buffer::Emission) : nullptr, output);
       }
       std::swap(current_, previous_);
       hasPrevious_ = true;
@@ -71,9 +71,12 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
   }
 
  protected:
-  /// Denoise `frame` into `out`. `previous` is the last frame's data, or null right after a
-  /// reset. Time passes with PassTimer(stats, "name").
-  virtual void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) = 0;
+  /// Denoise `frame`; returns the planes to export: `out` (planes of the frame's size the method
+  /// may fill) or planes of its own (TAA's history, say), so the result is not copied. `previous`
+  /// is the last frame's data, or null right after a reset. Time passes with
+  /// PassTimer(stats, "name").
+  virtual const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& out,
+                                FrameStats& stats) = 0;
   /// (Re)allocate history for a new size; called before the first frame and on resize.
   virtual void resizeHistory(int width, int height) = 0;
   /// Forget history (allocations stay).

@@ -1,6 +1,7 @@
 // Method "accumulate": demodulate, reproject, accumulate, remodulate. The baseline that every
 // other method starts from, exposed on its own.
 #include "backend/cpu/cpu_denoiser.h"
+#include "core/parallel.h"
 #include "passes/demodulation.h"
 #include "passes/reprojection.h"
 #include "passes/temporal_accumulation.h"
@@ -18,7 +19,7 @@ class AccumulateCpu final : public CpuDenoiser<AccumulateSettings> {
   void resizeHistory(int w, int h) override { accumulator_.resize(w, h); }
   void resetHistory() override { accumulator_.reset(); }
 
-  void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
+  const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
     const auto* albedo = settings_.demodulate && frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
     {
       PassTimer t(stats, "reproject");
@@ -32,8 +33,8 @@ class AccumulateCpu final : public CpuDenoiser<AccumulateSettings> {
                        settings_.maxHistoryLength, opt);
     }
     PassTimer t(stats, "remodulate");
-    for (int c = 0; c < 3; ++c) out[c].data = accumulator_.color()[c].data;
-    remodulate(out, albedo);
+    parallelRows(frame.height, [&](int y) { remodulateRow(accumulator_.color(), albedo, out, y); });
+    return out;
   }
 
  private:

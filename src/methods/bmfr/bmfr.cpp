@@ -113,7 +113,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     frameIndex_ = 0;
   }
 
-  void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
+  const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& /*out*/, FrameStats& stats) override {
     const BmfrSettings& s = settings_;
     const auto* albedo = s.demodulate && frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
     const int prev = cur_;
@@ -134,7 +134,6 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     const Plane& length = noisy_.historyLength();
     // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
     const Plane3* filtered = &noisy_.color();  // without phases II and III the accumulation passes through
-    Plane3& remodulated = s.taa.taa ? remodulated_ : out;
     bool remodulatedAlready = false;
     if (s.fit) {
       selectFeatures(frame);
@@ -150,7 +149,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         PassTimer t(stats, "synthesize+accumulate+remodulate");
         synthesize(frame, [&](const float* const row[3], int y) {
           accumulateRow(reprojection_, length, s.alphaFiltered, row, filtered_[prev], filtered_[cur_], y);
-          remodulateRow(filtered_[cur_], albedo, remodulated, y);
+          remodulateRow(filtered_[cur_], albedo, remodulated_, y);
         });
         filtered = &filtered_[cur_];
         remodulatedAlready = true;
@@ -168,13 +167,12 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     }
     if (!remodulatedAlready) {
       PassTimer t(stats, "remodulate");
-      parallelRows(frame.height, [&](int y) { remodulateRow(*filtered, albedo, remodulated, y); });
-    }
-    if (s.taa.taa) {
-      PassTimer t(stats, "taa");
-      taa_.run(reprojection_, remodulated_, s.taa.taaAlpha, out);
+      parallelRows(frame.height, [&](int y) { remodulateRow(*filtered, albedo, remodulated_, y); });
     }
     ++frameIndex_;
+    if (!s.taa.taa) return remodulated_;
+    PassTimer t(stats, "taa");
+    return taa_.run(reprojection_, remodulated_, s.taa.taaAlpha);
   }
 
  private:

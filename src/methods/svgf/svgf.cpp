@@ -78,7 +78,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     taa_.reset();
   }
 
-  void process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
+  const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& /*out*/, FrameStats& stats) override {
     const SvgfSettings& s = settings_;
     if (requiredPad() > pad_) {  // more levels than allocated for: settings changed
       resizeHistory(frame.width, frame.height);
@@ -114,12 +114,9 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       PassTimer t(stats, "remodulate");
       remodulateSum(*shown, albedo, nStreams);
     }
+    if (!s.taa.taa) return *shown;
     PassTimer t(stats, "taa");
-    if (s.taa.taa) {
-      taa_.run(reprojection_, *shown, s.taa.taaAlpha, out);
-    } else {
-      for (int c = 0; c < 3; ++c) out[c].data = (*shown)[c].data;
-    }
+    return taa_.run(reprojection_, *shown, s.taa.taaAlpha);
   }
 
  private:
