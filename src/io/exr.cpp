@@ -16,7 +16,12 @@ namespace rtd::exr {
 
 namespace fs = std::filesystem;
 
-static std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+static std::string quoted(const fs::path& p) {
+  std::string s = "'";  // appended, not "'" + ...: GCC 12 warns falsely (-Wrestrict) on that form
+  s += p.string();
+  s += '\'';
+  return s;
+}
 
 Header readHeader(const fs::path& path) {
   if (!fs::exists(path)) throw Error("file " + quoted(path) + " does not exist");
