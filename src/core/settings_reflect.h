@@ -117,6 +117,8 @@ template <class S, class Base> class TypedSettings : public Base {
   void set(std::string_view name, std::string_view value) override {
     S copy = settings_;  // a rejected value leaves the settings untouched
     detail::setSetting(copy, S::kMethod, name, value);
+    // A settings struct may react to a field set by name (SVGF's "variant" is a preset).
+    if constexpr (requires { copy.settingSet(name); }) copy.settingSet(name);
     settings_ = copy;
     this->settingsChanged();
   }

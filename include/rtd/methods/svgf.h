@@ -2,6 +2,8 @@
 // the variants of Dundr (progressive SVGF), Gersthofer (VR stereo) and Voorhuis (reflections).
 // docs/methods/svgf.md describes the pipeline, every setting's source and every unclear point.
 #pragma once
+#include <string_view>
+
 #include "rtd/methods/reprojection.h"
 #include "rtd/methods/taa.h"
 
@@ -99,6 +101,12 @@ struct SvgfSettings {
 
   ReprojectionSettings reprojection;
   TaaSettings taa;
+
+  /// Setting "variant" by name is a preset: it resets the [variant] fields to that paper's
+  /// defaults (fields set afterwards override them). Called by every backend's set().
+  void settingSet(std::string_view name) {
+    if (name == "variant") applyVariant(variant);
+  }
 
   /// Resets the [variant] fields to the papers' defaults.
   void applyVariant(SvgfVariant v) {

@@ -44,18 +44,6 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
             Buffer::Roughness, Buffer::SampleMask, Buffer::DepthGradient};  // the a-trous guide's
   }
 
-  void set(std::string_view name, std::string_view value) override {
-    if (name == "variant") {
-      // A preset: the paper's defaults for every [variant] field.
-      SvgfSettings copy = settings_;
-      detail::setSetting(copy, SvgfSettings::kMethod, name, value);
-      copy.applyVariant(copy.variant);
-      settings_ = copy;
-      return;
-    }
-    CpuDenoiser::set(name, value);
-  }
-
  protected:
   void resizeHistory(int w, int h) override {
     const int pad = requiredPad();

@@ -35,17 +35,6 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   using VulkanDenoiser::VulkanDenoiser;
   std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color, Buffer::Normal, Buffer::Depth}; }
 
-  void set(std::string_view name, std::string_view value) override {
-    if (name == "variant") {  // a preset, as on the CPU
-      SvgfSettings copy = settings_;
-      detail::setSetting(copy, SvgfSettings::kMethod, name, value);
-      copy.applyVariant(copy.variant);
-      settings_ = copy;
-      return;
-    }
-    VulkanDenoiser::set(name, value);
-  }
-
  protected:
   std::vector<Buffer> usedBuffers() const override {
     auto used = VulkanDenoiserBase::usedBuffers();
