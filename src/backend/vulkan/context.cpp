@@ -294,7 +294,7 @@ Context::Context(const DeviceDesc& desc) {
   }
 }
 
-Context::Context(const ExternalHandles& h) : ownsDevice_(false) {
+Context::Context(const VulkanDeviceDesc& h) : ownsDevice_(false) {
   if (!h.physicalDevice || !h.device || !h.queue) throw Error("Vulkan: external device needs physicalDevice, device and queue");
   instance_ = h.instance;
   physical_ = h.physicalDevice;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rtd/denoiser.h"
+#include "rtd/vulkan.h"
 
 namespace rtd::vk {
 
@@ -103,14 +104,6 @@ struct Binding {
   bool operator<(const Binding& o) const { return key() < o.key(); }
 };
 
-/// Handles of a device the application created (rtd/vulkan.h's VulkanDeviceDesc, internally).
-struct ExternalHandles {
-  VkInstance instance = VK_NULL_HANDLE;
-  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
-  VkDevice device = VK_NULL_HANDLE;
-  VkQueue queue = VK_NULL_HANDLE;
-  uint32_t queueFamily = 0;
-};
 
 /// A Vulkan instance, device and compute queue (owned, or borrowed from the application), with
 /// the pipelines of every embedded shader created on first use.
@@ -120,7 +113,7 @@ class Context : public std::enable_shared_from_this<Context> {
   /// empty: discrete > integrated > virtual > CPU). Throws rtd::Error when none fits.
   explicit Context(const DeviceDesc& desc);
   /// Borrows the application's device; destroys only what rtdenoise created on it.
-  explicit Context(const ExternalHandles& handles);
+  explicit Context(const VulkanDeviceDesc& handles);
   ~Context();
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;

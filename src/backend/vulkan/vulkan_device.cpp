@@ -31,8 +31,7 @@ std::unique_ptr<Device> createVulkanDevice(const DeviceDesc& desc) {
 }
 
 std::unique_ptr<Device> createVulkanDevice(const VulkanDeviceDesc& desc) {
-  vk::ExternalHandles h{desc.instance, desc.physicalDevice, desc.device, desc.queue, desc.queueFamily};
-  return std::make_unique<VulkanDevice>(std::make_shared<vk::Context>(h));
+  return std::make_unique<VulkanDevice>(std::make_shared<vk::Context>(desc));
 }
 
 void denoiseVulkan(Denoiser& denoiser, const VulkanFrameInputs& frame, const VulkanBufferView& output,
