@@ -365,15 +365,4 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
   });
 }
 
-void updateHistoryLength(const Reprojection& rp, const Plane& previousLength, int maxLength, Plane& length) {
-  const int w = rp.width;
-  parallelRows(rp.height, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      float n = rp.kind[i] == Reprojection::None ? 0.0f : std::round(rp.gather(previousLength, i));
-      length.data[i] = std::min(n + 1.0f, float(maxLength));
-    }
-  });
-}
-
 }  // namespace rtd

@@ -161,8 +161,5 @@ extern const float kFallbackKernel3x3[9];
 void reproject(const FrameData& current, const FrameData* previous, const ReprojectionSettings& s,
                Reprojection& out);
 
-/// History length after this frame: the reprojected previous length (bilinear, rounded to
-/// the nearest integer, as BMFR does for its 8-bit counts) plus one, capped; 1 where None.
-void updateHistoryLength(const Reprojection& rp, const Plane& previousLength, int maxLength, Plane& length);
 
 }  // namespace rtd

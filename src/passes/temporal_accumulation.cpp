@@ -7,23 +7,6 @@
 
 namespace rtd {
 
-void accumulatePlane(const Reprojection& rp, const Plane& length, float alpha, const Plane& current,
-                     const Plane& history, Plane& out) {
-  const int w = rp.width;
-  parallelRows(rp.height, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      const float c = current.data[i];
-      if (rp.kind[i] == Reprojection::None) {
-        out.data[i] = c;
-        continue;
-      }
-      const float a = newSampleWeight(length.data[i], alpha);
-      out.data[i] = a * c + (1.0f - a) * rp.gather(history, i);
-    }
-  });
-}
-
 void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, const float* const current[3],
                    const Plane3& history, Plane3& out, int y) {
   const int w = rp.width;

@@ -13,13 +13,10 @@ namespace rtd {
 /// New-sample weight for history length n (including the new sample).
 inline float newSampleWeight(float n, float alpha) { return std::max(1.0f / n, alpha); }
 
-/// out = w * current + (1 - w) * reprojected history, w = newSampleWeight(length, alpha);
-/// out = current where the pixel has no history (length 1 gives w = 1 anyway).
-void accumulatePlane(const Reprojection& rp, const Plane& length, float alpha, const Plane& current,
-                     const Plane& history, Plane& out);
-
-/// accumulatePlane() for three planes in one pass (one tap decode per pixel): BMFR's phase III
-/// accumulation of the fitted colour with phase I's taps and history length.
+/// out = w * current + (1 - w) * reprojected history per plane, w = newSampleWeight(length,
+/// alpha) (out = current where the pixel has no history), for three planes with one tap decode
+/// per pixel: BMFR's phase III accumulation of the fitted colour with phase I's taps and
+/// history length.
 void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, const Plane3& current,
                       const Plane3& history, Plane3& out);
 /// accumulatePlanes() for row y only, the current values given as row pointers: lets a method

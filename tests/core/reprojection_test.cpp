@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "passes/reprojection.h"
+#include "passes/temporal_accumulation.h"
 #include "support/test_frames.h"
 #include "synthetic/synthetic.h"
 
@@ -147,19 +148,25 @@ TEST(Reprojection, DisocclusionAndObjectChangeLeaveNoHistory) {
   EXPECT_EQ(rp.counts()[Reprojection::None], size_t(w * h));
 }
 
+// The history length the shared accumulator keeps: the reprojected previous length plus one,
+// capped at 255 (BMFR's 8-bit counts), and 1 again where there is no history.
 TEST(Reprojection, HistoryLengthFollowsReprojectionAndResets) {
   const Frame f = test::flatFrame(4, 4, 0.0f);
   const FrameData d = test::toFrameData(f);
-  Reprojection rp;
+  Reprojection rp, none;
   reproject(d, &d, ReprojectionSettings{}, rp);
-  Plane prevLength(4, 4, 7.0f), length(4, 4);
-  updateHistoryLength(rp, prevLength, 255, length);
-  EXPECT_EQ(length(1, 1), 8.0f);
-  updateHistoryLength(rp, Plane(4, 4, 255.0f), 255, length);
-  EXPECT_EQ(length(1, 1), 255.0f);  // capped (8-bit counts)
-  reproject(d, nullptr, ReprojectionSettings{}, rp);
-  updateHistoryLength(rp, prevLength, 255, length);
-  EXPECT_EQ(length(1, 1), 1.0f);
+  reproject(d, nullptr, ReprojectionSettings{}, none);
+  const Plane3 color{Plane(4, 4, 0.5f), Plane(4, 4, 0.5f), Plane(4, 4, 0.5f)};
+  TemporalAccumulator acc;
+  acc.resize(4, 4);
+  acc.run(none, color, 0.2f, 0.2f, 255);
+  for (int k = 0; k < 6; ++k) acc.run(rp, color, 0.2f, 0.2f, 255);  // length 7
+  acc.run(rp, color, 0.2f, 0.2f, 255);
+  EXPECT_EQ(acc.historyLength()(1, 1), 8.0f);
+  for (int k = 0; k < 300; ++k) acc.run(rp, color, 0.2f, 0.2f, 255);
+  EXPECT_EQ(acc.historyLength()(1, 1), 255.0f);  // capped (8-bit counts)
+  acc.run(none, color, 0.2f, 0.2f, 255);
+  EXPECT_EQ(acc.historyLength()(1, 1), 1.0f);
 }
 
 }  // namespace

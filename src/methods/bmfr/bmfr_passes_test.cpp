@@ -1,5 +1,5 @@
 // accumulatePlanes(), the three-plane accumulation added to the shared passes for BMFR's
-// phase III, against three calls of the single-plane accumulatePlane().
+// phase III, against its definition per plane through Reprojection::gather().
 #include <gtest/gtest.h>
 
 #include <random>
@@ -12,7 +12,7 @@
 namespace rtd {
 namespace {
 
-TEST(BmfrPasses, AccumulatePlanesEqualsThreeSinglePlaneCalls) {
+TEST(BmfrPasses, AccumulatePlanesEqualsItsDefinitionPerPlane) {
   synthetic::Scene scene;
   scene.width = 96;
   scene.height = 64;
@@ -38,7 +38,12 @@ TEST(BmfrPasses, AccumulatePlanesEqualsThreeSinglePlaneCalls) {
         hist[c].data[i] = u(rng);
       }
     accumulatePlanes(rp, length, 0.1f, cur, hist, joint);
-    for (int c = 0; c < 3; ++c) accumulatePlane(rp, length, 0.1f, cur[c], hist[c], single[c]);
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < cur[c].size(); ++i) {
+        const float a = newSampleWeight(length.data[i], 0.1f);
+        single[c].data[i] = rp.kind[i] == Reprojection::None ? cur[c].data[i]
+                                                             : a * cur[c].data[i] + (1.0f - a) * rp.gather(hist[c], i);
+      }
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < cur[c].size(); ++i) ASSERT_FLOAT_EQ(joint[c].data[i], single[c].data[i]) << i;
   }
