@@ -10,31 +10,22 @@ namespace rtd {
 void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, const float* const current[3],
                    const Plane3& history, Plane3& out, int y) {
   const int w = rp.width;
-  const float* hPrev[3] = {history[0].ptr(), history[1].ptr(), history[2].ptr()};
   const size_t row = size_t(y) * w;
-  Reprojection::Taps taps;
   auto pixel = [&](int x) {
     const size_t i = row + x;
-    const uint8_t kind = rp.kind[i];
-    if (kind == Reprojection::None) {
+    if (rp.kind[i] == Reprojection::None) {
       for (int k = 0; k < 3; ++k) out[k].data[i] = current[k][x];
       return;
     }
-    float hist[3];
-    if (kind == Reprojection::Bilinear) {
-      for (int k = 0; k < 3; ++k) hist[k] = rp.gatherBilinear(hPrev[k], w, i);
-    } else {
-      rp.taps(i, taps);
-      for (int k = 0; k < 3; ++k) hist[k] = taps.gather(history[k]);
-    }
     const float a = newSampleWeight(length.data[i], alpha);
-    for (int k = 0; k < 3; ++k) out[k].data[i] = a * current[k][x] + (1.0f - a) * hist[k];
+    for (int k = 0; k < 3; ++k) out[k].data[i] = a * current[k][x] + (1.0f - a) * rp.gather(history[k], i);
   };
   int x = 0;
 #ifdef __AVX2__
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
   Bilinear8 taps8;
   const __m256 one = _mm256_set1_ps(1.0f), vAlpha = _mm256_set1_ps(alpha);
+  const float* hPrev[3] = {history[0].ptr(), history[1].ptr(), history[2].ptr()};
   for (; x + 8 <= w; x += 8) {
     const size_t i = row + x;
     if (!taps8.load(rp, i)) {
@@ -97,31 +88,20 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
   const float maxLength = float(maxHistoryLength);
   const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
   const Plane* albedo = options.albedo ? options.albedo->data() : nullptr;
-  const float *lenPrev = length_[prev].ptr(), *m1Prev = m1_[prev].ptr(), *m2Prev = m2_[prev].ptr();
-  const float* cPrev[3] = {color_[prev][0].ptr(), color_[prev][1].ptr(), color_[prev][2].ptr()};
   // One fused pass per pixel: history length, colour and both moments from the same taps.
-  auto pixel = [&](size_t i, Reprojection::Taps& taps) {
+  auto pixel = [&](size_t i) {
     float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
     if (albedo)
       for (int k = 0; k < 3; ++k) c[k] /= demodulationFactor(albedo[k].data[i]);
     const float l = options.luminance == MomentLuminance::Rec709 ? luminance(c[0], c[1], c[2])
                                                                  : momentLuminance(options.luminance, c[0], c[1], c[2]);
-    float histLength = 0.0f, hist[3] = {0, 0, 0}, hist1 = 0.0f, hist2 = 0.0f;
-    const uint8_t kind = rp.kind[i];
-    if (kind == Reprojection::Bilinear) {
-      histLength = rp.gatherBilinear(lenPrev, w, i);
-      for (int k = 0; k < 3; ++k) hist[k] = rp.gatherBilinear(cPrev[k], w, i);
-      hist1 = rp.gatherBilinear(m1Prev, w, i);
-      hist2 = rp.gatherBilinear(m2Prev, w, i);
-    } else if (kind == Reprojection::Fallback3x3) {
-      rp.taps(i, taps);
-      histLength = taps.gather(length_[prev]);
-      for (int k = 0; k < 3; ++k) hist[k] = taps.gather(color_[prev][k]);
-      hist1 = taps.gather(m1_[prev]);
-      hist2 = taps.gather(m2_[prev]);
-    }
+    // The scalar path (borders, disocclusions, the 3x3 fallback): 0 where there is no history.
+    const float histLength = rp.gather(length_[prev], i), hist1 = rp.gather(m1_[prev], i),
+                hist2 = rp.gather(m2_[prev], i);
+    float hist[3];
+    for (int k = 0; k < 3; ++k) hist[k] = rp.gather(color_[prev][k], i);
     // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
-    const bool none = kind == Reprojection::None;
+    const bool none = rp.kind[i] == Reprojection::None;
     const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
     const float a = newSampleWeight(n, alpha);
     // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
@@ -144,10 +124,11 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
   const bool vectorized = !mask && options.luminance != MomentLuminance::CieLightness;
   parallelRows(rp.height, [&](int y) {
-    Reprojection::Taps taps;
     int x = 0;
 #ifdef __AVX2__
     if (vectorized) {
+      const float *lenPrev = length_[prev].ptr(), *m1Prev = m1_[prev].ptr(), *m2Prev = m2_[prev].ptr();
+      const float* cPrev[3] = {color_[prev][0].ptr(), color_[prev][1].ptr(), color_[prev][2].ptr()};
       const __m256 one = _mm256_set1_ps(1.0f), half = _mm256_set1_ps(0.5f), maxLen = _mm256_set1_ps(maxLength);
       const __m256 vAlpha = _mm256_set1_ps(alpha), vMomentsAlpha = _mm256_set1_ps(momentsAlpha);
       const bool rec601 = options.luminance == MomentLuminance::Rec601;
@@ -157,7 +138,7 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
       for (; x + 8 <= w; x += 8) {
         const size_t i = size_t(y) * w + x;
         if (!taps8.load(rp, i)) {
-          for (int k = 0; k < 8; ++k) pixel(i + k, taps);
+          for (int k = 0; k < 8; ++k) pixel(i + k);
           continue;
         }
         // n = min(round(history length) + 1, max), round half away from zero as std::round.
@@ -186,7 +167,7 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
       }
     }
 #endif
-    for (; x < w; ++x) pixel(size_t(y) * w + x, taps);
+    for (; x < w; ++x) pixel(size_t(y) * w + x);
   });
 }
 
