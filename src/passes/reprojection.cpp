@@ -141,7 +141,6 @@ struct TapTest {
     Bilinear8 taps;
     if (!taps.footprint(out.prevX.ptr() + i, out.prevY.ptr() + i, w, h)) return 0;
     const __m256i base = taps.base;
-    const __m256i tapOffset[4] = {_mm256_setzero_si256(), _mm256_set1_epi32(1), _mm256_set1_epi32(w), _mm256_set1_epi32(w + 1)};
 
     // The current pixels' features.
     __m256 tol = _mm256_setzero_ps(), cz = tol, cn[3] = {tol, tol, tol}, cid = tol, cp[3] = {tol, tol, tol};
@@ -170,15 +169,8 @@ struct TapTest {
       for (int k = 0; k < 3; ++k) cp[k] = _mm256_loadu_ps(p[k] + i);
 
     __m256 wt[4], sum = _mm256_setzero_ps();
-    // Consecutive footprints (a locally uniform integer motion) read their taps as vector
-    // loads; others gather.
-    const ptrdiff_t first = _mm256_extract_epi32(base, 0);
     for (int t = 0; t < 4; ++t) {
-      const __m256i j = _mm256_add_epi32(base, tapOffset[t]);
-      const ptrdiff_t start = first + (t & 1) + (t >> 1) * w;
-      auto fetch = [&](const float* plane) {
-        return taps.consecutive ? _mm256_loadu_ps(plane + start) : _mm256_i32gather_ps(plane, j, 4);
-      };
+      auto fetch = [&](const float* plane) { return taps.tap(plane, t); };
       __m256 ok = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
       if (z) {
         const __m256 dz = _mm256_sub_ps(fetch(zPrev), cz);

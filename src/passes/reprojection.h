@@ -128,25 +128,19 @@ struct Bilinear8 {
     return _mm256_movemask_epi8(_mm256_cmpeq_epi32(base, _mm256_add_epi32(first, _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)))) == -1;
   }
 
+  /// Tap t (0: top left, 1: top right, 2: bottom left, 3: bottom right) of the eight pixels in
+  /// plane h: one vector load where the footprints are consecutive, a gather otherwise.
+  __m256 tap(const float* h, int t) const {
+    const float* p = h + (t & 1) + (t >> 1) * width;
+    return consecutive ? _mm256_loadu_ps(p + _mm256_extract_epi32(base, 0)) : _mm256_i32gather_ps(p, base, 4);
+  }
+
   /// The bilinear history of the eight pixels in plane h (the sum in Reprojection::gatherBilinear's order).
   __m256 gather(const float* h) const {
-    __m256 t[4];
-    if (consecutive) {
-      const float* p = h + _mm256_extract_epi32(base, 0);
-      t[0] = _mm256_loadu_ps(p);
-      t[1] = _mm256_loadu_ps(p + 1);
-      t[2] = _mm256_loadu_ps(p + width);
-      t[3] = _mm256_loadu_ps(p + width + 1);
-    } else {
-      t[0] = _mm256_i32gather_ps(h, base, 4);
-      t[1] = _mm256_i32gather_ps(h + 1, base, 4);
-      t[2] = _mm256_i32gather_ps(h + width, base, 4);
-      t[3] = _mm256_i32gather_ps(h + width + 1, base, 4);
-    }
-    __m256 v = _mm256_mul_ps(weight[0], t[0]);
-    v = _mm256_fmadd_ps(weight[1], t[1], v);
-    v = _mm256_fmadd_ps(weight[2], t[2], v);
-    return _mm256_fmadd_ps(weight[3], t[3], v);
+    __m256 v = _mm256_mul_ps(weight[0], tap(h, 0));
+    v = _mm256_fmadd_ps(weight[1], tap(h, 1), v);
+    v = _mm256_fmadd_ps(weight[2], tap(h, 2), v);
+    return _mm256_fmadd_ps(weight[3], tap(h, 3), v);
   }
 };
 #endif
