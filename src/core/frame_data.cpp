@@ -20,15 +20,23 @@ bool isRadianceBuffer(Buffer b) {
 
 static std::string describe(Buffer b) { return "buffer '" + std::string(bufferName(b)) + "'"; }
 
-std::vector<Buffer> sharedPassBuffers(const ReprojectionSettings& reprojection) {
-  std::vector<Buffer> buffers = {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Position, Buffer::Motion,
-                                 Buffer::Emission};
+std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const std::vector<Buffer>& extra,
+                                    const ReprojectionSettings& reprojection) {
+  std::vector<Buffer> shared = {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Position, Buffer::Motion,
+                                Buffer::Emission};
   if (reprojection.testDepth) {
-    buffers.push_back(Buffer::Depth);
-    buffers.push_back(Buffer::DepthGradient);
+    shared.push_back(Buffer::Depth);
+    shared.push_back(Buffer::DepthGradient);
   }
-  if (reprojection.testObjectId) buffers.push_back(Buffer::ObjectId);
-  return buffers;
+  if (reprojection.testObjectId) shared.push_back(Buffer::ObjectId);
+  std::vector<Buffer> used = required;
+  auto add = [&](const std::vector<Buffer>& list) {
+    for (Buffer b : list)
+      if (std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
+  };
+  add(shared);
+  add(extra);
+  return used;
 }
 
 namespace {

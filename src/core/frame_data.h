@@ -26,10 +26,11 @@ struct FrameData {
 /// True for buffers holding radiance (sanitized on import: NaN, Inf and negatives become 0).
 bool isRadianceBuffer(Buffer b);
 
-/// Buffers the shared passes read (reprojection guides, demodulation, emission) with these
-/// reprojection settings (depth and object ids only where their tests are on): every method
-/// imports these when the frame has them, plus its own (Cpu/VulkanDenoiser usedBuffers()).
-std::vector<Buffer> sharedPassBuffers(const ReprojectionSettings& reprojection);
+/// The buffers a method imports when the frame has them, on either backend: its required and
+/// extra ones plus what the shared passes read (demodulation, emission, and the reprojection
+/// guides whose tests these settings turn on: depth and object ids only where tested).
+std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const std::vector<Buffer>& extra,
+                                    const ReprojectionSettings& reprojection);
 
 /// Copies the views of `in` into `out` (reusing its allocations): only the buffers in `used`
 /// (all of them if null), so a frame carrying many buffers costs only what the method reads.

@@ -21,8 +21,7 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
   Backend backend() const override { return Backend::Cpu; }
   const FrameStats& stats() const override { return stats_; }
 
-  /// Buffers the method reads beyond the shared passes' (sharedPassBuffers()); only these are
-  /// imported.
+  /// Buffers the method reads beyond its required ones and the shared passes' (importedBuffers()).
   virtual std::vector<Buffer> extraBuffers() const { return {}; }
 
   void reset() override {
@@ -32,14 +31,9 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
 
   void denoise(const FrameInputs& frame, const ImageView& output) final {
     FrameStats stats;
-    const std::vector<Buffer> extra = extraBuffers();
     auto start = std::chrono::steady_clock::now();
-    // Recomputed per frame: requiredBuffers() may depend on the settings.
-    used_ = this->requiredBuffers();
-    const std::vector<Buffer> shared = sharedPassBuffers(this->settings_.reprojection);
-    for (const auto* list : {&shared, &extra})
-      for (Buffer b : *list)
-        if (std::find(used_.begin(), used_.end(), b) == used_.end()) used_.push_back(b);
+    // Recomputed per frame: the lists may depend on the settings.
+    used_ = importedBuffers(this->requiredBuffers(), extraBuffers(), this->settings_.reprojection);
     if (output.empty() || output.width != frame[Buffer::Color].width || output.height != frame[Buffer::Color].height)
       throw Error("output view must be non-empty and the size of buffer 'color'");
     arena_.execute([&] {

@@ -77,10 +77,7 @@ VulkanDenoiserBase::~VulkanDenoiserBase() {
 }
 
 std::vector<Buffer> VulkanDenoiserBase::usedBuffers() const {
-  std::vector<Buffer> used = requiredBuffers();
-  for (Buffer b : sharedPassBuffers(reprojectionSettings()))
-    if (std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
-  return used;
+  return importedBuffers(requiredBuffers(), extraBuffers(), reprojectionSettings());
 }
 
 void VulkanDenoiserBase::prepare(int w, int h, bool cameraCut) {

@@ -33,9 +33,10 @@ class VulkanDenoiserBase : public Denoiser {
   void denoiseGpu(const VulkanFrameInputs& frame, const VulkanImageView& output, VkCommandBuffer cmd);
 
  protected:
-  /// Buffers imported when the frame has them: the required ones and every feature the shared
-  /// reprojection uses. A method that reads more adds them.
-  virtual std::vector<Buffer> usedBuffers() const;
+  /// Buffers imported when the frame has them (importedBuffers(), as on the CPU).
+  std::vector<Buffer> usedBuffers() const;
+  /// Buffers the method reads beyond its required ones and the shared passes'.
+  virtual std::vector<Buffer> extraBuffers() const { return {}; }
   /// The method's reprojection settings (which guides the shared passes read).
   virtual const ReprojectionSettings& reprojectionSettings() const = 0;
   /// (Re)allocate history for a new size (the GPU is idle); called before the first frame.

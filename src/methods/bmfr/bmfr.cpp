@@ -84,13 +84,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
  public:
   using CpuDenoiser::CpuDenoiser;
 
-  // Optional feature buffers, imported only when their feature is on.
-  std::vector<Buffer> extraBuffers() const override {
-    std::vector<Buffer> b;
-    if (settings_.featureMaterialId) b.push_back(Buffer::MaterialId);
-    if (settings_.featureRoughness) b.push_back(Buffer::Roughness);
-    return b;
-  }
+  std::vector<Buffer> extraBuffers() const override { return bmfr::optionalBuffers(settings_); }
   std::vector<Buffer> requiredBuffers() const override { return bmfr::requiredBuffers(settings_); }
 
  protected:

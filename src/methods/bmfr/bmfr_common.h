@@ -47,6 +47,14 @@ inline std::vector<Buffer> requiredBuffers(const BmfrSettings& s) {
   return b;
 }
 
+/// Optional feature buffers, read only while their features are on.
+inline std::vector<Buffer> optionalBuffers(const BmfrSettings& s) {
+  std::vector<Buffer> b;
+  if (s.featureMaterialId) b.push_back(Buffer::MaterialId);
+  if (s.featureRoughness) b.push_back(Buffer::Roughness);
+  return b;
+}
+
 /// Integer hash (a PCG output permutation) to a uniform float in [0, 1).
 inline float hashUniform(uint32_t a, uint32_t b, uint32_t c) {
   uint32_t h = a * 747796405u + b * 2891336453u + c * 3266489917u + 0x9e3779b9u;

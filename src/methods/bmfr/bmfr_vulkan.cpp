@@ -39,15 +39,7 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
   std::vector<Buffer> requiredBuffers() const override { return bmfr::requiredBuffers(settings_); }
 
  protected:
-  std::vector<Buffer> usedBuffers() const override {
-    // Optional feature buffers, imported only when their feature is on (as on the CPU).
-    auto used = VulkanDenoiserBase::usedBuffers();
-    const std::pair<bool, Buffer> optional[] = {{settings_.featureMaterialId, Buffer::MaterialId},
-                                                {settings_.featureRoughness, Buffer::Roughness}};
-    for (const auto& [on, b] : optional)
-      if (on && std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
-    return used;
-  }
+  std::vector<Buffer> extraBuffers() const override { return bmfr::optionalBuffers(settings_); }
 
   void resizeHistory(int w, int h) override {
     demodulated_.allocate(ctx_, w, h, 3);

@@ -39,10 +39,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
  public:
   using CpuDenoiser::CpuDenoiser;
   std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color, Buffer::Normal, Buffer::Depth}; }
-  std::vector<Buffer> extraBuffers() const override {
-    return {Buffer::Direct,    Buffer::Indirect,  Buffer::Diffuse,      Buffer::Specular,
-            Buffer::Roughness, Buffer::SampleMask, Buffer::DepthGradient};  // the a-trous guide's
-  }
+  std::vector<Buffer> extraBuffers() const override { return svgf::extraBuffers(settings_); }
 
  protected:
   void resizeHistory(int w, int h) override {

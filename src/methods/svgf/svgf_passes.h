@@ -2,6 +2,7 @@
 // the tests. The a-trous filter itself is the shared pass in src/passes/atrous.h.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "passes/atrous.h"
 #include "rtd/error.h"
@@ -48,6 +49,16 @@ void median3x3(const Plane3& in, const Plane* roughness, Plane3& out);
 
 /// The executed tap spacings for `iterations` levels in `order`.
 void levelSteps(SvgfLevelOrder order, int iterations, int* steps);
+
+/// Buffers SVGF reads beyond its required ones and the shared passes' (both backends): the
+/// split radiance streams, roughness (firefly median), the depth gradient (the a-trous guide,
+/// whatever the reprojection tests) and, with useSampleMask, the sample mask.
+inline std::vector<Buffer> extraBuffers(const SvgfSettings& s) {
+  std::vector<Buffer> b{Buffer::Direct,   Buffer::Indirect,  Buffer::Diffuse,
+                        Buffer::Specular, Buffer::Roughness, Buffer::DepthGradient};
+  if (s.useSampleMask) b.push_back(Buffer::SampleMask);
+  return b;
+}
 
 /// One radiance stream SVGF filters separately (Schied et al. 2017: direct and indirect).
 struct StreamPlan {

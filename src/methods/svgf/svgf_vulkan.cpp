@@ -36,14 +36,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color, Buffer::Normal, Buffer::Depth}; }
 
  protected:
-  std::vector<Buffer> usedBuffers() const override {
-    auto used = VulkanDenoiserBase::usedBuffers();
-    for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::Roughness,
-                     Buffer::DepthGradient})  // the last for the a-trous guide
-      if (std::find(used.begin(), used.end(), b) == used.end()) used.push_back(b);
-    if (settings_.useSampleMask) used.push_back(Buffer::SampleMask);
-    return used;
-  }
+  std::vector<Buffer> extraBuffers() const override { return svgf::extraBuffers(settings_); }
 
   void resizeHistory(int w, int h) override {
     reprojection_.allocate(ctx_, w, h, 8);
