@@ -97,7 +97,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     {
       PassTimer t(stats, "remodulate");
-      remodulateSum(*shown, albedo, nStreams);
+      remodulate(*shown, albedo);
     }
     if (!s.taa.taa) return *shown;
     PassTimer t(stats, "taa");
@@ -247,8 +247,6 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       }
     });
   }
-
-  void remodulateSum(Plane3& p, const std::vector<Plane>* albedo, int) { remodulate(p, albedo); }
 
   Reprojection reprojection_;
   AtrousGuide guide_;
