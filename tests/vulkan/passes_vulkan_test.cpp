@@ -135,6 +135,23 @@ TEST(VulkanPasses, ReprojectionMatchesCpuFromCameraWithPositionTest) {
   checkReprojection(false, s);
 }
 
+// The GPU accumulator's planes (colour, both moments, history length) against the CPU's:
+// within 1e-5 of the largest value, history lengths exactly.
+void expectMatchesCpu(const std::vector<float>& out, const TemporalAccumulator& cpu, int frame) {
+  const size_t n = size_t(kWidth) * kHeight;
+  const Plane* want[6] = {&cpu.color()[0], &cpu.color()[1], &cpu.color()[2], &cpu.moment1(), &cpu.moment2(),
+                          &cpu.historyLength()};
+  for (int p = 0; p < 6; ++p) {
+    double maxErr = 0, maxRef = 0;
+    for (size_t i = 0; i < n; ++i) {
+      maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - want[p]->data[i])));
+      maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
+    }
+    EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << frame << " plane " << p;
+    if (p == 5) { EXPECT_EQ(maxErr, 0.0) << "frame " << frame << ": history lengths are integers"; }
+  }
+}
+
 TEST(VulkanPasses, TemporalAccumulationMatchesCpu) {
   REQUIRE_CONTEXT();
   auto frames = syntheticFrames(4);
@@ -162,18 +179,7 @@ TEST(VulkanPasses, TemporalAccumulationMatchesCpu) {
       gpu.run(rec, rp, color, 0.2f, 0.1f, 255);
     });
     const std::vector<float> out = download(ctx, gpu.current());
-    const size_t n = size_t(kWidth) * kHeight;
-    const Plane* want[6] = {&cpu.color()[0], &cpu.color()[1], &cpu.color()[2], &cpu.moment1(), &cpu.moment2(),
-                            &cpu.historyLength()};
-    for (int p = 0; p < 6; ++p) {
-      double maxErr = 0, maxRef = 0;
-      for (size_t i = 0; i < n; ++i) {
-        maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - want[p]->data[i])));
-        maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
-      }
-      EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << k << " plane " << p;
-      if (p == 5) { EXPECT_EQ(maxErr, 0.0) << "history lengths are integers"; }
-    }
+    expectMatchesCpu(out, cpu, k);
     prevCpu = std::move(f);
     prevGpu = std::move(g);
   }
@@ -218,17 +224,7 @@ TEST(VulkanPasses, TemporalAccumulationWithSampleMaskMatchesCpu) {
       gpu.run(rec, rp, color, 0.2f, 0.1f, 255, 0, true, &mask);
     });
     const std::vector<float> out = download(ctx, gpu.current());
-    const Plane* want[6] = {&cpu.color()[0], &cpu.color()[1], &cpu.color()[2], &cpu.moment1(), &cpu.moment2(),
-                            &cpu.historyLength()};
-    for (int p = 0; p < 6; ++p) {
-      double maxErr = 0, maxRef = 0;
-      for (size_t i = 0; i < n; ++i) {
-        maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - want[p]->data[i])));
-        maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
-      }
-      EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << k << " plane " << p;
-      if (p == 5) { EXPECT_EQ(maxErr, 0.0) << "history lengths are integers"; }
-    }
+    expectMatchesCpu(out, cpu, k);
     // Independent of the CPU: an unsampled pixel with an exact (integer) reprojection keeps the
     // value of the pixel it came from; one without history stays at length 0.
     for (size_t i = 0; i < n; ++i) {
