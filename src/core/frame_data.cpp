@@ -4,6 +4,9 @@
 #include <atomic>
 #include <cmath>
 #include <string>
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
 
 #include "core/parallel.h"
 #include "rtd/error.h"
@@ -40,9 +43,97 @@ std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const s
 }
 
 namespace {
-template <int kStride> void deinterleave(const float* __restrict src, float* __restrict dst, int w) {
-  for (int x = 0; x < w; ++x) dst[x] = src[x * kStride];
+
+// The sanitization bounds of a value: radiance must be finite and non-negative before it can
+// reach history (a NaN would stay in the exponential average for ever); features only need
+// to be finite. The comparisons are false for NaN.
+struct Bounds {
+  float lo, hi;
+  bool ok(float v) const { return v >= lo && v <= hi; }
+};
+
+// Pixel x's channel c of a row of tightly packed float pixels with `stride` channels,
+// sanitized: the reference for the vector path below.
+inline float importValue(const float* src, int stride, int x, int c, Bounds b, uint64_t& bad) {
+  const float v = src[size_t(x) * stride + c];
+  if (b.ok(v)) return v;
+  ++bad;
+  return 0.0f;
 }
+
+#ifdef __AVX2__
+inline __m256 sanitize8(__m256 v, Bounds b, uint64_t& bad) {
+  const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(v, _mm256_set1_ps(b.lo), _CMP_GE_OQ),
+                                  _mm256_cmp_ps(v, _mm256_set1_ps(b.hi), _CMP_LE_OQ));
+  bad += 8 - unsigned(__builtin_popcount(unsigned(_mm256_movemask_ps(ok))));
+  return _mm256_and_ps(v, ok);
+}
+
+// The channels of eight pixels of `stride` (2, 3 or 4) floats each into out[0..stride).
+// stride 3: v0 = r0 g0 b0 r1 g1 b1 r2 g2, v1 = b2 r3 ... r5, v2 = g5 b5 ... b7; channel c of
+// pixel j is element 3j + c, so each channel is two blends (lanes from v0, v1, v2) and one
+// lane permutation. stride 2 and 4: in-lane shuffles, then a cross-lane permutation.
+inline void deinterleave8(const float* src, int stride, __m256 out[4]) {
+  if (stride == 3) {
+    const __m256 v0 = _mm256_loadu_ps(src), v1 = _mm256_loadu_ps(src + 8), v2 = _mm256_loadu_ps(src + 16);
+    // lanes of v1 (first blend) and v2 (second blend) that hold channel c
+    const __m256 r = _mm256_blend_ps(_mm256_blend_ps(v0, v1, 0b10010010), v2, 0b00100100);
+    const __m256 g = _mm256_blend_ps(_mm256_blend_ps(v0, v1, 0b00100100), v2, 0b01001001);
+    const __m256 b = _mm256_blend_ps(_mm256_blend_ps(v0, v1, 0b01001001), v2, 0b10010010);
+    out[0] = _mm256_permutevar8x32_ps(r, _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    out[1] = _mm256_permutevar8x32_ps(g, _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+    out[2] = _mm256_permutevar8x32_ps(b, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+  } else if (stride == 2) {
+    const __m256 v0 = _mm256_loadu_ps(src), v1 = _mm256_loadu_ps(src + 8);
+    // x0 x1 x4 x5 | x2 x3 x6 x7 -> x0 .. x7
+    out[0] = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(v0, v1, 0x88)), 0xD8));
+    out[1] = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(v0, v1, 0xDD)), 0xD8));
+  } else {
+    const __m256 v0 = _mm256_loadu_ps(src), v1 = _mm256_loadu_ps(src + 8), v2 = _mm256_loadu_ps(src + 16),
+                 v3 = _mm256_loadu_ps(src + 24);
+    const __m256 t0 = _mm256_unpacklo_ps(v0, v1), t1 = _mm256_unpackhi_ps(v0, v1);
+    const __m256 t2 = _mm256_unpacklo_ps(v2, v3), t3 = _mm256_unpackhi_ps(v2, v3);
+    // channel c of pixels 0 2 4 6 | 1 3 5 7
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    out[0] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t0, t2, 0x44), order);
+    out[1] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t0, t2, 0xEE), order);
+    out[2] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t1, t3, 0x44), order);
+    out[3] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t1, t3, 0xEE), order);
+  }
+}
+#endif
+
+// One row of tightly packed float pixels (`stride` floats each) into the nc planes' rows,
+// sanitized; returns the number of values replaced. All channels in one pass over the row.
+// `stream`: write around the caches (non-temporal stores, where the rows are 32-byte aligned),
+// for frames too large to stay in cache until the next pass reads them: it saves reading
+// each destination line before overwriting it (measured on the CI-class VM at 1280x720,
+// 2 threads: import 4.1 -> 3.0 ms).
+uint64_t importFloatRow(const float* src, int stride, int nc, float* const* dst, int w, Bounds b, bool stream) {
+  uint64_t bad = 0;
+  int x = 0;
+#ifdef __AVX2__
+  for (int c = 0; c < nc; ++c) stream = stream && reinterpret_cast<uintptr_t>(dst[c]) % 32 == 0;
+  auto store = [&](float* p, __m256 v) {
+    if (stream) _mm256_stream_ps(p, v);
+    else _mm256_storeu_ps(p, v);
+  };
+  if (stride >= 2 && stride <= 4) {
+    for (; x + 8 <= w; x += 8) {
+      __m256 v[4];
+      deinterleave8(src + size_t(x) * stride, stride, v);
+      for (int c = 0; c < nc; ++c) store(dst[c] + x, sanitize8(v[c], b, bad));
+    }
+  } else if (stride == 1) {
+    for (; x + 8 <= w; x += 8) store(dst[0] + x, sanitize8(_mm256_loadu_ps(src + x), b, bad));
+  }
+  if (stream) _mm_sfence();  // the streamed stores are weakly ordered: complete them before the row is handed on
+#endif
+  for (; x < w; ++x)
+    for (int c = 0; c < nc; ++c) dst[c][x] = importValue(src, stride, x, c, b, bad);
+  return bad;
+}
+
 }  // namespace
 
 uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out,
@@ -68,11 +159,20 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
   out.height = h;
   out.camera = in.camera;
   std::atomic<uint64_t> replaced{0};
+  // Stream the planes past the caches when the frame is larger than a last-level cache could
+  // keep until the method's passes read it back.
+  constexpr size_t kStreamingBytes = size_t(16) << 20;
+  auto wanted = [&](int i) {
+    return !in.buffers[i].empty() && (!used || std::find(used->begin(), used->end(), Buffer(i)) != used->end());
+  };
+  size_t importedBytes = 0;
+  for (int i = 0; i < kBufferCount; ++i)
+    if (wanted(i)) importedBytes += size_t(w) * h * sizeof(float) * bufferChannelCount(Buffer(i));
+  const bool stream = importedBytes >= kStreamingBytes;
   for (int i = 0; i < kBufferCount; ++i) {
     const ImageView& v = in.buffers[i];
-    const bool wanted = !used || std::find(used->begin(), used->end(), Buffer(i)) != used->end();
     auto& planes = out.buffers[i];
-    if (v.empty() || !wanted) {
+    if (!wanted(i)) {
       planes.clear();
       continue;
     }
@@ -84,43 +184,26 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
     const bool radiance = isRadianceBuffer(b);
     const bool ints = v.format == Format::Int32;
     const size_t pixelStride = v.bytesPerPixel(), rowStride = v.bytesPerRow();
+    const Bounds bounds = radiance ? Bounds{0.0f, 3.0e38f} : Bounds{-3.0e38f, 3.0e38f};
+    const bool packedFloats = !ints && pixelStride % 4 == 0;
     parallelRows(h, [&](int y) {
       const char* src = static_cast<const char*>(v.data) + size_t(y) * rowStride;
+      float* dst[4];
+      for (int c = 0; c < nc; ++c) dst[c] = planes[c].row(y);
       uint64_t bad = 0;
-      for (int c = 0; c < nc; ++c) {
-        float* dst = planes[c].row(y);
-        // De-interleave one channel of the row (strided loads, contiguous stores); tightly
-        // packed float pixels of 1-4 channels take a loop with a constant stride, which GCC
-        // vectorizes with shuffles.
-        if (ints) {
-          for (int x = 0; x < w; ++x) dst[x] = float(*reinterpret_cast<const int32_t*>(src + x * pixelStride + c * 4));
-        } else {
-          const float* s = reinterpret_cast<const float*>(src) + c;
-          switch (pixelStride) {
-            case 4: std::copy(s, s + w, dst); break;
-            case 8: deinterleave<2>(s, dst, w); break;
-            case 12: deinterleave<3>(s, dst, w); break;
-            case 16: deinterleave<4>(s, dst, w); break;
-            default:
-              for (int x = 0; x < w; ++x) dst[x] = *reinterpret_cast<const float*>(src + x * pixelStride + c * 4);
+      if (packedFloats) {
+        bad = importFloatRow(reinterpret_cast<const float*>(src), int(pixelStride / 4), nc, dst, w, bounds, stream);
+      } else {
+        for (int x = 0; x < w; ++x)
+          for (int c = 0; c < nc; ++c) {
+            const char* p = src + x * pixelStride + c * 4;
+            float value = ints ? float(*reinterpret_cast<const int32_t*>(p)) : *reinterpret_cast<const float*>(p);
+            if (!bounds.ok(value)) {
+              ++bad;
+              value = 0.0f;
+            }
+            dst[c][x] = value;
           }
-        }
-        // Radiance must be finite and non-negative before it can reach history (a NaN would
-        // stay in the exponential average for ever); features only need to be finite.
-        // Branch-free so the loop vectorizes; the comparisons are false for NaN.
-        if (radiance) {
-          for (int x = 0; x < w; ++x) {
-            const bool ok = dst[x] >= 0.0f && dst[x] <= 3.0e38f;
-            bad += !ok;
-            dst[x] = ok ? dst[x] : 0.0f;
-          }
-        } else {
-          for (int x = 0; x < w; ++x) {
-            const bool ok = dst[x] >= -3.0e38f && dst[x] <= 3.0e38f;
-            bad += !ok;
-            dst[x] = ok ? dst[x] : 0.0f;
-          }
-        }
       }
       if (bad) replaced += bad;
     }, 16);
