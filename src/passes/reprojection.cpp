@@ -1,5 +1,8 @@
 #include "passes/reprojection.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -7,7 +10,6 @@
 #include <immintrin.h>
 #endif
 
-#include "core/parallel.h"
 
 namespace rtd {
 
@@ -254,14 +256,16 @@ struct TapTest {
 
 }  // namespace
 
-void reproject(const FrameData& cur, const FrameData* previous, const ReprojectionSettings& s, Reprojection& out) {
+void reprojectRows(const FrameData& cur, const FrameData* previous, const ReprojectionSettings& s, Reprojection& out,
+                   int rowBegin, int rowEnd) {
   const int w = cur.width, h = cur.height;
-  if (out.width != w || out.height != h) out.resize(w, h);
   if (!previous || previous->width != w || previous->height != h) {
-    std::fill(out.kind.begin(), out.kind.end(), Reprojection::None);
-    parallelRows(h, [&](int y) {
-      for (int x = 0; x < w; ++x) { out.prevX(x, y) = x + 0.5f; out.prevY(x, y) = y + 0.5f; }
-    });
+    for (int y = rowBegin; y < rowEnd; ++y)
+      for (int x = 0; x < w; ++x) {
+        out.kind[size_t(y) * w + x] = Reprojection::None;
+        out.prevX(x, y) = x + 0.5f;
+        out.prevY(x, y) = y + 0.5f;
+      }
     return;
   }
   const FrameData& prev = *previous;
@@ -314,7 +318,7 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
     }
   };
 
-  parallelRows(h, [&](int y) {
+  for (int y = rowBegin; y < rowEnd; ++y) {
     // Continuous previous position of each pixel's centre.
     float* prevX = out.prevX.row(y);
     float* prevY = out.prevY.row(y);
@@ -354,6 +358,13 @@ void reproject(const FrameData& cur, const FrameData* previous, const Reprojecti
     }
 #endif
     for (; x < w; ++x) classify(x, y);
+  }
+}
+
+void reproject(const FrameData& cur, const FrameData* previous, const ReprojectionSettings& s, Reprojection& out) {
+  if (out.width != cur.width || out.height != cur.height) out.resize(cur.width, cur.height);
+  tbb::parallel_for(tbb::blocked_range<int>(0, cur.height, 4), [&](const tbb::blocked_range<int>& rows) {
+    reprojectRows(cur, previous, s, out, rows.begin(), rows.end());
   });
 }
 

@@ -154,6 +154,11 @@ extern const float kFallbackKernel3x3[9];
 /// with the previous camera (a static scene); otherwise zero.
 void reproject(const FrameData& current, const FrameData* previous, const ReprojectionSettings& s,
                Reprojection& out);
-
+/// reproject() for rows [rowBegin, rowEnd) only, on the calling thread, so a method can run
+/// the passes that follow on a band of rows while it is in cache. `out` must already have the
+/// frame's size. Every row depends only on the current frame's same row and on the previous
+/// frame.
+void reprojectRows(const FrameData& current, const FrameData* previous, const ReprojectionSettings& s,
+                   Reprojection& out, int rowBegin, int rowEnd);
 
 }  // namespace rtd

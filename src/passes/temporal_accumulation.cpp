@@ -1,5 +1,8 @@
 #include "passes/temporal_accumulation.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 
 #include "core/parallel.h"
@@ -59,6 +62,8 @@ void TemporalAccumulator::resize(int w, int h) {
   cur_ = 0;
 }
 
+void TemporalAccumulator::advance() { cur_ ^= 1; }
+
 void TemporalAccumulator::reset() {
   // Reprojection with no previous frame marks every pixel None, so stale values are never
   // read; clearing the lengths keeps that true even for a caller that passes old taps.
@@ -82,9 +87,18 @@ void TemporalAccumulator::run(const Reprojection& rp, const std::vector<Plane>& 
 
 void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float alpha, float momentsAlpha,
                               int maxHistoryLength, const AccumulationOptions& options) {
-  const int prev = cur_;
-  cur_ ^= 1;
+  advance();
+  tbb::parallel_for(tbb::blocked_range<int>(0, rp.height, 4), [&](const tbb::blocked_range<int>& rows) {
+    accumulateRows(rp, color, alpha, momentsAlpha, maxHistoryLength, options, rows.begin(), rows.end());
+  });
+}
+
+void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* color, float alpha, float momentsAlpha,
+                                         int maxHistoryLength, const AccumulationOptions& options, int rowBegin,
+                                         int rowEnd) {
+  const int prev = cur_ ^ 1;
   const int w = rp.width;
+  const bool moments = options.moments;
   const float maxLength = float(maxHistoryLength);
   const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
   const Plane* albedo = options.albedo ? options.albedo->data() : nullptr;
@@ -96,8 +110,8 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
     const float l = options.luminance == MomentLuminance::Rec709 ? luminance(c[0], c[1], c[2])
                                                                  : momentLuminance(options.luminance, c[0], c[1], c[2]);
     // The scalar path (borders, disocclusions, the 3x3 fallback): 0 where there is no history.
-    const float histLength = rp.gather(length_[prev], i), hist1 = rp.gather(m1_[prev], i),
-                hist2 = rp.gather(m2_[prev], i);
+    const float histLength = rp.gather(length_[prev], i);
+    const float hist1 = moments ? rp.gather(m1_[prev], i) : 0.0f, hist2 = moments ? rp.gather(m2_[prev], i) : 0.0f;
     float hist[3];
     for (int k = 0; k < 3; ++k) hist[k] = rp.gather(color_[prev][k], i);
     // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
@@ -112,18 +126,22 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
       // history the pixel stays missing (length 0).
       length_[cur_].data[i] = none ? 0.0f : std::round(histLength);
       for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = hist[k];
-      m1_[cur_].data[i] = hist1;
-      m2_[cur_].data[i] = hist2;
+      if (moments) {
+        m1_[cur_].data[i] = hist1;
+        m2_[cur_].data[i] = hist2;
+      }
       return;
     }
     length_[cur_].data[i] = n;
     for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
-    m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;
-    m2_[cur_].data[i] = am * l * l + (1.0f - am) * hist2;
+    if (moments) {
+      m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;
+      m2_[cur_].data[i] = am * l * l + (1.0f - am) * hist2;
+    }
   };
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
   const bool vectorized = !mask && options.luminance != MomentLuminance::CieLightness;
-  parallelRows(rp.height, [&](int y) {
+  for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef __AVX2__
     if (vectorized) {
@@ -160,6 +178,7 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
           const __m256 hist = taps8.gather(cPrev[k]);
           _mm256_storeu_ps(color_[cur_][k].ptr() + i, _mm256_fmadd_ps(a, c[k], _mm256_mul_ps(_mm256_sub_ps(one, a), hist)));
         }
+        if (!moments) continue;
         const __m256 l = _mm256_fmadd_ps(lb, c[2], _mm256_fmadd_ps(lg, c[1], _mm256_mul_ps(lr, c[0])));
         const __m256 bm = _mm256_sub_ps(one, am);
         _mm256_storeu_ps(m1_[cur_].ptr() + i, _mm256_fmadd_ps(am, l, _mm256_mul_ps(bm, taps8.gather(m1Prev))));
@@ -168,7 +187,7 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
     }
 #endif
     for (; x < w; ++x) pixel(size_t(y) * w + x);
-  });
+  }
 }
 
 }  // namespace rtd

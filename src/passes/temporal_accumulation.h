@@ -58,6 +58,9 @@ struct AccumulationOptions {
   /// demodulationFactor of these three albedo planes, as demodulate() does) so the demodulated
   /// image is never stored. Methods that need it stored (SVGF's variance) demodulate first.
   const std::vector<Plane>* albedo = nullptr;
+  /// false: the luminance moments are neither read nor written (moment1() and moment2() are
+  /// then stale); for methods that do not use them (BMFR).
+  bool moments = true;
 };
 
 /// Owns the history of one radiance stream: accumulated colour (three planes), the first and
@@ -76,6 +79,13 @@ class TemporalAccumulator {
   /// options.albedo set.
   void run(const Reprojection& rp, const std::vector<Plane>& color, float alpha, float momentsAlpha,
            int maxHistoryLength, const AccumulationOptions& options);
+
+  /// run() in two steps, for methods that run their passes on bands of rows: advance() once
+  /// per frame (the current history becomes the previous one), then accumulateRows() once for
+  /// every row, from any thread. `color`: three planes.
+  void advance();
+  void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, float momentsAlpha,
+                      int maxHistoryLength, const AccumulationOptions& options, int rowBegin, int rowEnd);
 
   const Plane3& color() const { return color_[cur_]; }
   /// Methods that feed a filtered result back as history (SVGF: first a-trous level) write here.

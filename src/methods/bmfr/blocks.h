@@ -2,6 +2,8 @@
 // every frame by one of 16 static offsets, with mirrored pixels where a block leaves the image.
 #pragma once
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 namespace rtd::bmfr {
 
@@ -54,6 +56,50 @@ inline BlockGrid makeBlockGrid(int width, int height, int size, int frameIndex, 
   g.blocksX = (width + size - 1) / size + 1;
   g.blocksY = (height + size - 1) / size + 1;
   return g;
+}
+
+/// A band of image rows [rowBegin, rowEnd) that holds whole block rows [blockRowBegin,
+/// blockRowEnd): every row a block of the band reads, mirrored rows included, is in the band.
+/// The CPU method runs phase I, the fit and phase III band by band, each band on one thread
+/// while its rows are in cache.
+struct RowBand {
+  int rowBegin, rowEnd;
+  int blockRowBegin, blockRowEnd;
+};
+
+/// The grid's block rows that hold image rows, one band each, except that a block row whose
+/// mirrored rows lie in its neighbour's rows (a block row with fewer than half its rows inside
+/// the image, at the top or bottom) shares its neighbour's band. Every image row is in exactly
+/// one band.
+inline std::vector<RowBand> rowBands(const BlockGrid& g) {
+  std::vector<RowBand> bands;
+  auto rows = [&](int by) { return std::pair{std::max(g.y0(by), 0), std::min(g.y0(by) + g.size, g.height)}; };
+  // The lowest and highest image row block row `by` reads, mirrored rows included.
+  auto reads = [&](int by) {
+    int lo = g.height, hi = -1;
+    for (int y = g.y0(by); y < g.y0(by) + g.size; ++y) {
+      lo = std::min(lo, mirror(y, g.height));
+      hi = std::max(hi, mirror(y, g.height));
+    }
+    return std::pair{lo, hi};
+  };
+  for (int by = 0; by < g.blocksY; ++by) {
+    const auto [begin, end] = rows(by);
+    if (begin >= end) continue;
+    const int lo = reads(by).first;
+    // Join the previous band if this block row reads rows above its own, or the previous
+    // band's block rows read rows of this one.
+    bool join = !bands.empty() && lo < begin;
+    if (!bands.empty() && !join)
+      for (int b = bands.back().blockRowBegin; b < bands.back().blockRowEnd; ++b) join = join || reads(b).second >= begin;
+    if (join) {
+      bands.back().rowEnd = end;
+      bands.back().blockRowEnd = by + 1;
+    } else {
+      bands.push_back({begin, end, by, by + 1});
+    }
+  }
+  return bands;
 }
 
 }  // namespace rtd::bmfr

@@ -42,10 +42,12 @@ struct BlockFit {
   float positionCentre[3];
 };
 
-/// Per-thread work space of one block: column-major [T | z_R z_G z_B] and pixel indices.
-struct BlockScratch {
+/// Per-thread work space: one block's column-major [T | z_R z_G z_B] and pixel indices, and
+/// one synthesized row.
+struct Scratch {
   std::vector<float> columns;
   std::vector<int32_t> index;
+  std::vector<float> rgb;
 };
 
 constexpr int kMaxBlock = 64;
@@ -112,57 +114,64 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     const auto* albedo = s.demodulate && frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
     const int prev = cur_;
     cur_ ^= 1;
-    {
-      PassTimer t(stats, "reproject");
-      reproject(frame, previous, s.reprojection, reprojection_);
-    }
-    {
-      // Phase I: cumulative then exponential average, w = max(1/n, 0.2) (Sec. 4.1), with the
-      // 8-bit-capped sample count (the accumulator's luminance moments are not used), of the
-      // radiance demodulated on the fly.
-      PassTimer t(stats, "accumulateNoisy");
-      AccumulationOptions opt;
-      opt.albedo = albedo;
-      noisy_.run(reprojection_, frame.planes(Buffer::Color), s.alphaNoisy, s.alphaNoisy, s.maxHistoryLength, opt);
-    }
-    const Plane& length = noisy_.historyLength();
-    // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
-    const Plane3* filtered = &noisy_.color();  // without phases II and III the accumulation passes through
-    bool remodulatedAlready = false;
+    const int size = s.blockSize == BmfrBlockSize::Block64 ? 64 : 32;
+    grid_ = bmfr::makeBlockGrid(frame.width, frame.height, size, frameIndex_, s.blockOffsets);
+    Tiling tiling;
     if (s.fit) {
       selectFeatures(frame);
-      const int size = s.blockSize == BmfrBlockSize::Block64 ? 64 : 32;
-      grid_ = bmfr::makeBlockGrid(frame.width, frame.height, size, frameIndex_, s.blockOffsets);
-      {
-        PassTimer t(stats, "fit");
-        fitBlocks(frame, noisy_.color());
-      }
-      if (s.accumulateFiltered) {
-        // Each synthesized row goes through phase III and the remodulation while it is in
-        // cache: the fitted image never goes through memory.
-        PassTimer t(stats, "synthesize+accumulate+remodulate");
-        synthesize(frame, [&](const float* const row[3], int y) {
-          accumulateRow(reprojection_, length, s.alphaFiltered, row, filtered_[prev], filtered_[cur_], y);
-          remodulateRow(filtered_[cur_], albedo, remodulated_, y);
-        });
-        filtered = &filtered_[cur_];
-        remodulatedAlready = true;
-      } else {
-        PassTimer t(stats, "synthesize");
-        synthesize(frame, [&](const float* const row[3], int y) {
-          for (int c = 0; c < 3; ++c) std::copy(row[c], row[c] + frame.width, fitted_[c].row(y));
-        });
-        filtered = &fitted_;
-      }
-    } else if (s.accumulateFiltered) {
-      PassTimer t(stats, "accumulateFiltered");
-      accumulatePlanes(reprojection_, length, s.alphaFiltered, noisy_.color(), filtered_[prev], filtered_[cur_]);
-      filtered = &filtered_[cur_];
+      tiling = makeTiling();
+      if (s.noiseAmount > 0.0f) makeNoise(tiling.rows);
     }
-    if (!remodulatedAlready) {
-      PassTimer t(stats, "remodulate");
-      parallelRows(frame.height, [&](int y) { remodulateRow(*filtered, albedo, remodulated_, y); });
-    }
+    noisy_.advance();
+    // Phase I: cumulative then exponential average, w = max(1/n, 0.2) (Sec. 4.1), with the
+    // 8-bit-capped sample count, of the radiance demodulated on the fly; the accumulator's
+    // luminance moments are not used.
+    AccumulationOptions phaseOne;
+    phaseOne.albedo = albedo;
+    phaseOne.moments = false;
+    // Phase III: the same taps and sample counts as phase I, w = max(1/n, 0.1) (Sec. 4.3).
+    // Without phases II or III the image passes through.
+    const Plane& length = noisy_.historyLength();
+    const Plane3& filtered = s.accumulateFiltered ? filtered_[cur_] : s.fit ? fitted_ : noisy_.color();
+    auto phaseThreeRow = [&](int y, Scratch& scratch) {
+      const float* row[3] = {noisy_.color()[0].row(y), noisy_.color()[1].row(y), noisy_.color()[2].row(y)};
+      if (s.fit) synthesizeRow(frame, y, scratch, row);
+      if (s.accumulateFiltered) accumulateRow(reprojection_, length, s.alphaFiltered, row, filtered_[prev], filtered_[cur_], y);
+      else if (s.fit)
+        for (int c = 0; c < 3; ++c) std::copy(row[c], row[c] + frame.width, fitted_[c].row(y));
+      remodulateRow(filtered, albedo, remodulated_, y);
+    };
+
+    // Band by band (block rows, bmfr::rowBands), each on one thread: the reprojection and phase
+    // I of a band's rows, the fit of its blocks and phase III run while the band is in cache;
+    // the fit's reads of nine planes per block would otherwise come from memory.
+    const std::vector<bmfr::RowBand> bands = bmfr::rowBands(grid_);
+    BandPassTimes times({"reproject", "accumulateNoisy", "fit", s.fit ? "synthesize+accumulate+remodulate" : "accumulate+remodulate"});
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, bands.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
+      Scratch& scratch = scratch_.local();
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        const bmfr::RowBand& band = bands[i];
+        {
+          auto t = times.scope(0);
+          reprojectRows(frame, previous, s.reprojection, reprojection_, band.rowBegin, band.rowEnd);
+        }
+        {
+          auto t = times.scope(1);
+          noisy_.accumulateRows(reprojection_, frame.planes(Buffer::Color).data(), s.alphaNoisy, s.alphaNoisy,
+                                s.maxHistoryLength, phaseOne, band.rowBegin, band.rowEnd);
+        }
+        if (s.fit) {
+          auto t = times.scope(2);
+          for (int by = band.blockRowBegin; by < band.blockRowEnd; ++by)
+            for (int bx = 0; bx < grid_.blocksX; ++bx)
+              if (grid_.inImage(bx, by))
+                fitBlock(frame, noisy_.color(), bx, by, tiling, scratch, fits_[size_t(by * grid_.blocksX + bx)]);
+        }
+        auto t = times.scope(3);
+        for (int y = band.rowBegin; y < band.rowEnd; ++y) phaseThreeRow(y, scratch);
+      }
+    }, tbb::simple_partitioner());
+    times.report(stats, tbb::this_task_arena::max_concurrency());
     ++frameIndex_;
     if (!s.taa.taa) return remodulated_;
     PassTimer t(stats, "taa");
@@ -236,27 +245,14 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   };
   static constexpr int kTileRows = 256;
 
-  void fitBlocks(const FrameData& frame, const Plane3& noisy) {
-    const int rows = rowsPerBlock(), m = int(features_.size());
+  Tiling makeTiling() const {
     Tiling tiling;
-    tiling.rows = rows;
-    tiling.tileRows = std::min(rows, kTileRows);
-    tiling.tileCount = (rows + tiling.tileRows - 1) / tiling.tileRows;
-    tiling.columns = m + 3;
+    tiling.rows = rowsPerBlock();
+    tiling.tileRows = std::min(tiling.rows, kTileRows);
+    tiling.tileCount = (tiling.rows + tiling.tileRows - 1) / tiling.tileRows;
+    tiling.columns = int(features_.size()) + 3;
     tiling.tileStride = (size_t(tiling.tileRows) + 15) & ~size_t(15);
-    if (settings_.noiseAmount > 0.0f) makeNoise(rows);
-    tbb::parallel_for(tbb::blocked_range<int>(0, grid_.count(), 1), [&](const tbb::blocked_range<int>& range) {
-      BlockScratch& scratch = scratch_.local();
-      if (scratch.columns.size() < size_t(kMaxFeatures + kMaxChannels) * kMaxStride) {
-        scratch.columns.assign(size_t(kMaxFeatures + kMaxChannels) * kMaxStride, 0.0f);
-        scratch.index.assign(kMaxStride, 0);
-      }
-      for (int b = range.begin(); b != range.end(); ++b) {
-        const int bx = b % grid_.blocksX, by = b / grid_.blocksX;
-        if (!grid_.inImage(bx, by)) continue;
-        fitBlock(frame, noisy, bx, by, tiling, scratch, fits_[size_t(b)]);
-      }
-    });
+    return tiling;
   }
 
   // Copies plane p over the block's rows into column c: whole block rows at once where the
@@ -301,7 +297,11 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   }
 
   void fitBlock(const FrameData& frame, const Plane3& noisy, int bx, int by, const Tiling& tiling,
-                BlockScratch& scratch, BlockFit& fit) const {
+                Scratch& scratch, BlockFit& fit) const {
+    if (scratch.columns.size() < size_t(kMaxFeatures + kMaxChannels) * kMaxStride) {
+      scratch.columns.assign(size_t(kMaxFeatures + kMaxChannels) * kMaxStride, 0.0f);
+      scratch.index.assign(kMaxStride, 0);
+    }
     int32_t* index = scratch.index.data();
     float* base = scratch.columns.data();
     const int m = tiling.columns - 3;
@@ -379,54 +379,59 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     bmfr::backSubstitute(system, fit.alpha);
   }
 
-  // Eq. 6: y = T alpha per pixel with its block's weights and normalization, clamped >= 0.
-  // Eq. 6 for every row: sink(row, y) receives the row's fitted colour (three row pointers).
-  template <class Sink> void synthesize(const FrameData& frame, Sink&& sink) {
+  // Eq. 6: y = T alpha per pixel of row y with its block's weights and normalization,
+  // clamped >= 0, into the scratch row; `out` then points at it. Each feature is clamped to
+  // the fitted range [-1, 1]: a no-op up to rounding, since the block's normalization covers
+  // all of its pixels.
+  void synthesizeRow(const FrameData& frame, int y, Scratch& scratch, const float* out[3]) const {
     const int w = frame.width, m = int(features_.size());
-    const Plane* planes[kMaxFeatures];
-    for (int k = 0; k < m; ++k)
-      planes[k] = features_[size_t(k)].kind == FeatureKind::Constant ? nullptr : &rawPlane(frame, features_[size_t(k)]);
-    parallelRows(frame.height, [&](int y) {
-      float feature[kMaxBlock];
-      RowScratch& scratch = rows_.local();
-      if (scratch.rgb.size() < size_t(3 * w)) scratch.rgb.assign(size_t(3 * w), 0.0f);
-      float* outRow[3] = {scratch.rgb.data(), scratch.rgb.data() + w, scratch.rgb.data() + 2 * w};
-      const int by = grid_.blockY(y);
-      for (int x0 = 0; x0 < w;) {
-        const int bx = grid_.blockX(x0);
-        const int x1 = std::min(w, grid_.x0(bx) + grid_.size), n = x1 - x0;
-        const BlockFit& fit = fits_[size_t(by * grid_.blocksX + bx)];
-        for (int c = 0; c < 3; ++c) std::fill(outRow[c] + x0, outRow[c] + x1, fit.alpha[c][0]);
+    if (scratch.rgb.size() < size_t(3 * w)) scratch.rgb.assign(size_t(3 * w), 0.0f);
+    float* outRow[3] = {scratch.rgb.data(), scratch.rgb.data() + w, scratch.rgb.data() + 2 * w};
+    const float* src[kMaxFeatures];
+    for (int k = 1; k < m; ++k) src[k] = rawPlane(frame, features_[size_t(k)]).row(y);
+    const int by = grid_.blockY(y);
+    for (int x0 = 0; x0 < w;) {
+      const int bx = grid_.blockX(x0);
+      const int x1 = std::min(w, grid_.x0(bx) + grid_.size);
+      const BlockFit& fit = fits_[size_t(by * grid_.blocksX + bx)];
+      // The normalized feature k of pixel x.
+      auto feature = [&](int k, int x) {
+        const auto f = features_[size_t(k)].kind == FeatureKind::PositionSquared
+                           ? (src[k][x] - fit.positionCentre[features_[size_t(k)].channel]) * (src[k][x] - fit.positionCentre[features_[size_t(k)].channel])
+                           : src[k][x];
+        return (f - fit.centre[k]) * fit.scale[k];
+      };
+      int x = x0;
+      // Eight pixels at a time, the three channels' sums in registers.
+      for (; x + 8 <= x1; x += 8) {
+        Float8 sum[3];
+        for (int c = 0; c < 3; ++c) sum[c] = Float8{} + fit.alpha[c][0];
         for (int k = 1; k < m; ++k) {
-          const float* src = planes[k]->row(y) + x0;
-          const float centre = fit.centre[k], scale = fit.scale[k];
-          // Clamped to the fitted range [-1, 1]: a no-op up to rounding, since the block's
-          // normalization covers all of its pixels.
+          Float8 v = *reinterpret_cast<const Float8*>(src[k] + x);
           if (features_[size_t(k)].kind == FeatureKind::PositionSquared) {
-            const float pc = fit.positionCentre[features_[size_t(k)].channel];
-            for (int i = 0; i < n; ++i)
-              feature[i] = std::clamp(((src[i] - pc) * (src[i] - pc) - centre) * scale, -1.0f, 1.0f);
-          } else {
-            for (int i = 0; i < n; ++i) feature[i] = std::clamp((src[i] - centre) * scale, -1.0f, 1.0f);
+            v -= fit.positionCentre[features_[size_t(k)].channel];
+            v *= v;
           }
-          for (int c = 0; c < 3; ++c) {
-            const float a = fit.alpha[c][k];
-            float* o = outRow[c] + x0;
-            for (int i = 0; i < n; ++i) o[i] += a * feature[i];
-          }
+          v = (v - fit.centre[k]) * fit.scale[k];
+          v = v < -1.0f ? Float8{} - 1.0f : v;
+          v = v > 1.0f ? Float8{} + 1.0f : v;
+          for (int c = 0; c < 3; ++c) sum[c] += fit.alpha[c][k] * v;
         }
-        for (int c = 0; c < 3; ++c)
-          for (int i = 0; i < n; ++i) outRow[c][x0 + i] = std::max(outRow[c][x0 + i], 0.0f);
-        x0 = x1;
+        for (int c = 0; c < 3; ++c) *reinterpret_cast<Float8*>(outRow[c] + x) = sum[c] > 0.0f ? sum[c] : Float8{};
       }
-      sink(outRow, y);
-    });
+      for (; x < x1; ++x) {
+        float sum[3] = {fit.alpha[0][0], fit.alpha[1][0], fit.alpha[2][0]};
+        for (int k = 1; k < m; ++k) {
+          const float v = std::clamp(feature(k, x), -1.0f, 1.0f);
+          for (int c = 0; c < 3; ++c) sum[c] += fit.alpha[c][k] * v;
+        }
+        for (int c = 0; c < 3; ++c) outRow[c][x] = std::max(sum[c], 0.0f);
+      }
+      x0 = x1;
+    }
+    for (int c = 0; c < 3; ++c) out[c] = outRow[c];
   }
 
-  struct RowScratch {
-    std::vector<float> rgb;  // one row of the fitted colour
-  };
-  tbb::enumerable_thread_specific<RowScratch> rows_;
 
   Plane3 fitted_, remodulated_;
   TemporalAccumulator noisy_;  // phase I history: accumulated colour and sample count
@@ -439,7 +444,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   std::vector<Feature> features_;
   std::vector<BlockFit> fits_;
   std::vector<float> noise_;
-  tbb::enumerable_thread_specific<BlockScratch> scratch_;
+  tbb::enumerable_thread_specific<Scratch> scratch_;
 };
 
 }  // namespace

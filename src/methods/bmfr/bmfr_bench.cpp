@@ -29,7 +29,7 @@ void BM_BmfrBlockQr(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations());
 }
-BENCHMARK(BM_BmfrBlockQr)->Args({1024, 10})->Args({4096, 10})->Args({1024, 12})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BmfrBlockQr)->Args({256, 10})->Args({1024, 10})->Args({4096, 10})->Args({1024, 12})->Unit(benchmark::kMicrosecond);
 
 // The same block as 256-row tiles (what the pipeline runs): each tile's reflections stay in L1.
 void BM_BmfrBlockQrTiled(benchmark::State& state) {

@@ -191,6 +191,37 @@ TEST(BmfrBlocks, OffsetsRepeatEvery16Frames) {
   EXPECT_EQ(origins.size(), 16u);  // 16 distinct displacements, both axes
 }
 
+// The CPU method runs phase I, the fit and phase III band by band: each image row must be in
+// exactly one band, and every row a block reads (mirrored rows included) in the block's band.
+TEST(BmfrBlocks, RowBandsHoldEveryRowTheirBlocksRead) {
+  for (int size : {32, 64})
+    for (int h : {1, 5, 17, 31, 33, 64, 77, 100, 720})
+      for (int frame = 0; frame < 16; ++frame) {
+        const bmfr::BlockGrid g = bmfr::makeBlockGrid(40, h, size, frame, true);
+        const std::vector<bmfr::RowBand> bands = bmfr::rowBands(g);
+        std::vector<int> rowCount(size_t(h), 0);
+        int blockRows = 0;
+        for (const auto& b : bands) {
+          for (int y = b.rowBegin; y < b.rowEnd; ++y) ++rowCount[size_t(y)];
+          for (int by = b.blockRowBegin; by < b.blockRowEnd; ++by, ++blockRows)
+            for (int y = g.y0(by); y < g.y0(by) + size; ++y) {
+              const int read = bmfr::mirror(y, h);
+              ASSERT_TRUE(read >= b.rowBegin && read < b.rowEnd)
+                  << "size " << size << " height " << h << " frame " << frame << " block row " << by << " row " << y;
+            }
+        }
+        for (int c : rowCount) ASSERT_EQ(c, 1) << "size " << size << " height " << h << " frame " << frame;
+        int inImage = 0;
+        for (int by = 0; by < g.blocksY; ++by) inImage += g.inImage(0, by) || g.inImage(1, by);
+        EXPECT_EQ(blockRows, inImage);
+        // Bands are short enough to stay in cache: at most two block rows each except in
+        // images of fewer than two block rows.
+        if (h >= 2 * size) {
+          for (const auto& b : bands) EXPECT_LE(b.blockRowEnd - b.blockRowBegin, 2);
+        }
+      }
+}
+
 TEST(BmfrBlocks, BordersMirror) {
   EXPECT_EQ(bmfr::mirror(-1, 10), 0);
   EXPECT_EQ(bmfr::mirror(-2, 10), 1);

@@ -18,13 +18,20 @@ inline float sum(Float8 v) {
   return a + b;
 }
 
+// Four partial sums: one accumulator would make the pass wait on the addition's latency.
 inline float sumOfSquares(const float* x, int begin, int end) {
-  Float8 acc = {};
-  for (int i = begin; i < end; i += 8) {
+  Float8 acc[4] = {};
+  int i = begin;
+  for (; i + 32 <= end; i += 32)
+    for (int q = 0; q < 4; ++q) {
+      const Float8 v = load(x + i + 8 * q);
+      acc[q] += v * v;
+    }
+  for (; i < end; i += 8) {
     const Float8 v = load(x + i);
-    acc += v * v;
+    acc[0] += v * v;
   }
-  return sum(acc);
+  return sum((acc[0] + acc[1]) + (acc[2] + acc[3]));
 }
 
 // One pass over rows [begin, end): every column y[j] -= scale[j] * u, and, for the next
