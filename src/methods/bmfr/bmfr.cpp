@@ -255,29 +255,80 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     return tiling;
   }
 
-  // Copies plane p over the block's rows into column c: whole block rows at once where the
-  // block lies inside the image, mirrored pixel by pixel at the borders; through the sample
-  // indices when the block is sub-sampled.
-  void gatherColumn(const Plane& p, int bx, int by, const Tiling& tiling, const int32_t* index, float* base,
-                    int c) const {
+  /// A feature's range over a block.
+  struct Range {
+    float lo = INFINITY, hi = -INFINITY;
+    void extend(Float8 l, Float8 h) {
+      for (int k = 0; k < 8; ++k) {
+        lo = std::min(lo, l[k]);
+        hi = std::max(hi, h[k]);
+      }
+    }
+  };
+
+  // Copies plane p over the block's rows into column c and returns the range of the values:
+  // whole block rows at once where the block lies inside the image, through the block's
+  // mirrored pixel columns `columnX` at the borders, through the sample indices when the
+  // block is sub-sampled.
+  Range gatherColumn(const Plane& p, int bx, int by, const Tiling& tiling, const int32_t* index, const int* columnX,
+                     float* base, int c) const {
     const float* src = p.ptr();
     const int size = grid_.size;
+    Range range;
     if (tiling.rows != size * size) {
-      for (int r = 0; r < tiling.rows; ++r)
-        tiling.column(base, r / tiling.tileRows, c)[r % tiling.tileRows] = src[index[r]];
-      return;
+      for (int r = 0; r < tiling.rows; ++r) {
+        const float v = src[index[r]];
+        tiling.column(base, r / tiling.tileRows, c)[r % tiling.tileRows] = v;
+        range.lo = std::min(range.lo, v);
+        range.hi = std::max(range.hi, v);
+      }
+      return range;
     }
     const int x0 = grid_.x0(bx), y0 = grid_.y0(by), w = grid_.width, h = grid_.height;
     const bool inside = x0 >= 0 && x0 + size <= w;
+    Float8 lo = Float8{} + INFINITY, hi = Float8{} - INFINITY;
     for (int ly = 0; ly < size; ++ly) {
       const float* row = src + size_t(bmfr::mirror(y0 + ly, h)) * w;
       const int r0 = ly * size;  // a block row never straddles two tiles (kTileRows % size == 0)
       float* d = tiling.column(base, r0 / tiling.tileRows, c) + r0 % tiling.tileRows;
-      if (inside)  // size is 32 or 64: whole vectors, no call into memmove per block row
-        for (int lx = 0; lx < size; lx += 8) *reinterpret_cast<Float8*>(d + lx) = *reinterpret_cast<const Float8*>(row + x0 + lx);
-      else
-        for (int lx = 0; lx < size; ++lx) d[lx] = row[bmfr::mirror(x0 + lx, w)];
+      if (!inside)
+        for (int lx = 0; lx < size; ++lx) d[lx] = row[columnX[lx]];
+      // size is 32 or 64: whole vectors
+      for (int lx = 0; lx < size; lx += 8) {
+        const Float8 v = *reinterpret_cast<const Float8*>(inside ? row + x0 + lx : d + lx);
+        *reinterpret_cast<Float8*>(d + lx) = v;
+        lo = v < lo ? v : lo;
+        hi = v > hi ? v : hi;
+      }
     }
+    range.extend(lo, hi);
+    return range;
+  }
+
+  // Column k = (column `from` - centre)^2 (the same column when from == k); returns its range.
+  Range squareColumn(float* base, const Tiling& tiling, int from, int k, float centre) const {
+    Range range;
+    for (int t = 0; t < tiling.tileCount; ++t) {
+      const float* in = tiling.column(base, t, from);
+      float* out = tiling.column(base, t, k);
+      const int n = tiling.rowsIn(t);
+      int r = 0;
+      Float8 lo = Float8{} + INFINITY, hi = Float8{} - INFINITY;
+      for (; r + 8 <= n; r += 8) {
+        Float8 v = *reinterpret_cast<const Float8*>(in + r) - centre;
+        v *= v;
+        *reinterpret_cast<Float8*>(out + r) = v;
+        lo = v < lo ? v : lo;
+        hi = v > hi ? v : hi;
+      }
+      range.extend(lo, hi);
+      for (; r < n; ++r) {
+        out[r] = (in[r] - centre) * (in[r] - centre);
+        range.lo = std::min(range.lo, out[r]);
+        range.hi = std::max(range.hi, out[r]);
+      }
+    }
+    return range;
   }
 
   // Widens [lo, hi] to cover plane p (or (p - centre)^2) over the block's image pixels.
@@ -310,19 +361,12 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     // beyond the normalized range; with all pixels as rows this holds by construction).
     const bool sampled = tiling.rows != grid_.size * grid_.size;
     if (sampled) blockPixels(bx, by, tiling.rows, index);
-    auto columnMinMax = [&](int k, float& lo, float& hi) {
-      lo = INFINITY;
-      hi = -INFINITY;
-      for (int t = 0; t < tiling.tileCount; ++t) {
-        float l, h;
-        minMax(tiling.column(base, t, k), tiling.rowsIn(t), l, h);
-        lo = std::min(lo, l);
-        hi = std::max(hi, h);
-      }
-    };
+    int columnX[kMaxBlock];  // the block's pixel columns, mirrored at the image borders
+    for (int lx = 0; lx < grid_.size; ++lx) columnX[lx] = bmfr::mirror(grid_.x0(bx) + lx, grid_.width);
     // Raw feature columns and their block range. The squares are taken about the block's
     // position mid-range (same span as w^2 with the constant and w, better conditioned).
     int positionColumn[3] = {-1, -1, -1};
+    Range positionRange[3];
     for (int k = 0; k < m; ++k) {
       const Feature& f = features_[size_t(k)];
       if (f.kind == FeatureKind::Constant) {
@@ -331,32 +375,32 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         fit.scale[k] = 1.0f;
         continue;
       }
+      Range range;
       if (f.kind == FeatureKind::PositionSquared) {
-        if (positionColumn[f.channel] >= 0) {
-          for (int t = 0; t < tiling.tileCount; ++t)
-            std::copy_n(tiling.column(base, t, positionColumn[f.channel]), tiling.rowsIn(t), tiling.column(base, t, k));
+        // The position's range (over every image pixel of a sub-sampled block too) gives the
+        // centre; the position column is gathered here if w itself is not a feature.
+        int from = positionColumn[f.channel];
+        if (from >= 0) {
+          range = positionRange[f.channel];
         } else {
-          gatherColumn(rawPlane(frame, f), bx, by, tiling, index, base, k);
+          from = k;
+          range = gatherColumn(rawPlane(frame, f), bx, by, tiling, index, columnX, base, k);
+          if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, 0.0f, false, range.lo, range.hi);
         }
-        float lo, hi;
-        columnMinMax(k, lo, hi);
-        if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, 0.0f, false, lo, hi);
-        const float pc = 0.5f * (lo + hi);
+        const float pc = 0.5f * (range.lo + range.hi);
         fit.positionCentre[f.channel] = pc;
-        for (int t = 0; t < tiling.tileCount; ++t) {
-          float* col = tiling.column(base, t, k);
-          for (int r = 0, n = tiling.rowsIn(t); r < n; ++r) col[r] = (col[r] - pc) * (col[r] - pc);
-        }
+        range = squareColumn(base, tiling, from, k, pc);
       } else {
-        gatherColumn(rawPlane(frame, f), bx, by, tiling, index, base, k);
-        if (f.kind == FeatureKind::Position) positionColumn[f.channel] = k;
+        range = gatherColumn(rawPlane(frame, f), bx, by, tiling, index, columnX, base, k);
+        if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, 0.0f, false, range.lo, range.hi);
+        if (f.kind == FeatureKind::Position) {
+          positionColumn[f.channel] = k;
+          positionRange[f.channel] = range;
+        }
       }
-      float lo, hi;
-      columnMinMax(k, lo, hi);
-      if (sampled)
-        extendOverBlock(rawPlane(frame, f), bx, by, fit.positionCentre[f.channel],
-                        f.kind == FeatureKind::PositionSquared, lo, hi);
-      normalization(lo, hi, fit.centre[k], fit.scale[k]);
+      if (sampled && f.kind == FeatureKind::PositionSquared)
+        extendOverBlock(rawPlane(frame, f), bx, by, fit.positionCentre[f.channel], true, range.lo, range.hi);
+      normalization(range.lo, range.hi, fit.centre[k], fit.scale[k]);
     }
     // Normalize to [-1, 1] and add the regularization noise to T only (Eq. 7); the synthesis
     // uses the noise-free T.
@@ -372,7 +416,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         else
           for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale;
       }
-    for (int c = 0; c < 3; ++c) gatherColumn(noisy[c], bx, by, tiling, index, base, m + c);
+    for (int c = 0; c < 3; ++c) gatherColumn(noisy[c], bx, by, tiling, index, columnX, base, m + c);
 
     bmfr::TriangularSystem system;
     bmfr::householderQrTiled(base, tiling.rows, tiling.tileRows, tiling.tileStride, m, 3, system);
