@@ -51,16 +51,31 @@ void reflectAndDot(const float* u, const float* x, const float* scale, float* co
   for (int j = 0; j < Count; ++j) dot[j] = sum(acc[j]);
 }
 
-// dot[j] = x . y[j] over rows [begin, end), four columns per pass over x.
+// dot[j] = x . y[j] over rows [begin, end) for Count columns in one pass over x.
+template <int Count>
+void dotsOf(const float* x, float* const* y, float* dot, int begin, int end) {
+  Float8 acc[Count] = {};
+  for (int i = begin; i < end; i += 8) {
+    const Float8 xx = load(x + i);
+    for (int q = 0; q < Count; ++q) acc[q] += xx * load(y[q] + i);
+  }
+  for (int q = 0; q < Count; ++q) dot[q] = sum(acc[q]);
+}
+
+// Up to kGroup columns per pass: the accumulators, the broadcast scales and the two shared
+// vectors fit in the 16 vector registers.
+constexpr int kGroup = 6;
+
 void dots(const float* x, float* const* y, int count, float* dot, int begin, int end) {
-  for (int j = 0; j < count; j += 4) {
-    Float8 acc[4] = {};
-    const int n = std::min(4, count - j);
-    for (int i = begin; i < end; i += 8) {
-      const Float8 xx = load(x + i);
-      for (int q = 0; q < n; ++q) acc[q] += xx * load(y[j + q] + i);
+  for (int j = 0; j < count; j += kGroup) {
+    switch (std::min(kGroup, count - j)) {
+      case 1: dotsOf<1>(x, y + j, dot + j, begin, end); break;
+      case 2: dotsOf<2>(x, y + j, dot + j, begin, end); break;
+      case 3: dotsOf<3>(x, y + j, dot + j, begin, end); break;
+      case 4: dotsOf<4>(x, y + j, dot + j, begin, end); break;
+      case 5: dotsOf<5>(x, y + j, dot + j, begin, end); break;
+      default: dotsOf<6>(x, y + j, dot + j, begin, end); break;
     }
-    for (int q = 0; q < n; ++q) dot[j + q] = sum(acc[q]);
   }
 }
 
@@ -123,13 +138,15 @@ void householderQr(float* cols, int rows, size_t stride, int features, int chann
       for (int i = begin; i < padded; i += 8) store(next + i, load(next + i) - scale[0] * load(x + i));
       keep(k + 1, next[k]);
       std::fill(next + begin, next + k + 1, 0.0f);  // rows above k + 1 are in R now
-      for (int q = 1; q < later; q += 4) {
-        const int count = std::min(4, later - q);
+      for (int q = 1; q < later; q += kGroup) {
+        const int count = std::min(kGroup, later - q);
         switch (count) {
           case 1: reflectAndDot<1>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
           case 2: reflectAndDot<2>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
           case 3: reflectAndDot<3>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
-          default: reflectAndDot<4>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
+          case 4: reflectAndDot<4>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
+          case 5: reflectAndDot<5>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
+          default: reflectAndDot<6>(x, next, scale + q, y + q, dot + q - 1, begin, padded); break;
         }
         for (int c = 0; c < count; ++c) keep(k + 1 + q + c, y[q + c][k]);
       }
