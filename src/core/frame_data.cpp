@@ -42,6 +42,8 @@ std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const s
   return used;
 }
 
+bool streamsPastCache(size_t bytes) { return bytes >= (size_t(8) << 20); }
+
 namespace {
 
 // The sanitization bounds of a value: radiance must be finite and non-negative before it can
@@ -159,16 +161,13 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
   out.height = h;
   out.camera = in.camera;
   std::atomic<uint64_t> replaced{0};
-  // Stream the planes past the caches when the frame is larger than a last-level cache could
-  // keep until the method's passes read it back.
-  constexpr size_t kStreamingBytes = size_t(16) << 20;
   auto wanted = [&](int i) {
     return !in.buffers[i].empty() && (!used || std::find(used->begin(), used->end(), Buffer(i)) != used->end());
   };
   size_t importedBytes = 0;
   for (int i = 0; i < kBufferCount; ++i)
     if (wanted(i)) importedBytes += size_t(w) * h * sizeof(float) * bufferChannelCount(Buffer(i));
-  const bool stream = importedBytes >= kStreamingBytes;
+  const bool stream = streamsPastCache(importedBytes);
   for (int i = 0; i < kBufferCount; ++i) {
     const ImageView& v = in.buffers[i];
     auto& planes = out.buffers[i];
@@ -227,6 +226,34 @@ void separateEmission(FrameData& f) {
   }
 }
 
+namespace {
+#ifdef __AVX2__
+// The inverse of deinterleave8: eight pixels of channels c[0..stride) into `stride` (3 or 4)
+// vectors of packed pixels. stride 3: each channel is permuted so that its values sit in the
+// lanes they take in the three output vectors, then two blends per vector assemble them.
+inline void interleave8(const __m256 c[4], int stride, __m256 out[4]) {
+  if (stride == 3) {
+    const __m256 r = _mm256_permutevar8x32_ps(c[0], _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    const __m256 g = _mm256_permutevar8x32_ps(c[1], _mm256_setr_epi32(5, 0, 3, 6, 1, 4, 7, 2));
+    const __m256 b = _mm256_permutevar8x32_ps(c[2], _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+    out[0] = _mm256_blend_ps(_mm256_blend_ps(r, g, 0b10010010), b, 0b00100100);
+    out[1] = _mm256_blend_ps(_mm256_blend_ps(r, g, 0b00100100), b, 0b01001001);
+    out[2] = _mm256_blend_ps(_mm256_blend_ps(r, g, 0b01001001), b, 0b10010010);
+  } else {
+    const __m256 t0 = _mm256_unpacklo_ps(c[0], c[1]), t1 = _mm256_unpackhi_ps(c[0], c[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(c[2], c[3]), t3 = _mm256_unpackhi_ps(c[2], c[3]);
+    // pixels 0|4, 1|5, 2|6, 3|7
+    const __m256 p04 = _mm256_shuffle_ps(t0, t2, 0x44), p15 = _mm256_shuffle_ps(t0, t2, 0xEE);
+    const __m256 p26 = _mm256_shuffle_ps(t1, t3, 0x44), p37 = _mm256_shuffle_ps(t1, t3, 0xEE);
+    out[0] = _mm256_permute2f128_ps(p04, p15, 0x20);
+    out[1] = _mm256_permute2f128_ps(p26, p37, 0x20);
+    out[2] = _mm256_permute2f128_ps(p04, p15, 0x31);
+    out[3] = _mm256_permute2f128_ps(p26, p37, 0x31);
+  }
+}
+#endif
+}  // namespace
+
 void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out) {
   if (out.format != Format::Float3 && out.format != Format::Float4)
     throw Error("output view must be Float3 or Float4");
@@ -234,16 +261,39 @@ void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const Imag
     throw Error("output view is " + std::to_string(out.width) + "x" + std::to_string(out.height) +
                 ", the frame is " + std::to_string(rgb[0].width) + "x" + std::to_string(rgb[0].height));
   const bool alpha = out.format == Format::Float4;
+  const int stride = alpha ? 4 : 3;
+  const bool packed = out.bytesPerPixel() == size_t(stride) * sizeof(float);
+  const bool stream = streamsPastCache(size_t(out.width) * out.height * out.bytesPerPixel());
   parallelRows(out.height, [&](int y) {
-    const float *r = rgb[0].row(y), *g = rgb[1].row(y), *b = rgb[2].row(y);
-    for (int x = 0; x < out.width; ++x) {
-      float* p = out.pixel<float>(x, y);
-      p[0] = r[x]; p[1] = g[x]; p[2] = b[x];
-      if (emission) {
-        p[0] += (*emission)[0].row(y)[x];
-        p[1] += (*emission)[1].row(y)[x];
-        p[2] += (*emission)[2].row(y)[x];
+    const float* c[3] = {rgb[0].row(y), rgb[1].row(y), rgb[2].row(y)};
+    const float* e[3] = {nullptr, nullptr, nullptr};
+    if (emission)
+      for (int k = 0; k < 3; ++k) e[k] = (*emission)[k].row(y);
+    int x = 0;
+#ifdef __AVX2__
+    if (packed) {
+      float* row = out.pixel<float>(0, y);
+      const bool nonTemporal = stream && reinterpret_cast<uintptr_t>(row) % 32 == 0;
+      for (; x + 8 <= out.width; x += 8) {
+        __m256 v[4], p[4];
+        for (int k = 0; k < 3; ++k) {
+          v[k] = _mm256_loadu_ps(c[k] + x);
+          if (emission) v[k] = _mm256_add_ps(v[k], _mm256_loadu_ps(e[k] + x));
+        }
+        v[3] = _mm256_set1_ps(1.0f);
+        interleave8(v, stride, p);
+        for (int k = 0; k < stride; ++k) {
+          float* dst = row + size_t(x) * stride + 8 * k;
+          if (nonTemporal) _mm256_stream_ps(dst, p[k]);
+          else _mm256_storeu_ps(dst, p[k]);
+        }
       }
+      if (nonTemporal) _mm_sfence();
+    }
+#endif
+    for (; x < out.width; ++x) {
+      float* p = out.pixel<float>(x, y);
+      for (int k = 0; k < 3; ++k) p[k] = emission ? c[k][x] + e[k][x] : c[k][x];
       if (alpha) p[3] = 1.0f;
     }
   });

@@ -45,6 +45,12 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
 /// methods filter only the noisy part; importFrame() calls it.
 void separateEmission(FrameData& frame);
 
+/// Whether a pass writing `bytes` of pixels that the next passes will not read right away
+/// writes them around the caches (non-temporal stores): when they exceed what a last-level
+/// cache could keep (8 MiB), it saves reading every destination line before overwriting it.
+/// Import and export use it.
+bool streamsPastCache(size_t bytes);
+
 /// Writes RGB planes, plus the separated emission if not null, into a Float3/Float4 view
 /// (alpha = 1).
 void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out);

@@ -319,29 +319,35 @@ void reprojectRows(const FrameData& cur, const FrameData* previous, const Reproj
   };
 
   for (int y = rowBegin; y < rowEnd; ++y) {
-    // Continuous previous position of each pixel's centre.
+    // Continuous previous position of each pixel's centre (the common motion-vector case in
+    // its own loop, which vectorizes).
     float* prevX = out.prevX.row(y);
     float* prevY = out.prevY.row(y);
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      float px = x + 0.5f, py = y + 0.5f;
-      if (motion) {
-        px += motionX[i];
-        py += motionY[i];
-      } else if (fromCamera) {
-        float v[4], c[4];
-        transformPoint(prev.camera.worldToCamera, cur.plane(Buffer::Position, 0).data[i],
-                       cur.plane(Buffer::Position, 1).data[i], cur.plane(Buffer::Position, 2).data[i], v);
-        transformPoint(prev.camera.projection, v[0], v[1], v[2], c);
-        if (c[3] > 0.0f) {
-          px = (c[0] / c[3] * 0.5f + 0.5f) * w;
-          py = (0.5f - c[1] / c[3] * 0.5f) * h;  // NDC y is up, rows go down
-        } else {
-          px = py = -1e6f;  // behind the previous camera
-        }
+    const size_t row = size_t(y) * w;
+    if (motion) {
+      for (int x = 0; x < w; ++x) {
+        prevX[x] = float(x) + 0.5f + motionX[row + x];
+        prevY[x] = float(y) + 0.5f + motionY[row + x];
       }
-      prevX[x] = px;
-      prevY[x] = py;
+    } else {
+      for (int x = 0; x < w; ++x) {
+        float px = x + 0.5f, py = y + 0.5f;
+        if (fromCamera) {
+          const size_t i = row + x;
+          float v[4], c[4];
+          transformPoint(prev.camera.worldToCamera, cur.plane(Buffer::Position, 0).data[i],
+                         cur.plane(Buffer::Position, 1).data[i], cur.plane(Buffer::Position, 2).data[i], v);
+          transformPoint(prev.camera.projection, v[0], v[1], v[2], c);
+          if (c[3] > 0.0f) {
+            px = (c[0] / c[3] * 0.5f + 0.5f) * w;
+            py = (0.5f - c[1] / c[3] * 0.5f) * h;  // NDC y is up, rows go down
+          } else {
+            px = py = -1e6f;  // behind the previous camera
+          }
+        }
+        prevX[x] = px;
+        prevY[x] = py;
+      }
     }
     int x = 0;
 #ifdef __AVX2__

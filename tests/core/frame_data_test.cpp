@@ -1,7 +1,9 @@
-// Frame import: every layout the API accepts (1-4 packed float channels, a wider pixel stride,
-// integer ids) de-interleaves into planes with non-finite values replaced, and radiance also
-// with negatives replaced, checked value by value against the definition, on widths that are
-// not a multiple of the eight-pixel vector path.
+// Frame import and export. Import: every layout the API accepts (1-4 packed float channels, a
+// wider pixel stride, integer ids) de-interleaves into planes with non-finite values replaced,
+// and radiance also with negatives replaced. Export: planes (plus emission) interleave into
+// Float3 / Float4 views, packed or with a wider pixel stride. Checked value by value against
+// the definitions, on widths that are not a multiple of the eight-pixel vector path and on a
+// frame large enough to be written with streaming stores.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -100,6 +102,44 @@ TEST(FrameImport, ConvertsIntegerIds) {
   EXPECT_EQ(importFrame(in, {Buffer::Color}, out), 0u);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) EXPECT_EQ(out.plane(Buffer::ObjectId)(x, y), float(ids[size_t(y) * w + x]));
+}
+
+TEST(FrameExport, InterleavesEveryOutputLayout) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1.0f, 4.0f);
+  for (int w : {1, 7, 8, 29, 1280})
+    for (Format format : {Format::Float3, Format::Float4})
+      for (int extraFloats : {0, 1})  // packed, or a wider pixel stride
+        for (bool withEmission : {false, true}) {
+          const int h = w == 1280 ? 720 : 3;
+          Plane3 rgb;
+          std::vector<Plane> emission(3);
+          for (int c = 0; c < 3; ++c) {
+            rgb[c].resize(w, h);
+            emission[size_t(c)].resize(w, h);
+            for (float& v : rgb[c].data) v = u(rng);
+            for (float& v : emission[size_t(c)].data) v = u(rng);
+          }
+          const int stride = channelCount(format) + extraFloats;
+          // 32-byte aligned, so the large frame takes the streaming stores
+          std::vector<float> storage(size_t(w) * h * stride + 8, -7.0f);
+          float* out = storage.data() + (8 - reinterpret_cast<uintptr_t>(storage.data()) % 32 / 4) % 8;
+          exportRgb(rgb, withEmission ? &emission : nullptr, ImageView{out, w, h, format, size_t(stride) * 4});
+          for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+              const float* p = out + (size_t(y) * w + x) * stride;
+              for (int c = 0; c < 3; ++c) {
+                const float e = withEmission ? rgb[c](x, y) + emission[size_t(c)](x, y) : rgb[c](x, y);
+                ASSERT_EQ(p[c], e) << "width " << w << " stride " << stride << " at " << x << "," << y << " channel " << c;
+              }
+              if (format == Format::Float4) {
+                ASSERT_EQ(p[3], 1.0f);
+              }
+              if (extraFloats) {
+                ASSERT_EQ(p[stride - 1], -7.0f) << "wrote past the pixel";
+              }
+            }
+        }
 }
 
 }  // namespace
