@@ -21,6 +21,13 @@ class Taa {
   /// consistency tests: the clamp rejects ghosts).
   const Plane3& run(const Reprojection& rp, const Plane3& color, float alpha);
 
+  /// run() in steps, for methods that run their passes on bands of rows: begin() once per
+  /// frame, then runRows() once for every row, from any thread, each call once rows
+  /// [rowBegin - 1, rowEnd] of `color` are final (the 3x3 box); the output is then result().
+  void begin(int width, int height);
+  void runRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBegin, int rowEnd);
+  const Plane3& result() const { return history_[cur_]; }
+
  private:
   /// Per-thread rows: the 3x3 box is built from a rolling window of three rows' YCoCg and
   /// their horizontal min/max, so it never goes through memory (the pass is bandwidth-bound).
@@ -33,6 +40,7 @@ class Taa {
   int width_ = 0;
   tbb::enumerable_thread_specific<Window> windows_;
   bool valid_ = false;
+  bool first_ = false;  // this frame has no history: the output is the input
 };
 
 }  // namespace rtd

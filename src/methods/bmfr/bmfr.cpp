@@ -146,7 +146,8 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     // I of a band's rows, the fit of its blocks and phase III run while the band is in cache;
     // the fit's reads of nine planes per block would otherwise come from memory.
     const std::vector<bmfr::RowBand> bands = bmfr::rowBands(grid_);
-    BandPassTimes times({"reproject", "accumulateNoisy", "fit", s.fit ? "synthesize+accumulate+remodulate" : "accumulate+remodulate"});
+    BandPassTimes times({"reproject", "accumulateNoisy", "fit", s.fit ? "synthesize+accumulate+remodulate" : "accumulate+remodulate", "taa"});
+    if (s.taa.taa) taa_.begin(frame.width, frame.height);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, bands.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
       Scratch& scratch = scratch_.local();
       for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -167,15 +168,33 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
               if (grid_.inImage(bx, by))
                 fitBlock(frame, noisy_.color(), bx, by, tiling, scratch, fits_[size_t(by * grid_.blocksX + bx)]);
         }
-        auto t = times.scope(3);
-        for (int y = band.rowBegin; y < band.rowEnd; ++y) phaseThreeRow(y, scratch);
+        {
+          auto t = times.scope(3);
+          for (int y = band.rowBegin; y < band.rowEnd; ++y) phaseThreeRow(y, scratch);
+        }
+        // TAA's 3x3 box needs the rows above and below: the band's first and last rows wait
+        // for the neighbouring bands.
+        if (s.taa.taa && band.rowEnd - band.rowBegin > 2) {
+          auto t = times.scope(4);
+          taa_.runRows(reprojection_, remodulated_, s.taa.taaAlpha, band.rowBegin + 1, band.rowEnd - 1);
+        }
       }
     }, tbb::simple_partitioner());
+    if (s.taa.taa) {
+      parallelRows(int(bands.size()), [&](int i) {
+        auto t = times.scope(4);
+        const bmfr::RowBand& band = bands[size_t(i)];
+        if (band.rowEnd - band.rowBegin > 2) {
+          taa_.runRows(reprojection_, remodulated_, s.taa.taaAlpha, band.rowBegin, band.rowBegin + 1);
+          taa_.runRows(reprojection_, remodulated_, s.taa.taaAlpha, band.rowEnd - 1, band.rowEnd);
+        } else {
+          taa_.runRows(reprojection_, remodulated_, s.taa.taaAlpha, band.rowBegin, band.rowEnd);
+        }
+      }, 1);
+    }
     times.report(stats, tbb::this_task_arena::max_concurrency());
     ++frameIndex_;
-    if (!s.taa.taa) return remodulated_;
-    PassTimer t(stats, "taa");
-    return taa_.run(reprojection_, remodulated_, s.taa.taaAlpha);
+    return s.taa.taa ? taa_.result() : remodulated_;
   }
 
  private:

@@ -31,9 +31,9 @@ void BM_BmfrBlockQr(benchmark::State& state) {
 }
 BENCHMARK(BM_BmfrBlockQr)->Args({256, 10})->Args({1024, 10})->Args({4096, 10})->Args({1024, 12})->Unit(benchmark::kMicrosecond);
 
-// The same block as 256-row tiles (what the pipeline runs): each tile's reflections stay in L1.
+// The same block as 512-row tiles (what the pipeline runs): each tile's reflections stay in L1.
 void BM_BmfrBlockQrTiled(benchmark::State& state) {
-  const int rows = int(state.range(0)), features = int(state.range(1)), columns = features + 3, tileRows = 256;
+  const int rows = int(state.range(0)), features = int(state.range(1)), columns = features + 3, tileRows = 512;
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   std::vector<float> source(size_t(rows) * columns), work(source.size());
