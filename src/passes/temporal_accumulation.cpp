@@ -44,14 +44,6 @@ void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, con
   for (; x < w; ++x) pixel(x);
 }
 
-void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, const Plane3& current,
-                      const Plane3& history, Plane3& out) {
-  parallelRows(rp.height, [&](int y) {
-    const float* row[3] = {current[0].row(y), current[1].row(y), current[2].row(y)};
-    accumulateRow(rp, length, alpha, row, history, out, y);
-  });
-}
-
 void TemporalAccumulator::resize(int w, int h) {
   for (int k = 0; k < 2; ++k) {
     rtd::resize(color_[k], w, h);

@@ -14,13 +14,10 @@ namespace rtd {
 inline float newSampleWeight(float n, float alpha) { return std::max(1.0f / n, alpha); }
 
 /// out = w * current + (1 - w) * reprojected history per plane, w = newSampleWeight(length,
-/// alpha) (out = current where the pixel has no history), for three planes with one tap decode
-/// per pixel: BMFR's phase III accumulation of the fitted colour with phase I's taps and
-/// history length.
-void accumulatePlanes(const Reprojection& rp, const Plane& length, float alpha, const Plane3& current,
-                      const Plane3& history, Plane3& out);
-/// accumulatePlanes() for row y only, the current values given as row pointers: lets a method
-/// produce a row and accumulate it while it is in cache.
+/// alpha) (out = current where the pixel has no history), for row y of three planes with one
+/// tap decode per pixel, the current values given as row pointers: BMFR's phase III
+/// accumulation of the fitted colour with phase I's taps and history length, each row
+/// accumulated as soon as it is synthesized, while it is in cache.
 void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, const float* const current[3],
                    const Plane3& history, Plane3& out, int y);
 

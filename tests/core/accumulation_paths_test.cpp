@@ -95,7 +95,10 @@ TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
   Plane3 out;
   resize(out, w, h);
   const Plane3 history = image();
-  accumulatePlanes(rp, acc.historyLength(), 0.1f, second, history, out);
+  for (int y = 0; y < h; ++y) {
+    const float* row[3] = {second[0].row(y), second[1].row(y), second[2].row(y)};
+    accumulateRow(rp, acc.historyLength(), 0.1f, row, history, out, y);
+  }
   for (size_t i = 0; i < size_t(w) * h; ++i) {
     if (rp.kind[i] == Reprojection::None) continue;
     const float a = std::max(1.0f / acc.historyLength().data[i], 0.1f);

@@ -1,5 +1,5 @@
-// accumulatePlanes(), the three-plane accumulation added to the shared passes for BMFR's
-// phase III, against its definition per plane through Reprojection::gather().
+// accumulateRow(), the three-plane accumulation added to the shared passes for BMFR's phase
+// III, against its definition per plane through Reprojection::gather().
 #include <gtest/gtest.h>
 
 #include <random>
@@ -12,7 +12,7 @@
 namespace rtd {
 namespace {
 
-TEST(BmfrPasses, AccumulatePlanesEqualsItsDefinitionPerPlane) {
+TEST(BmfrPasses, AccumulateRowEqualsItsDefinitionPerPlane) {
   synthetic::Scene scene;
   scene.width = 96;
   scene.height = 64;
@@ -37,7 +37,10 @@ TEST(BmfrPasses, AccumulatePlanesEqualsItsDefinitionPerPlane) {
         cur[c].data[i] = u(rng);
         hist[c].data[i] = u(rng);
       }
-    accumulatePlanes(rp, length, 0.1f, cur, hist, joint);
+    for (int y = 0; y < 64; ++y) {
+      const float* row[3] = {cur[0].row(y), cur[1].row(y), cur[2].row(y)};
+      accumulateRow(rp, length, 0.1f, row, hist, joint, y);
+    }
     for (int c = 0; c < 3; ++c)
       for (size_t i = 0; i < cur[c].size(); ++i) {
         const float a = newSampleWeight(length.data[i], 0.1f);

@@ -1,7 +1,7 @@
 #version 450
 // Pass "accumulateFiltered" of BMFR (Koskela et al. 2019 Sec. 4.3): the fitted colour
 // accumulated again with phase I's reprojection taps and sample counts, w = max(1/n, alpha).
-// Port of accumulatePlanes (src/passes/temporal_accumulation.cpp).
+// Port of accumulateRow (src/passes/temporal_accumulation.cpp), every row at once.
 #include "common.glsl"
 RTD_LOCAL_SIZE
 
