@@ -5,7 +5,6 @@
 
 #include <cmath>
 
-#include "core/parallel.h"
 #include "passes/demodulation.h"
 
 namespace rtd {

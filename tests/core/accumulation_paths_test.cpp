@@ -107,6 +107,41 @@ TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
   }
 }
 
+// Without moments (AccumulationOptions::moments = false, BMFR's phase I), the colour and the
+// history length are exactly those with moments, whether run whole or in bands of rows, and
+// the moment planes are left as they were.
+TEST(SharedPassPaths, AccumulationWithoutMomentsKeepsColourAndLength) {
+  const int w = kWidth, h = kHeight;
+  Lcg rnd;
+  const TwoFrames frames(rnd);
+  Plane3 first, second;
+  resize(first, w, h);
+  resize(second, w, h);
+  for (auto* p : {&first, &second})
+    for (auto& c : *p)
+      for (float& v : c.data) v = rnd();
+  TemporalAccumulator with, without;
+  with.resize(w, h);
+  without.resize(w, h);
+  AccumulationOptions noMoments;
+  noMoments.moments = false;
+  for (int k = 0; k < 3; ++k) {
+    with.run(frames.none, first, 0.2f, 0.2f, 255);
+    without.run(frames.none, first, 0.2f, 0.2f, 255, noMoments);
+  }
+  const Plane staleM1 = without.moment1();
+  with.run(frames.rp, second, 0.2f, 0.2f, 255);
+  without.advance();
+  for (int y = 0; y < h; y += 5) without.accumulateRows(frames.rp, second.data(), 0.2f, 0.2f, 255, noMoments, y, std::min(h, y + 5));
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    ASSERT_EQ(without.historyLength().data[i], with.historyLength().data[i]) << i;
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(without.color()[c].data[i], with.color()[c].data[i]) << i;
+  }
+  // Two runs later the buffer holds what it held before the first: nothing wrote it.
+  without.run(frames.rp, second, 0.2f, 0.2f, 255, noMoments);
+  for (size_t i = 0; i < size_t(w) * h; ++i) ASSERT_EQ(without.moment1().data[i], staleM1.data[i]) << i;
+}
+
 // Demodulating on the fly (AccumulationOptions::albedo) gives exactly what demodulate()
 // followed by the accumulation gives, albedo below the epsilon included.
 TEST(SharedPassPaths, OnTheFlyDemodulationEqualsTheDemodulatePass) {
