@@ -57,26 +57,36 @@ constexpr size_t kMaxStride = size_t(kMaxBlock) * kMaxBlock;
 // otherwise), for reductions the compiler will not vectorize on its own without -ffast-math.
 typedef float Float8 __attribute__((vector_size(32), aligned(4)));
 
-// Minimum and maximum of v[0..n).
-inline void minMax(const float* v, int n, float& lo, float& hi) {
-  Float8 l, h;
-  for (int k = 0; k < 8; ++k) { l[k] = INFINITY; h[k] = -INFINITY; }
-  int i = 0;
-  for (; i + 8 <= n; i += 8) {
-    const Float8 x = *reinterpret_cast<const Float8*>(v + i);
-    l = x < l ? x : l;
-    h = x > h ? x : h;
+/// A feature's minimum and maximum over a block, kept per vector lane until read.
+struct Range {
+  Float8 lo = Float8{} + INFINITY, hi = Float8{} - INFINITY;
+  void add(Float8 v) {
+    lo = v < lo ? v : lo;
+    hi = v > hi ? v : hi;
   }
-  lo = l[0];
-  hi = h[0];
-  for (int k = 1; k < 8; ++k) { lo = std::min(lo, l[k]); hi = std::max(hi, h[k]); }
-  for (; i < n; ++i) { lo = std::min(lo, v[i]); hi = std::max(hi, v[i]); }
-}
+  void add(float v) { add(Float8{} + v); }
+  void add(const float* v, int n) {
+    int i = 0;
+    for (; i + 8 <= n; i += 8) add(*reinterpret_cast<const Float8*>(v + i));
+    for (; i < n; ++i) add(v[i]);
+  }
+  float min() const {
+    float m = lo[0];
+    for (int k = 1; k < 8; ++k) m = std::min(m, lo[k]);
+    return m;
+  }
+  float max() const {
+    float m = hi[0];
+    for (int k = 1; k < 8; ++k) m = std::max(m, hi[k]);
+    return m;
+  }
+};
 
 // The block's normalization of one feature: (f - centre) * scale spans [-1, 1] (Sec. 4.2:
 // "T within every block is scaled to be in range [-1, 1]"). A feature that is constant on
 // the block (to rounding) becomes a zero column, which the regularization noise fills.
-inline void normalization(float lo, float hi, float& centre, float& scale) {
+inline void normalization(const Range& range, float& centre, float& scale) {
+  const float lo = range.min(), hi = range.max();
   centre = 0.5f * (lo + hi);
   const float half = 0.5f * (hi - lo);
   scale = half > 1e-6f * std::max({std::abs(lo), std::abs(hi), 1e-30f}) ? 1.0f / half : 0.0f;
@@ -276,17 +286,6 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     return tiling;
   }
 
-  /// A feature's range over a block.
-  struct Range {
-    float lo = INFINITY, hi = -INFINITY;
-    void extend(Float8 l, Float8 h) {
-      for (int k = 0; k < 8; ++k) {
-        lo = std::min(lo, l[k]);
-        hi = std::max(hi, h[k]);
-      }
-    }
-  };
-
   // Copies plane p over the block's rows into column c and returns the range of the values:
   // whole block rows at once where the block lies inside the image, through the block's
   // mirrored pixel columns `columnX` at the borders, through the sample indices when the
@@ -300,29 +299,27 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       for (int r = 0; r < tiling.rows; ++r) {
         const float v = src[index[r]];
         tiling.column(base, r / tiling.tileRows, c)[r % tiling.tileRows] = v;
-        range.lo = std::min(range.lo, v);
-        range.hi = std::max(range.hi, v);
+        range.add(v);
       }
       return range;
     }
     const int x0 = grid_.x0(bx), y0 = grid_.y0(by), w = grid_.width, h = grid_.height;
     const bool inside = x0 >= 0 && x0 + size <= w;
-    Float8 lo = Float8{} + INFINITY, hi = Float8{} - INFINITY;
     for (int ly = 0; ly < size; ++ly) {
       const float* row = src + size_t(bmfr::mirror(y0 + ly, h)) * w;
       const int r0 = ly * size;  // a block row never straddles two tiles (kTileRows % size == 0)
       float* d = tiling.column(base, r0 / tiling.tileRows, c) + r0 % tiling.tileRows;
-      if (!inside)
+      if (inside) {  // size is 32 or 64: whole vectors
+        for (int lx = 0; lx < size; lx += 8) {
+          const Float8 v = *reinterpret_cast<const Float8*>(row + x0 + lx);
+          *reinterpret_cast<Float8*>(d + lx) = v;
+          range.add(v);
+        }
+      } else {
         for (int lx = 0; lx < size; ++lx) d[lx] = row[columnX[lx]];
-      // size is 32 or 64: whole vectors
-      for (int lx = 0; lx < size; lx += 8) {
-        const Float8 v = *reinterpret_cast<const Float8*>(inside ? row + x0 + lx : d + lx);
-        *reinterpret_cast<Float8*>(d + lx) = v;
-        lo = v < lo ? v : lo;
-        hi = v > hi ? v : hi;
+        range.add(d, size);
       }
     }
-    range.extend(lo, hi);
     return range;
   }
 
@@ -334,26 +331,22 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       float* out = tiling.column(base, t, k);
       const int n = tiling.rowsIn(t);
       int r = 0;
-      Float8 lo = Float8{} + INFINITY, hi = Float8{} - INFINITY;
       for (; r + 8 <= n; r += 8) {
         Float8 v = *reinterpret_cast<const Float8*>(in + r) - centre;
         v *= v;
         *reinterpret_cast<Float8*>(out + r) = v;
-        lo = v < lo ? v : lo;
-        hi = v > hi ? v : hi;
+        range.add(v);
       }
-      range.extend(lo, hi);
       for (; r < n; ++r) {
         out[r] = (in[r] - centre) * (in[r] - centre);
-        range.lo = std::min(range.lo, out[r]);
-        range.hi = std::max(range.hi, out[r]);
+        range.add(out[r]);
       }
     }
     return range;
   }
 
-  // Widens [lo, hi] to cover plane p (or (p - centre)^2) over the block's image pixels.
-  void extendOverBlock(const Plane& p, int bx, int by, float centre, bool squared, float& lo, float& hi) const {
+  // Widens `range` to cover plane p (or (p - centre)^2) over the block's image pixels.
+  void extendOverBlock(const Plane& p, int bx, int by, float centre, bool squared, Range& range) const {
     const int x0 = std::max(grid_.x0(bx), 0), x1 = std::min(grid_.x0(bx) + grid_.size, grid_.width);
     const int y0 = std::max(grid_.y0(by), 0), y1 = std::min(grid_.y0(by) + grid_.size, grid_.height);
     float row[kMaxBlock];
@@ -361,10 +354,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       const float* src = p.row(y) + x0;
       const int n = x1 - x0;
       for (int i = 0; i < n; ++i) row[i] = squared ? (src[i] - centre) * (src[i] - centre) : src[i];
-      float l, h;
-      minMax(row, n, l, h);
-      lo = std::min(lo, l);
-      hi = std::max(hi, h);
+      range.add(row, n);
     }
   }
 
@@ -388,6 +378,13 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     // position mid-range (same span as w^2 with the constant and w, better conditioned).
     int positionColumn[3] = {-1, -1, -1};
     Range positionRange[3];
+    // Gathers raw feature f into column k; its range covers every image pixel of a
+    // sub-sampled block too.
+    auto gatherFeature = [&](const Feature& f, int k) {
+      Range range = gatherColumn(rawPlane(frame, f), bx, by, tiling, index, columnX, base, k);
+      if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, 0.0f, false, range);
+      return range;
+    };
     for (int k = 0; k < m; ++k) {
       const Feature& f = features_[size_t(k)];
       if (f.kind == FeatureKind::Constant) {
@@ -398,30 +395,27 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       }
       Range range;
       if (f.kind == FeatureKind::PositionSquared) {
-        // The position's range (over every image pixel of a sub-sampled block too) gives the
-        // centre; the position column is gathered here if w itself is not a feature.
+        // The position's range gives the centre; the position column is gathered here if w
+        // itself is not a feature.
         int from = positionColumn[f.channel];
         if (from >= 0) {
           range = positionRange[f.channel];
         } else {
           from = k;
-          range = gatherColumn(rawPlane(frame, f), bx, by, tiling, index, columnX, base, k);
-          if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, 0.0f, false, range.lo, range.hi);
+          range = gatherFeature(f, k);
         }
-        const float pc = 0.5f * (range.lo + range.hi);
+        const float pc = 0.5f * (range.min() + range.max());
         fit.positionCentre[f.channel] = pc;
         range = squareColumn(base, tiling, from, k, pc);
+        if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, pc, true, range);
       } else {
-        range = gatherColumn(rawPlane(frame, f), bx, by, tiling, index, columnX, base, k);
-        if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, 0.0f, false, range.lo, range.hi);
+        range = gatherFeature(f, k);
         if (f.kind == FeatureKind::Position) {
           positionColumn[f.channel] = k;
           positionRange[f.channel] = range;
         }
       }
-      if (sampled && f.kind == FeatureKind::PositionSquared)
-        extendOverBlock(rawPlane(frame, f), bx, by, fit.positionCentre[f.channel], true, range.lo, range.hi);
-      normalization(range.lo, range.hi, fit.centre[k], fit.scale[k]);
+      normalization(range, fit.centre[k], fit.scale[k]);
     }
     // Normalize to [-1, 1] and add the regularization noise to T only (Eq. 7); the synthesis
     // uses the noise-free T.
