@@ -2,7 +2,6 @@
 #pragma once
 #include <atomic>
 #include <chrono>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -32,10 +31,7 @@ class PassTimer {
 /// were busy throughout.
 class BandPassTimes {
  public:
-  explicit BandPassTimes(std::vector<std::string> names)
-      : names_(std::move(names)), nanoseconds_(std::make_unique<std::atomic<int64_t>[]>(names_.size())) {
-    for (size_t k = 0; k < names_.size(); ++k) nanoseconds_[k] = 0;
-  }
+  explicit BandPassTimes(std::vector<std::string> names) : names_(std::move(names)), nanoseconds_(names_.size()) {}
 
   /// Adds the time until it goes out of scope to pass k.
   class Scope {
@@ -59,7 +55,7 @@ class BandPassTimes {
 
  private:
   std::vector<std::string> names_;
-  std::unique_ptr<std::atomic<int64_t>[]> nanoseconds_;
+  std::vector<std::atomic<int64_t>> nanoseconds_;  // value-initialized: 0
 };
 
 }  // namespace rtd
