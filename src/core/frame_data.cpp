@@ -51,17 +51,13 @@ namespace {
 // to be finite. The comparisons are false for NaN.
 struct Bounds {
   float lo, hi;
-  bool ok(float v) const { return v >= lo && v <= hi; }
+  /// v within the bounds, 0 otherwise (counted in `bad`): the reference for sanitize8.
+  float sanitize(float v, uint64_t& bad) const {
+    if (v >= lo && v <= hi) return v;
+    ++bad;
+    return 0.0f;
+  }
 };
-
-// Pixel x's channel c of a row of tightly packed float pixels with `stride` channels,
-// sanitized: the reference for the vector path below.
-inline float importValue(const float* src, int stride, int x, int c, Bounds b, uint64_t& bad) {
-  const float v = src[size_t(x) * stride + c];
-  if (b.ok(v)) return v;
-  ++bad;
-  return 0.0f;
-}
 
 #ifdef __AVX2__
 inline __m256 sanitize8(__m256 v, Bounds b, uint64_t& bad) {
@@ -132,7 +128,7 @@ uint64_t importFloatRow(const float* src, int stride, int nc, float* const* dst,
   if (stream) _mm_sfence();  // the streamed stores are weakly ordered: complete them before the row is handed on
 #endif
   for (; x < w; ++x)
-    for (int c = 0; c < nc; ++c) dst[c][x] = importValue(src, stride, x, c, b, bad);
+    for (int c = 0; c < nc; ++c) dst[c][x] = b.sanitize(src[size_t(x) * stride + c], bad);
   return bad;
 }
 
@@ -196,12 +192,7 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
         for (int x = 0; x < w; ++x)
           for (int c = 0; c < nc; ++c) {
             const char* p = src + x * pixelStride + c * 4;
-            float value = ints ? float(*reinterpret_cast<const int32_t*>(p)) : *reinterpret_cast<const float*>(p);
-            if (!bounds.ok(value)) {
-              ++bad;
-              value = 0.0f;
-            }
-            dst[c][x] = value;
+            dst[c][x] = bounds.sanitize(ints ? float(*reinterpret_cast<const int32_t*>(p)) : *reinterpret_cast<const float*>(p), bad);
           }
       }
       if (bad) replaced += bad;
