@@ -10,7 +10,6 @@
 #include <immintrin.h>
 #endif
 
-
 namespace rtd {
 
 const float kFallbackKernel3x3[9] = {0.0778f, 0.1233f, 0.0778f, 0.1233f, 0.1953f,

@@ -53,7 +53,7 @@ const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, float alpha)
   tbb::parallel_for(tbb::blocked_range<int>(0, color[0].height, 8), [&](const tbb::blocked_range<int>& range) {
     runRows(rp, color, alpha, range.begin(), range.end());
   });
-  return history_[cur_];
+  return result();
 }
 
 void Taa::begin(int w, int h) {
