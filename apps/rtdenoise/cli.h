@@ -10,6 +10,14 @@
 
 namespace rtd::cli {
 
+/// Exit status of every subcommand (documented in `rtdenoise --help` and docs/cli.md):
+enum ExitCode : int {
+  kExitOk = 0,        ///< success
+  kExitBadInput = 1,  ///< bad input data or files (rtd::Error): the message names file, frame, channel
+  kExitUsage = 2,     ///< bad command line: unknown or meaningless option, bad value
+  kExitInternal = 3,  ///< anything else: a bug in rtdenoise
+};
+
 // Each subcommand adds itself to the app and returns the callback that runs it.
 void addDenoise(CLI::App& app);
 void addMethods(CLI::App& app);
