@@ -1,6 +1,7 @@
 #include "core/frame_data.h"
 
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <cmath>
 #include <string>
@@ -8,6 +9,7 @@
 #include <immintrin.h>
 #endif
 
+#include "core/flush.h"
 #include "core/parallel.h"
 #include "rtd/error.h"
 
@@ -48,23 +50,37 @@ namespace {
 
 // The sanitization bounds of a value: radiance must be finite and non-negative before it can
 // reach history (a NaN would stay in the exponential average for ever); features only need
-// to be finite. The comparisons are false for NaN.
+// to be finite (magnitudes up to 3e38). Decided on the bits, so an input value that is
+// subnormal is never the operand of a floating-point instruction (core/flush.h).
 struct Bounds {
-  float lo, hi;
-  /// v within the bounds, 0 otherwise (counted in `bad`): the reference for sanitize8.
+  bool nonNegative;
+  static constexpr uint32_t kMaxBits = std::bit_cast<uint32_t>(3.0e38f), kTinyBits = std::bit_cast<uint32_t>(kTiny);
+  /// v within the bounds, 0 otherwise (counted in `bad`), and magnitudes below kTiny 0 (not
+  /// counted: the hot loops never see a subnormal, core/flush.h): the reference for sanitize8.
   float sanitize(float v, uint64_t& bad) const {
-    if (v >= lo && v <= hi) return v;
-    ++bad;
-    return 0.0f;
+    const uint32_t bits = std::bit_cast<uint32_t>(v), magnitude = bits & 0x7fffffffu;
+    // NaN and infinities have magnitude bits above kMaxBits; -0 is not negative.
+    if (magnitude > kMaxBits || (nonNegative && bits >> 31 && magnitude != 0)) {
+      ++bad;
+      return 0.0f;
+    }
+    return magnitude < kTinyBits ? 0.0f : v;
   }
 };
 
 #ifdef __AVX2__
 inline __m256 sanitize8(__m256 v, Bounds b, uint64_t& bad) {
-  const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(v, _mm256_set1_ps(b.lo), _CMP_GE_OQ),
-                                  _mm256_cmp_ps(v, _mm256_set1_ps(b.hi), _CMP_LE_OQ));
-  bad += 8 - unsigned(__builtin_popcount(unsigned(_mm256_movemask_ps(ok))));
-  return _mm256_and_ps(v, ok);
+  const __m256i bits = _mm256_castps_si256(v);
+  const __m256i magnitude = _mm256_and_si256(bits, _mm256_set1_epi32(0x7fffffff));
+  __m256i ok = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(Bounds::kMaxBits) + 1), magnitude);
+  if (b.nonNegative) {
+    const __m256i negative = _mm256_and_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), bits),
+                                              _mm256_cmpgt_epi32(magnitude, _mm256_setzero_si256()));
+    ok = _mm256_andnot_si256(negative, ok);
+  }
+  bad += 8 - unsigned(__builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(ok)))));
+  const __m256i keep = _mm256_and_si256(ok, _mm256_cmpgt_epi32(magnitude, _mm256_set1_epi32(int(Bounds::kTinyBits) - 1)));
+  return _mm256_and_ps(v, _mm256_castsi256_ps(keep));
 }
 
 // The channels of eight pixels of `stride` (2, 3 or 4) floats each into out[0..stride).
@@ -179,7 +195,7 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
     const bool radiance = isRadianceBuffer(b);
     const bool ints = v.format == Format::Int32;
     const size_t pixelStride = v.bytesPerPixel(), rowStride = v.bytesPerRow();
-    const Bounds bounds = radiance ? Bounds{0.0f, 3.0e38f} : Bounds{-3.0e38f, 3.0e38f};
+    const Bounds bounds{radiance};
     const bool packedFloats = !ints && pixelStride % 4 == 0;
     parallelRows(h, [&](int y) {
       const char* src = static_cast<const char*>(v.data) + size_t(y) * rowStride;
