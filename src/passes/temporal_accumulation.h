@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/flush.h"
 #include "core/frame_data.h"
 #include "passes/reprojection.h"
 
@@ -90,10 +91,18 @@ class TemporalAccumulator {
   const Plane& moment1() const { return m1_[cur_]; }
   const Plane& moment2() const { return m2_[cur_]; }
   const Plane& historyLength() const { return length_[cur_]; }
+  /// Both halves of the double-buffered history (PlaneVisitor).
+  void forEachPlane(const PlaneVisitor& visit) const {
+    for (int k = 0; k < 2; ++k) {
+      visitPlanes(visit, "accumulated colour", color_[k]);
+      visitPlane(visit, "moment 1", m1_[k]);
+      visitPlane(visit, "moment 2", m2_[k]);
+      visitPlane(visit, "history length", length_[k]);
+    }
+  }
   /// Variance of luminance from the moments, max(0, mu2 - mu1^2) (SVGF Sec. 4.2).
   float temporalVariance(size_t i) const {
-    const float m1 = m1_[cur_].data[i];
-    return std::max(0.0f, m2_[cur_].data[i] - m1 * m1);
+    return flushTiny(std::max(0.0f, m2_[cur_].data[i] - squareOrZero(m1_[cur_].data[i])));
   }
 
  private:
