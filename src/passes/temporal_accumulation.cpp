@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "passes/demodulation.h"
@@ -93,6 +94,8 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
   const float maxLength = float(maxHistoryLength);
   const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
   const Plane* albedo = options.albedo ? options.albedo->data() : nullptr;
+  const Plane* gradient = options.temporalGradient;
+  const int gradientStride = std::max(1, options.temporalGradientStride);
   // One fused pass per pixel: history length, colour and both moments from the same taps.
   auto pixel = [&](size_t i) {
     float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
@@ -107,6 +110,21 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
     for (int k = 0; k < 3; ++k) hist[k] = rp.gather(color_[prev][k], i);
     // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
     const bool none = rp.kind[i] == Reprojection::None;
+    if (gradient) {
+      // A-SVGF: the history shrinks where the shading changed, N' = min(N (1-G)^e + 1, cap),
+      // and the new sample weighs mix(max(1/N', floor), 1, G).
+      const int x = int(i % size_t(w)), y = int(i / size_t(w));
+      const float g = std::clamp((*gradient)(x / gradientStride, y / gradientStride), 0.0f, 1.0f);
+      const float n = adaptiveHistoryLength(none ? 0.0f : histLength, g, options.historyExponent, maxLength);
+      const float a = adaptiveAlpha(n, g, alpha), am = adaptiveAlpha(n, g, momentsAlpha);
+      length_[cur_].data[i] = n;
+      for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
+      if (moments) {
+        m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;
+        m2_[cur_].data[i] = am * l * l + (1.0f - am) * hist2;
+      }
+      return;
+    }
     const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
     const float a = newSampleWeight(n, alpha);
     // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
@@ -131,7 +149,7 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
     }
   };
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-  const bool vectorized = !mask && options.luminance != MomentLuminance::CieLightness;
+  const bool vectorized = !mask && !gradient && options.luminance != MomentLuminance::CieLightness;
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef __AVX2__
