@@ -44,6 +44,18 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
     taa_.reset();
   }
 
+  void visitMethodPlanes(const PlaneVisitor& visit) const override {
+    reprojection_.forEachPlane(visit);
+    guide_.forEachPlane(visit);
+    for (const Plane& n : normals_) visitPlane(visit, "filter normal", n);
+    visitPlanes(visit, "demodulated", demod_);
+    visitPlanes(visit, "result", result_);
+    gradient_.forEachPlane(visit);
+    accumulator_.forEachPlane(visit);
+    filter_.forEachPlane(visit);
+    taa_.forEachPlane(visit);
+  }
+
   const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& /*out*/, FrameStats& stats) override {
     const AsvgfSettings& s = settings_;
     const svgf::FilterParams p = asvgf::filterParams(s);
