@@ -25,6 +25,7 @@ struct SettingLister {
   void operator()(const char* n, float& v, const char* doc, Range = {}) { out.push_back({n, "float", formatFloat(v), doc, {}}); }
   void operator()(const char* n, int& v, const char* doc, Range = {}) { out.push_back({n, "int", std::to_string(v), doc, {}}); }
   void operator()(const char* n, bool& v, const char* doc) { out.push_back({n, "bool", v ? "true" : "false", doc, {}}); }
+  void operator()(const char* n, std::string& v, const char* doc) { out.push_back({n, "string", v, doc, {}}); }
   template <class E, class = std::enable_if_t<std::is_enum_v<E>>>
   void operator()(const char* n, E& v, const char* doc, Choices choices) {
     SettingInfo info{n, "enum", "", doc, {}};
@@ -70,6 +71,11 @@ struct SettingSetter {
     else if (value == "false" || value == "0" || value == "off") v = false;
     else fail("true or false");
   }
+  void operator()(const char* n, std::string& v, const char*) {
+    if (key != n) return;
+    found = true;
+    v = std::string(value);
+  }
   template <class E, class = std::enable_if_t<std::is_enum_v<E>>>
   void operator()(const char* n, E& v, const char*, Choices choices) {
     if (key != n) return;
@@ -109,6 +115,7 @@ struct SettingValidator {
     checkRange(n, v, std::to_string(v), r);
   }
   void operator()(const char*, bool&, const char*) {}
+  void operator()(const char*, std::string&, const char*) {}  // any text (a file is checked where it is read)
   template <class E, class = std::enable_if_t<std::is_enum_v<E>>>
   void operator()(const char* n, E& v, const char*, Choices choices) {
     const auto i = static_cast<long long>(v);
