@@ -32,6 +32,9 @@ struct FrameStats {
   double totalMilliseconds = 0;
   uint64_t sanitizedValues = 0;  ///< NaN, Inf or negative radiance values replaced by 0
   uint64_t pixels = 0;
+  /// Parts of the method that were asked for but did not run on this frame, and why (e.g.
+  /// "glossyBandwidth off: the frame has no 'reflectedFootprint' buffer").
+  std::vector<std::string> notes;
 };
 
 /// A denoiser owns the history of one image stream. Not thread-safe; use one per stream.

@@ -8,6 +8,7 @@
 #include "backend/cpu/cpu_denoiser.h"
 #include "core/parallel.h"
 #include "methods/svgf/svgf_passes.h"
+#include "methods/svgf/svgf_reflections.h"
 #include "passes/demodulation.h"
 #include "passes/reprojection.h"
 #include "passes/taa.h"
@@ -46,6 +47,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     const int pad = requiredPad();
     pad_ = pad;
     guide_.resize(w, h, pad);
+    reflections_.resize(w, h, pad);
     for (auto& im : levels_) im.resize(w, h, pad);
     sigmaScale_.resize(w, h, pad);
     for (auto& v : valid_) v.resize(w, h, pad);
@@ -60,6 +62,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   }
   void resetHistory() override {
     for (auto& s : streams_) s.accumulator.reset();
+    reflections_.reset();
     taa_.reset();
   }
 
@@ -71,6 +74,9 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       previous = nullptr;
     }
     const int nStreams = chooseStreams(frame);
+    const bool lobes = nStreams == 2 && streams_[1].plan.lobe == svgf::Lobe::specular;
+    // Before any history is touched: an explicitly requested part without its buffers throws.
+    svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return frame.has(b); }, lobes);
     mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame.plane(Buffer::SampleMask) : nullptr;
     const auto* albedo = frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
     {
@@ -82,13 +88,19 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       guide_.build(frame.plane(Buffer::Depth), frame.planes(Buffer::Normal),
                    frame.has(Buffer::DepthGradient) ? &frame.planes(Buffer::DepthGradient) : nullptr, s.maxDepthSlope);
     }
+    if (parts.classes) {
+      PassTimer t(stats, "reflections");  // Voorhuis: classes, diamond search, reflected features
+      reflections_.prepare(frame, previous, s, parts, lobes, reprojection_);
+    }
     for (int k = 0; k < nStreams; ++k) {
       Stream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
-      filterStream(frame, st, st.plan.demodulated ? albedo : nullptr, suffix, stats);
+      const svgf::Reflections::StreamInputs in = reflections_.stream(frame, st.plan, reprojection_, guide_, k);
+      filterStream(frame, st, in, suffix, stats);
       PassTimer t(stats, "sum" + suffix);
-      addStream(st, k == 0, albedo);
+      addStream(k == 0, in.albedo, albedo);
     }
+    stats.notes = std::move(parts.notes);
     Plane3* shown = &sum_;
     if (s.fireflyMedian) {
       PassTimer t(stats, "median");
@@ -101,7 +113,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     if (!s.taa.taa) return *shown;
     PassTimer t(stats, "taa");
-    return taa_.run(reprojection_, *shown, s.taa.taaAlpha);
+    return taa_.run(reflections_.taaMotion(frame, reprojection_), *shown, s.taa.taaAlpha);
   }
 
  private:
@@ -114,7 +126,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   // Which streams this frame has, per the `components` setting.
   int chooseStreams(const FrameData& f) {
     svgf::StreamPlan plan[2];
-    const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan);
+    const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan, settings_.preferLobes);
     for (int k = 0; k < n; ++k) {
       Stream& st = streams_[k];
       if (st.plan.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
@@ -123,26 +135,31 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     return n;
   }
 
-  void filterStream(const FrameData& frame, Stream& st, const std::vector<Plane>* albedo, const std::string& suffix,
-                    FrameStats& stats) {
+  void filterStream(const FrameData& frame, Stream& st, const svgf::Reflections::StreamInputs& in,
+                    const std::string& suffix, FrameStats& stats) {
     const SvgfSettings& s = settings_;
     const MomentLuminance lum = toMomentLuminance(s.luminance);
     {
       PassTimer t(stats, "demodulate" + suffix);
-      demodulate(frame.planes(st.plan.buffer), albedo, st.demod);
+      demodulate(frame.planes(st.plan.buffer), in.albedo, st.demod);
+    }
+    AccumulationOptions opt;
+    if (reflections_.parts().clipping) {
+      PassTimer t(stats, "clip" + suffix);  // Voorhuis Sec. 4.2.3
+      reflections_.clipBoxes(st.demod, st.plan, s, opt.clipLow, opt.clipHigh);
     }
     {
       PassTimer t(stats, "accumulate" + suffix);
-      AccumulationOptions opt;
       opt.luminance = lum;
       opt.cumulativeMoments = s.momentsTrueAverage;
       opt.sampleMask = mask_;
-      st.accumulator.run(reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
+      opt.alphaPlane = in.alpha;
+      st.accumulator.run(*in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
     }
     const int normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
     {
       PassTimer t(stats, "variance" + suffix);
-      svgf::VarianceInputs in{&st.accumulator.historyLength(), &st.accumulator.moment1(), &st.accumulator.moment2(),
+      svgf::VarianceInputs vin{&st.accumulator.historyLength(), &st.accumulator.moment1(), &st.accumulator.moment2(),
                               &st.demod, &st.accumulator.color()};
       svgf::VarianceParams p;
       p.shortHistoryFrames = s.shortHistoryFrames;
@@ -153,7 +170,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       p.depthEpsilon = s.depthEpsilon;
       p.normalExponent = normalExponent;
       p.luminance = lum;
-      svgf::estimateVariance(guide_, in, p, levels_[0], scratch_);
+      svgf::estimateVariance(*in.guide, vin, p, levels_[0], scratch_);
       svgf::luminanceSigmaScale(st.accumulator.historyLength(), s, sigmaScale_);
       if (mask_) markValid(st.accumulator.historyLength(), valid_[0]);
       if (s.variancePrefilter == SvgfVariancePrefilter::once) {
@@ -184,11 +201,12 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       // The last level's variance is not used any more.
       lv.propagateVariance = propagate && i + 1 < n;
       lv.luminance = lum;
+      lv.spatialFalloff = in.falloff;  // Voorhuis Eq. 6
       if (mask_) {
         lv.validIn = &valid_[cur];
         lv.validOut = &valid_[cur ^ 1];
       }
-      atrousLevel(guide_, lv, src, dst);
+      atrousLevel(*in.guide, lv, src, dst);
       if (!lv.propagateVariance) std::swap(src.var, dst.var);  // keep the unfiltered variance
       cur ^= 1;
       if (i + 1 == s.feedbackLevel) {
@@ -204,19 +222,25 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     result_ = cur;
   }
 
-  // sum_ (+)= this stream's filtered illumination; a non-demodulated stream (specular) is
-  // divided by the albedo here so that the shared remodulation restores it exactly.
-  void addStream(const Stream& st, bool first, const std::vector<Plane>* albedo) {
+  // sum_ (+)= this stream's filtered illumination, remodulated by the stream's own colour
+  // `streamAlbedo` (null: not demodulated) and divided by `albedo`, so that the shared
+  // remodulation by `albedo` restores it exactly.
+  void addStream(bool first, const std::vector<Plane>* streamAlbedo, const std::vector<Plane>* albedo) {
     const AtrousImage& r = levels_[result_];
     const int w = sum_[0].width;
-    const bool divide = !st.plan.demodulated && albedo;
+    const bool same = streamAlbedo == albedo;  // the common case: nothing to convert
+    const std::vector<Plane>* times = same ? nullptr : streamAlbedo;
+    const std::vector<Plane>* divide = same ? nullptr : albedo;
     parallelRows(sum_[0].height, [&](int y) {
       for (int c = 0; c < 3; ++c) {
         const float* in = r.color[c].row(y);
         float* o = sum_[c].row(y);
-        const float* a = divide ? (*albedo)[c].row(y) : nullptr;
+        const float* m = times ? (*times)[c].row(y) : nullptr;
+        const float* a = divide ? (*divide)[c].row(y) : nullptr;
         for (int x = 0; x < w; ++x) {
-          const float v = a ? in[x] / demodulationFactor(a[x]) : in[x];
+          float v = in[x];
+          if (m) v *= demodulationFactor(m[x]);
+          if (a) v /= demodulationFactor(a[x]);
           o[x] = first ? v : o[x] + v;
         }
       }
@@ -250,6 +274,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
 
   Reprojection reprojection_;
   AtrousGuide guide_;
+  svgf::Reflections reflections_;
   AtrousImage levels_[3];
   PaddedPlane sigmaScale_;
   PaddedPlane valid_[2], scratch_[2];

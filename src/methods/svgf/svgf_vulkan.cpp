@@ -7,6 +7,7 @@
 
 #include "backend/vulkan/vulkan_denoiser.h"
 #include "methods/svgf/svgf_passes.h"
+#include "methods/svgf/svgf_reflections.h"
 #include "rtd/methods/svgf.h"
 
 namespace rtd {
@@ -61,6 +62,11 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   const vk::Planes& process(vk::Recorder& rec, const vk::GpuFrame& frame, const vk::GpuFrame* previous) override {
     const SvgfSettings& s = settings_;
     const int nStreams = chooseStreams(frame);
+    const bool lobes = nStreams == 2 && streams_[1].plan.lobe == svgf::Lobe::specular;
+    const svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return frame.has(b); }, lobes);
+    if (parts.classes)
+      throw Error("svgf on Vulkan: Voorhuis' reflection parts (specularMotion, reflectedFeatures, glossyBandwidth, "
+                  "neighbourhoodClipping, materialAlpha) run on the CPU backend only so far");
     mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame[Buffer::SampleMask] : nullptr;
     const vk::Planes* albedo = frame.has(Buffer::Albedo) ? &frame[Buffer::Albedo] : nullptr;
     rec.pass("reproject");
@@ -70,13 +76,18 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     for (int k = 0; k < nStreams; ++k) {
       GpuStream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
-      const vk::Planes& result = filterStream(rec, frame, st, st.plan.demodulated ? albedo : nullptr, suffix);
+      // The stream's demodulation colour (svgf::StreamPlan::albedo), as Reflections::stream on the CPU.
+      const vk::Planes* streamAlbedo = st.plan.demodulated && frame.has(st.plan.albedo) ? &frame[st.plan.albedo] : nullptr;
+      const vk::Planes& result = filterStream(rec, frame, st, streamAlbedo, suffix);
       rec.pass("sum" + suffix);
+      const bool same = streamAlbedo == albedo;
       struct PC {
-        uint32_t width, height, first, divide;
-      } pc{uint32_t(frame.width), uint32_t(frame.height), k == 0, !st.plan.demodulated && albedo};
-      rec.dispatch("svgf_sum", {result, albedo ? vk::Binding(*albedo) : vk::Binding(ctx_.dummy()), sum_}, pc,
-                   frame.width, frame.height);
+        uint32_t width, height, first, divide, times;
+      } pc{uint32_t(frame.width), uint32_t(frame.height), k == 0, !same && albedo, !same && streamAlbedo};
+      rec.dispatch("svgf_sum",
+                   {result, albedo ? vk::Binding(*albedo) : vk::Binding(ctx_.dummy()), sum_,
+                    streamAlbedo ? vk::Binding(*streamAlbedo) : vk::Binding(ctx_.dummy())},
+                   pc, frame.width, frame.height);
     }
     const vk::Planes* shown = &sum_;
     if (s.fireflyMedian) {
@@ -98,7 +109,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
  private:
   int chooseStreams(const vk::GpuFrame& f) {
     svgf::StreamPlan plan[2];
-    const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan);
+    const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan, settings_.preferLobes);
     for (int k = 0; k < n; ++k) {
       GpuStream& st = streams_[k];
       if (st.plan.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
