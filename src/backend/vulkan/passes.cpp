@@ -68,7 +68,7 @@ void GpuTemporalAccumulator::resize(Context& ctx, int w, int h) {
 
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
                                  int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments,
-                                 const Planes* sampleMask) {
+                                 const Planes* sampleMask, const Planes* alphaPlane, const Planes* clipBox) {
   const int prev = cur_;
   cur_ ^= 1;
   if (clear_) {
@@ -78,28 +78,37 @@ void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& 
   struct PC {
     uint32_t width, height;
     float alpha, momentsAlpha, maxHistoryLength;
-    uint32_t luminanceMode, cumulativeMoments;
+    uint32_t luminanceMode, cumulativeMoments, options;
   } pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength), luminanceMode,
-       cumulativeMoments};
-  if (sampleMask)
-    rec.dispatch("temporal_accumulation_masked", {rp, color, history_[prev], history_[cur_], *sampleMask}, pc,
-                 color.width, color.height);
-  else
-    rec.dispatch("temporal_accumulation", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
+       cumulativeMoments, (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u)};
+  const Binding dummy(rec.context().dummy());
+  const Binding a = alphaPlane ? Binding(*alphaPlane) : dummy, c = clipBox ? Binding(*clipBox) : dummy;
+  rec.dispatch(sampleMask ? "temporal_accumulation_masked" : "temporal_accumulation",
+               {rp, color, history_[prev], history_[cur_], sampleMask ? Binding(*sampleMask) : dummy, a, c}, pc,
+               color.width, color.height);
 }
 
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient) {
+  atrousGuide(rec, frame[Buffer::Depth], frame.has(Buffer::DepthGradient) ? &frame[Buffer::DepthGradient] : nullptr,
+              maxDepthSlope, gradient);
+}
+
+void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient, float maxDepthSlope, Planes& gradient) {
   struct PC {
     uint32_t width, height, hasGradient;
     float maxDepthSlope;
-  } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::DepthGradient), maxDepthSlope};
+  } pc{uint32_t(depth.width), uint32_t(depth.height), depthGradient != nullptr, maxDepthSlope};
   rec.dispatch("atrous_guide",
-               {frame[Buffer::Depth], frame.bindingOf(Buffer::DepthGradient, rec.context()), gradient}, pc,
-               frame.width, frame.height);
+               {depth, depthGradient ? Binding(*depthGradient) : Binding(rec.context().dummy()), gradient}, pc,
+               depth.width, depth.height);
 }
 
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& lv,
                  const Planes& in, Planes& out) {
+  atrousLevel(rec, GpuAtrousGuide{&frame[Buffer::Depth], &frame[Buffer::Normal], &gradient}, lv, in, out);
+}
+
+void atrousLevel(Recorder& rec, const GpuAtrousGuide& guide, const GpuAtrousLevel& lv, const Planes& in, Planes& out) {
   struct PC {
     uint32_t width, height;
     int32_t step, radius;
@@ -110,10 +119,12 @@ void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, c
   } pc{uint32_t(in.width), uint32_t(in.height), lv.step, lv.radius, lv.sigmaDepth, lv.depthEpsilon,
        std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
-           (lv.propagateVariance ? 8u : 0u),
+           (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u),
        lv.luminanceMode, uint32_t(lv.validInPlane)};
-  std::vector<Binding> bindings{frame[Buffer::Depth], frame[Buffer::Normal], gradient, in, out,
-                                lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())};
+  const Binding dummy(rec.context().dummy());
+  std::vector<Binding> bindings{*guide.depth, *guide.normal, *guide.gradient, in, out,
+                                lv.sigmaScale ? Binding(*lv.sigmaScale) : dummy,
+                                lv.spatialFalloff ? Binding(*lv.spatialFalloff) : dummy};
   // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
   constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);
   const bool tiled = lv.sharedTile && rec.context().limits().maxComputeSharedMemorySize >= kTileBytes;

@@ -46,8 +46,12 @@ class GpuTemporalAccumulator {
   /// weighted max(1/n, momentsAlpha) like the colour, else a plain EMA (AccumulationOptions).
   /// sampleMask (Buffer::SampleMask, AccumulationOptions::sampleMask): where it is 0 the
   /// history carries over unchanged (shader variant temporal_accumulation_masked).
+  /// alphaPlane (AccumulationOptions::alphaPlane): per-pixel colour blend floor; clipBox (6
+  /// planes: low RGB, high RGB; AccumulationOptions::clipLow/clipHigh): the colour history is
+  /// clamped to it before the blend (Voorhuis).
   void run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha, int maxHistoryLength,
-           uint32_t luminanceMode = 0, bool cumulativeMoments = true, const Planes* sampleMask = nullptr);
+           uint32_t luminanceMode = 0, bool cumulativeMoments = true, const Planes* sampleMask = nullptr,
+           const Planes* alphaPlane = nullptr, const Planes* clipBox = nullptr);
   /// This frame's result; methods that feed a filtered colour back (SVGF) write its planes 0-2.
   Planes& current() { return history_[cur_]; }
   const Planes& current() const { return history_[cur_]; }
@@ -74,16 +78,28 @@ struct GpuAtrousLevel {
   const Planes* validIn = nullptr;
   int validInPlane = 0;
   Planes* validOut = nullptr;
+  /// Voorhuis Eq. 6 (AtrousLevel::spatialFalloff): per-pixel c(p) (1 plane), or null.
+  const Planes* spatialFalloff = nullptr;
   /// Read small-step taps through the shared-memory tile where the device has the 18 KiB it
   /// needs; false forces the untiled variant (tests).
   bool sharedTile = true;
 };
 
+/// The features the a-trous filter stops on: depth (1 plane), normal (3) and the depth
+/// gradient (2) (AtrousGuide on the CPU).
+struct GpuAtrousGuide {
+  const Planes* depth = nullptr;
+  const Planes* normal = nullptr;
+  const Planes* gradient = nullptr;
+};
 /// The a-trous guide's depth gradient (2 planes) from the frame's depth (AtrousGuide::build).
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient);
+/// The same from any depth plane and, where `depthGradient` is given, that gradient.
+void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient, float maxDepthSlope, Planes& gradient);
 /// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`.
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& level,
                  const Planes& in, Planes& out);
+void atrousLevel(Recorder& rec, const GpuAtrousGuide& guide, const GpuAtrousLevel& level, const Planes& in, Planes& out);
 /// Clamped 3x3 Gaussian of plane `srcPlane` of `in` into plane `dstPlane` of `out`.
 void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int dstPlane);
 

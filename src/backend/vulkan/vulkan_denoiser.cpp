@@ -308,6 +308,7 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
   stats.sanitizedValues = *static_cast<const uint32_t*>(counter_.mapped());
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.notes = notes_;
   stats_ = std::move(stats);
 }
 
@@ -397,6 +398,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
     if (readTimings(previous, false)) {
       previous.pixels = uint64_t(width_) * height_;
       previous.sanitizedValues = *static_cast<const uint32_t*>(counter_.mapped());
+      previous.notes = notes_;
       stats_ = std::move(previous);
     }
     prepare(w, h, in.cameraCut);
@@ -416,6 +418,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
   stats.sanitizedValues = *static_cast<const uint32_t*>(counter_.mapped());
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.notes = notes_;
   stats_ = std::move(stats);
 }
 

@@ -7,18 +7,6 @@
 
 namespace rtd::svgf {
 
-namespace {
-
-// Camera position from a row-major world-to-camera matrix [R | t]: -R^T t.
-bool cameraEye(const Camera& c, float eye[3]) {
-  if (!c.valid) return false;
-  const auto& m = c.worldToCamera;
-  for (int k = 0; k < 3; ++k) eye[k] = -(m[0 * 4 + k] * m[3] + m[1 * 4 + k] * m[7] + m[2 * 4 + k] * m[11]);
-  return true;
-}
-
-}  // namespace
-
 void Reflections::resize(int w, int h, int pad) {
   reflectedGuide_.resize(w, h, pad);
   falloff_.resize(w, h, pad);

@@ -84,6 +84,14 @@ template <class Has> ReflectionParts resolveReflectionParts(const SvgfSettings& 
   return p;
 }
 
+/// Camera position from a row-major world-to-camera matrix [R | t]: -R^T t; false without a camera.
+inline bool cameraEye(const Camera& c, float eye[3]) {
+  if (!c.valid) return false;
+  const auto& m = c.worldToCamera;
+  for (int k = 0; k < 3; ++k) eye[k] = -(m[0 * 4 + k] * m[3] + m[1 * 4 + k] * m[7] + m[2 * 4 + k] * m[11]);
+  return true;
+}
+
 inline SurfaceClassThresholds classThresholds(const SvgfSettings& s) {
   return {s.pureSpecularRoughness, s.reflectionRoughness, s.diffuseRoughness};
 }

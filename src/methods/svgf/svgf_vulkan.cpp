@@ -7,7 +7,7 @@
 
 #include "backend/vulkan/vulkan_denoiser.h"
 #include "methods/svgf/svgf_passes.h"
-#include "methods/svgf/svgf_reflections.h"
+#include "methods/svgf/svgf_reflections_vulkan.h"
 #include "rtd/methods/svgf.h"
 
 namespace rtd {
@@ -53,9 +53,11 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     display_.allocate(ctx_, w, h, 3);
     remodulated_.allocate(ctx_, w, h, 3);
     taa_.resize(ctx_, w, h);
+    reflections_.resize(ctx_, w, h);
   }
   void resetHistory() override {
     for (auto& s : streams_) s.accumulator.reset();
+    reflections_.reset();
     taa_.reset();
   }
 
@@ -63,22 +65,24 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     const SvgfSettings& s = settings_;
     const int nStreams = chooseStreams(frame);
     const bool lobes = nStreams == 2 && streams_[1].plan.lobe == svgf::Lobe::specular;
-    const svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return frame.has(b); }, lobes);
-    if (parts.classes)
-      throw Error("svgf on Vulkan: Voorhuis' reflection parts (specularMotion, reflectedFeatures, glossyBandwidth, "
-                  "neighbourhoodClipping, materialAlpha) run on the CPU backend only so far");
+    svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return frame.has(b); }, lobes);
     mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame[Buffer::SampleMask] : nullptr;
     const vk::Planes* albedo = frame.has(Buffer::Albedo) ? &frame[Buffer::Albedo] : nullptr;
     rec.pass("reproject");
     vk::reproject(rec, frame, previous, s.reprojection, reprojection_);
     rec.pass("features");
     vk::atrousGuide(rec, frame, s.maxDepthSlope, gradient_);
+    if (parts.classes) {
+      rec.pass("reflections");  // Voorhuis: classes, diamond search, reflected features
+      reflections_.prepare(rec, frame, previous, s, parts, lobes, reprojection_);
+    }
+    const vk::GpuAtrousGuide primaryGuide{&frame[Buffer::Depth], &frame[Buffer::Normal], &gradient_};
     for (int k = 0; k < nStreams; ++k) {
       GpuStream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
-      // The stream's demodulation colour (svgf::StreamPlan::albedo), as Reflections::stream on the CPU.
-      const vk::Planes* streamAlbedo = st.plan.demodulated && frame.has(st.plan.albedo) ? &frame[st.plan.albedo] : nullptr;
-      const vk::Planes& result = filterStream(rec, frame, st, streamAlbedo, suffix);
+      const svgf::GpuReflections::StreamInputs in = reflections_.stream(rec, frame, st.plan, reprojection_, primaryGuide, k);
+      const vk::Planes* streamAlbedo = in.albedo;
+      const vk::Planes& result = filterStream(rec, frame, st, in, suffix);
       rec.pass("sum" + suffix);
       const bool same = streamAlbedo == albedo;
       struct PC {
@@ -101,9 +105,10 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     }
     rec.pass("remodulate");
     vk::remodulate(rec, *shown, albedo, remodulated_);
+    notes_ = std::move(parts.notes);
     rec.pass("taa");
     if (!s.taa.taa) return remodulated_;
-    return taa_.run(rec, reprojection_, remodulated_, s.taa.taaAlpha);
+    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_), remodulated_, s.taa.taaAlpha);
   }
 
  private:
@@ -119,16 +124,21 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   }
 
   // Demodulate, accumulate, estimate the variance, filter; returns the level holding the result.
-  const vk::Planes& filterStream(vk::Recorder& rec, const vk::GpuFrame& frame, GpuStream& st, const vk::Planes* albedo,
-                                 const std::string& suffix) {
+  const vk::Planes& filterStream(vk::Recorder& rec, const vk::GpuFrame& frame, GpuStream& st,
+                                 const svgf::GpuReflections::StreamInputs& in, const std::string& suffix) {
     const SvgfSettings& s = settings_;
     const uint32_t lum = luminanceMode(s.luminance);
     const size_t planeBytes = size_t(frame.width) * frame.height * 4;
     rec.pass("demodulate" + suffix);
-    vk::demodulate(rec, frame[st.plan.buffer], albedo, st.demod);
+    vk::demodulate(rec, frame[st.plan.buffer], in.albedo, st.demod);
+    const vk::Planes* clip = nullptr;
+    if (reflections_.parts().clipping) {
+      rec.pass("clip" + suffix);  // Voorhuis Sec. 4.2.3
+      clip = reflections_.clipBox(rec, st.demod, st.plan, s);
+    }
     rec.pass("accumulate" + suffix);
-    st.accumulator.run(rec, reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, lum,
-                       s.momentsTrueAverage, mask_);
+    st.accumulator.run(rec, *in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, lum,
+                       s.momentsTrueAverage, mask_, in.alpha, clip);
     const int normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
     rec.pass("variance" + suffix);
     {
@@ -146,7 +156,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       if (s.shortHistory == SvgfShortHistory::disableLuminanceWeight) pc.flags |= 4;
       if (s.shortHistoryBandwidth) pc.flags |= 8;
       rec.dispatch("svgf_variance",
-                   {frame[Buffer::Depth], frame[Buffer::Normal], gradient_, st.accumulator.current(), st.demod,
+                   {*in.guide.depth, *in.guide.normal, *in.guide.gradient, st.accumulator.current(), st.demod,
                     levels_[0], sigmaScale_},
                    pc, frame.width, frame.height);
       if (s.variancePrefilter == SvgfVariancePrefilter::once) {
@@ -172,6 +182,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       lv.sigmaScale = &sigmaScale_;
       lv.propagateVariance = propagate && i + 1 < n;  // the last level's variance is not used
       lv.luminanceMode = lum;
+      lv.spatialFalloff = in.falloff;  // Voorhuis Eq. 6
       if (mask_) {
         // Level-0 validity is historyLength > 0 (the CPU's markValid), read straight from the
         // accumulator's length plane; later levels read the previous level's validity.
@@ -183,7 +194,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
         }
         lv.validOut = &valid_[i & 1];
       }
-      vk::atrousLevel(rec, frame, gradient_, lv, levels_[cur], levels_[cur ^ 1]);
+      vk::atrousLevel(rec, in.guide, lv, levels_[cur], levels_[cur ^ 1]);
       cur ^= 1;
       // The feedback level's output becomes next frame's colour history (Schied Sec. 4.3).
       if (i + 1 == s.feedbackLevel) {
@@ -215,6 +226,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   vk::Planes valid_[2];                  // a-trous validity per level in the progressive mode
   const vk::Planes* mask_ = nullptr;     // this frame's sample mask, or null (dense)
   GpuStream streams_[kMaxStreams];
+  svgf::GpuReflections reflections_;
   vk::GpuTaa taa_;
 };
 
