@@ -66,26 +66,50 @@ void GpuTemporalAccumulator::resize(Context& ctx, int w, int h) {
   cur_ = 0;
 }
 
+namespace {
+struct AccumulationPC {
+  uint32_t width, height;
+  float alpha, momentsAlpha, maxHistoryLength;
+  uint32_t luminanceMode, cumulativeMoments;
+  uint32_t gradientWidth = 0, gradientStride = 1;
+  float historyExponent = 0;
+  uint32_t options = 0;  // 1: per-pixel alpha (binding 5); 2: clip box (binding 6)
+};
+}  // namespace
+
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
                                  int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments,
                                  const Planes* sampleMask, const Planes* alphaPlane, const Planes* clipBox) {
+  const Planes& prev = advance(rec);
+  AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
+                    luminanceMode, cumulativeMoments};
+  pc.options = (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u);
+  const Binding dummy(rec.context().dummy());
+  const Binding a = alphaPlane ? Binding(*alphaPlane) : dummy, c = clipBox ? Binding(*clipBox) : dummy;
+  rec.dispatch(sampleMask ? "temporal_accumulation_masked" : "temporal_accumulation",
+               {rp, color, prev, history_[cur_], sampleMask ? Binding(*sampleMask) : dummy, a, c}, pc, color.width,
+               color.height);
+}
+
+void GpuTemporalAccumulator::runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha,
+                                         float momentsAlpha, int maxHistoryLength, uint32_t luminanceMode,
+                                         const Planes& gradient, int stride, float historyExponent) {
+  const Planes& prev = advance(rec);
+  AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
+                    luminanceMode, 1, uint32_t(gradient.width), uint32_t(stride), historyExponent};
+  const Binding dummy(rec.context().dummy());
+  rec.dispatch("temporal_accumulation_gradient", {rp, color, prev, history_[cur_], gradient, dummy, dummy}, pc,
+               color.width, color.height);
+}
+
+const Planes& GpuTemporalAccumulator::advance(Recorder& rec) {
   const int prev = cur_;
   cur_ ^= 1;
   if (clear_) {
     rec.fill(history_[prev].buffer, 0);
     clear_ = false;
   }
-  struct PC {
-    uint32_t width, height;
-    float alpha, momentsAlpha, maxHistoryLength;
-    uint32_t luminanceMode, cumulativeMoments, options;
-  } pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength), luminanceMode,
-       cumulativeMoments, (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u)};
-  const Binding dummy(rec.context().dummy());
-  const Binding a = alphaPlane ? Binding(*alphaPlane) : dummy, c = clipBox ? Binding(*clipBox) : dummy;
-  rec.dispatch(sampleMask ? "temporal_accumulation_masked" : "temporal_accumulation",
-               {rp, color, history_[prev], history_[cur_], sampleMask ? Binding(*sampleMask) : dummy, a, c}, pc,
-               color.width, color.height);
+  return history_[prev];
 }
 
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient) {
@@ -105,10 +129,11 @@ void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient
 
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& lv,
                  const Planes& in, Planes& out) {
-  atrousLevel(rec, GpuAtrousGuide{&frame[Buffer::Depth], &frame[Buffer::Normal], &gradient}, lv, in, out);
+  atrousLevel(rec, frame[Buffer::Depth], frame[Buffer::Normal], gradient, lv, in, out);
 }
 
-void atrousLevel(Recorder& rec, const GpuAtrousGuide& guide, const GpuAtrousLevel& lv, const Planes& in, Planes& out) {
+void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const Planes& gradient,
+                 const GpuAtrousLevel& lv, const Planes& in, Planes& out) {
   struct PC {
     uint32_t width, height;
     int32_t step, radius;
@@ -122,8 +147,7 @@ void atrousLevel(Recorder& rec, const GpuAtrousGuide& guide, const GpuAtrousLeve
            (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u),
        lv.luminanceMode, uint32_t(lv.validInPlane)};
   const Binding dummy(rec.context().dummy());
-  std::vector<Binding> bindings{*guide.depth, *guide.normal, *guide.gradient, in, out,
-                                lv.sigmaScale ? Binding(*lv.sigmaScale) : dummy,
+  std::vector<Binding> bindings{depth, normal, gradient, in, out, lv.sigmaScale ? Binding(*lv.sigmaScale) : dummy,
                                 lv.spatialFalloff ? Binding(*lv.spatialFalloff) : dummy};
   // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
   constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);

@@ -52,11 +52,19 @@ class GpuTemporalAccumulator {
   void run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha, int maxHistoryLength,
            uint32_t luminanceMode = 0, bool cumulativeMoments = true, const Planes* sampleMask = nullptr,
            const Planes* alphaPlane = nullptr, const Planes* clipBox = nullptr);
+  /// A-SVGF's adaptive accumulation (AccumulationOptions::temporalGradient; shader variant
+  /// temporal_accumulation_gradient): G in the first plane of `gradient`, one texel per
+  /// stride x stride pixels; alpha and momentsAlpha are the weights' floors.
+  void runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
+                   int maxHistoryLength, uint32_t luminanceMode, const Planes& gradient, int stride,
+                   float historyExponent);
   /// This frame's result; methods that feed a filtered colour back (SVGF) write its planes 0-2.
   Planes& current() { return history_[cur_]; }
   const Planes& current() const { return history_[cur_]; }
 
  private:
+  /// Swaps the history buffers (clearing the previous one after reset()); returns it.
+  const Planes& advance(Recorder& rec);
   Planes history_[2];
   int cur_ = 0;
   bool clear_ = false;
@@ -85,21 +93,17 @@ struct GpuAtrousLevel {
   bool sharedTile = true;
 };
 
-/// The features the a-trous filter stops on: depth (1 plane), normal (3) and the depth
-/// gradient (2) (AtrousGuide on the CPU).
-struct GpuAtrousGuide {
-  const Planes* depth = nullptr;
-  const Planes* normal = nullptr;
-  const Planes* gradient = nullptr;
-};
 /// The a-trous guide's depth gradient (2 planes) from the frame's depth (AtrousGuide::build).
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient);
 /// The same from any depth plane and, where `depthGradient` is given, that gradient.
 void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient, float maxDepthSlope, Planes& gradient);
-/// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`.
+/// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`. The
+/// guide is the frame's depth and normal and `gradient` (atrousGuide).
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& level,
                  const Planes& in, Planes& out);
-void atrousLevel(Recorder& rec, const GpuAtrousGuide& guide, const GpuAtrousLevel& level, const Planes& in, Planes& out);
+/// The same with the guide's depth (1 plane) and normal (3 planes) given, at the images' size.
+void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const Planes& gradient,
+                 const GpuAtrousLevel& level, const Planes& in, Planes& out);
 /// Clamped 3x3 Gaussian of plane `srcPlane` of `in` into plane `dstPlane` of `out`.
 void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int dstPlane);
 

@@ -21,6 +21,21 @@ void Reflections::resize(int w, int h, int pad) {
   hasPreviousClasses_ = false;
 }
 
+void Reflections::forEachPlane(const PlaneVisitor& visit) const {
+  specular_.forEachPlane(visit);
+  reflectedGuide_.forEachPlane(visit);
+  visitPlane(visit, "virtual depth", virtualDepth_);
+  for (const Plane& p : normals_) visitPlane(visit, "reflected normal", p);
+  for (const Plane& p : gradient_) visitPlane(visit, "virtual depth gradient", p);
+  falloff_.visit(visit, "Eq. 6 falloff");
+  visitPlane(visit, "blend floor", alpha_);
+  for (const auto& a : albedo_)
+    for (const Plane& p : a) visitPlane(visit, "stream albedo", p);
+  visitPlanes(visit, "clip low", clipLow_);
+  visitPlanes(visit, "clip high", clipHigh_);
+  visitPlanes(visit, "clip prefilter", clipScratch_);
+}
+
 void Reflections::prepare(const FrameData& f, const FrameData* previous, const SvgfSettings& s,
                           const ReflectionParts& parts, bool lobes, const Reprojection& primary) {
   parts_ = parts;

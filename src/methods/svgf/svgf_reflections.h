@@ -125,6 +125,9 @@ class Reflections {
   /// split). Only prevX / prevY of the result are meaningful.
   const Reprojection& taaMotion(const FrameData& frame, const Reprojection& primary);
 
+  /// Every float plane it owns (PlaneVisitor).
+  void forEachPlane(const PlaneVisitor& visit) const;
+
   const ReflectionParts& parts() const { return parts_; }
   const PixelVector<uint8_t>& classes() const { return cls_; }
   const ReflectionMotionStats& motionStats() const { return motionStats_; }

@@ -99,7 +99,7 @@ void GpuReflections::prepare(vk::Recorder& rec, const vk::GpuFrame& f, const vk:
 }
 
 GpuReflections::StreamInputs GpuReflections::stream(vk::Recorder& rec, const vk::GpuFrame& f, const StreamPlan& plan,
-                                                    const vk::Planes& primary, const vk::GpuAtrousGuide& primaryGuide,
+                                                    const vk::Planes& primary, const GpuGuide& primaryGuide,
                                                     int index) {
   StreamInputs in{&primary, primaryGuide};
   const vk::Planes* base = plan.demodulated && f.has(plan.albedo) ? &f[plan.albedo] : nullptr;

@@ -9,6 +9,14 @@
 
 namespace rtd::svgf {
 
+/// The features the a-trous filter stops on: depth (1 plane), normal (3) and the depth
+/// gradient (2) (AtrousGuide on the CPU).
+struct GpuGuide {
+  const vk::Planes* depth = nullptr;
+  const vk::Planes* normal = nullptr;
+  const vk::Planes* gradient = nullptr;
+};
+
 class GpuReflections {
  public:
   void resize(vk::Context& ctx, int w, int h);
@@ -21,13 +29,13 @@ class GpuReflections {
 
   struct StreamInputs {
     const vk::Planes* reprojection;
-    vk::GpuAtrousGuide guide;
+    GpuGuide guide;
     const vk::Planes* alpha = nullptr;
     const vk::Planes* falloff = nullptr;
     const vk::Planes* albedo = nullptr;  ///< demodulation colour, or null
   };
   StreamInputs stream(vk::Recorder& rec, const vk::GpuFrame& frame, const StreamPlan& plan, const vk::Planes& primary,
-                      const vk::GpuAtrousGuide& primaryGuide, int index);
+                      const GpuGuide& primaryGuide, int index);
   /// The clipping box (6 planes) of a stream's demodulated sample, or null.
   const vk::Planes* clipBox(vk::Recorder& rec, const vk::Planes& demod, const StreamPlan& plan, const SvgfSettings& s);
   /// The reprojection TAA reads (Reflections::taaMotion).

@@ -5,7 +5,10 @@
 // Port of TemporalAccumulator::run (src/passes/temporal_accumulation.cpp).
 // Variant temporal_accumulation_masked (RTD_SAMPLE_MASK, AccumulationOptions::sampleMask):
 // progressive rendering below 1 spp (Dundr Sec. 5) with the frame's sample mask at binding 4.
+// Variant temporal_accumulation_gradient (RTD_TEMPORAL_GRADIENT, AccumulationOptions::
+// temporalGradient): A-SVGF's adaptive history with the per-stratum gradient at binding 4.
 // variant: temporal_accumulation_masked RTD_SAMPLE_MASK
+// variant: temporal_accumulation_gradient RTD_TEMPORAL_GRADIENT
 #include "common.glsl"
 RTD_LOCAL_SIZE
 
@@ -15,6 +18,9 @@ layout(std430, binding = 2) readonly buffer Hist { float hist[]; };
 layout(std430, binding = 3) writeonly buffer Out { float outp[]; };
 #ifdef RTD_SAMPLE_MASK
 layout(std430, binding = 4) readonly buffer Mask { float sampleMask[]; };
+#endif
+#ifdef RTD_TEMPORAL_GRADIENT
+layout(std430, binding = 4) readonly buffer Gradient { float temporalGradient[]; };  // first plane: G
 #endif
 // Voorhuis 2018 (AccumulationOptions::alphaPlane, clipLow / clipHigh): a per-pixel colour blend
 // floor, and a box (low RGB, high RGB) the reprojected colour history is clamped to before
@@ -32,7 +38,9 @@ layout(push_constant) uniform PC {
   float maxHistoryLength;
   uint luminanceMode;      // MomentLuminance: 0 Rec709, 1 Rec601, 2 CIE L*
   uint cumulativeMoments;  // 1: moments w = max(1/n, alpha); 0: plain EMA (Schied)
-  uint options;            // 1: per-pixel alpha (binding 5); 2: clip the colour history (binding 6)
+  uint gradientWidth, gradientStride;  // temporal_accumulation_gradient: texels per row, pixels per texel
+  float historyExponent;
+  uint options;  // 1: per-pixel alpha (binding 5); 2: clip the colour history (binding 6)
 } pc;
 
 float colourHistory(uint i, uint k, uint w, uint plane) {
@@ -40,6 +48,22 @@ float colourHistory(uint i, uint k, uint w, uint plane) {
   if ((pc.options & 2u) != 0u) h = min(max(h, clipBox[k * plane + i]), clipBox[(3u + k) * plane + i]);
   return h;
 }
+
+#ifdef RTD_TEMPORAL_GRADIENT
+// (1 - G)^e as historyShrink() on the CPU: integral exponents by repeated squaring.
+float historyShrink(float g, float e) {
+  const float b = 1.0 - g;
+  if (e == floor(e) && e >= 0.0 && e <= 64.0) {
+    float r = 1.0, d = b;
+    for (int k = int(e); k != 0; k >>= 1) {
+      if ((k & 1) != 0) r *= d;
+      d *= d;
+    }
+    return r;
+  }
+  return pow(b, e);
+}
+#endif
 
 void main() {
   const uvec2 p = gl_GlobalInvocationID.xy;
@@ -54,18 +78,30 @@ void main() {
   if (sampleMask[i] == 0.0) {
     // No sample this frame: the history carries over unchanged (length rounded as below);
     // without history the pixel stays missing (length 0).
-    for (uint k = 0; k < 5; ++k) outp[k * plane + i] = none ? 0.0 : (k < 3u ? colourHistory(i, k, w, plane) : gatherPlane(i, k * plane, w, plane));
+    for (uint k = 0; k < 5; ++k)
+      outp[k * plane + i] = none ? 0.0 : (k < 3u ? colourHistory(i, k, w, plane) : gatherPlane(i, k * plane, w, plane));
     outp[5u * plane + i] = none ? 0.0 : floor(gatherPlane(i, 5u * plane, w, plane) + 0.5);
     return;
   }
 #endif
+#ifdef RTD_TEMPORAL_GRADIENT
+  // A-SVGF (AccumulationOptions::temporalGradient): N' = min(N (1-G)^e + 1, cap), unrounded;
+  // weights mix(max(1/N', floor), 1, G).
+  const float g = clamp(temporalGradient[(p.y / pc.gradientStride) * pc.gradientWidth + p.x / pc.gradientStride], 0.0, 1.0);
+  const float histLength = none ? 0.0 : gatherPlane(i, 5u * plane, w, plane);
+  precise float n = min(histLength * historyShrink(g, pc.historyExponent) + 1.0, pc.maxHistoryLength);
+  const float a0 = max(1.0 / n, pc.alpha), am0 = max(1.0 / n, pc.momentsAlpha);
+  precise float a = a0 + (1.0 - a0) * g;
+  precise float am = am0 + (1.0 - am0) * g;
+#else
   const float n = none ? 1.0 : min(floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) + 1.0, pc.maxHistoryLength);
+  const float a = max(1.0 / n, (pc.options & 1u) != 0u ? alphaPlane[i] : pc.alpha);
+  const float am = pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
+#endif
   outp[5u * plane + i] = n;
 
   const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
   const float l = momentLuminance(pc.luminanceMode, c);
-  const float a = max(1.0 / n, (pc.options & 1u) != 0u ? alphaPlane[i] : pc.alpha);
-  const float am = pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
   for (uint k = 0; k < 3; ++k) {
     const float hist = none ? 0.0 : colourHistory(i, k, w, plane);
     precise float v = a * c[k] + (1.0 - a) * hist;
