@@ -324,6 +324,7 @@ void VulkanDenoiserBase::denoiseHost(const FrameInputs& in, const ImageView& out
   readSanitizeCounts(stats);
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.notes = notes_;
   stats_ = std::move(stats);
 }
 
@@ -430,6 +431,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
     if (readTimings(previous, false)) {
       previous.pixels = uint64_t(width_) * height_;
       readSanitizeCounts(previous);
+      previous.notes = notes_;
       stats_ = std::move(previous);
     }
     prepare(w, h, in.cameraCut);
@@ -449,6 +451,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
   readSanitizeCounts(stats);
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.notes = notes_;
   stats_ = std::move(stats);
 }
 

@@ -52,6 +52,8 @@ class VulkanDenoiserBase : public Denoiser {
   std::shared_ptr<Context> keepAlive_;
   Context& ctx_;
   int width_ = 0, height_ = 0;
+  /// FrameStats::notes of the frame process() recorded (parts that did not run, and why).
+  std::vector<std::string> notes_;
 
  private:
   /// Where the pixels come from and go to: a buffer with strides, or an image (`shader` then
