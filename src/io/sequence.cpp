@@ -16,6 +16,7 @@
 
 #include "core/validate.h"
 #include "io/exr.h"
+#include "io/small_file.h"
 #include "io/temp_files.h"
 #include "rtd/error.h"
 
@@ -75,16 +76,9 @@ static std::array<float, 16> matrixFromJson(const json& j, const std::string& wh
 constexpr std::uintmax_t kMaxJsonBytes = std::uintmax_t(64) << 20;
 
 static json readJson(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error("'" + path.string() + "' is not a regular file");
-  const std::uintmax_t bytes = fs::file_size(path, ec);
-  if (ec || bytes > kMaxJsonBytes)
-    throw Error("'" + path.string() + "' is " + std::to_string(bytes) + " bytes, more than the " +
-                std::to_string(kMaxJsonBytes >> 20) + " MiB a sequence description may have");
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open '" + path.string() + "'");
+  const std::string text = readSmallFile(path, kMaxJsonBytes, "'" + path.string() + "'");
   try {
-    return json::parse(in);
+    return json::parse(text);
   } catch (const std::exception& e) {
     throw Error("'" + path.string() + "' is not valid JSON: " + e.what());
   }
