@@ -54,10 +54,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   void visitMethodPlanes(const PlaneVisitor& visit) const override {
     reprojection_.forEachPlane(visit);
     guide_.forEachPlane(visit);
-    for (const auto& im : levels_) im.forEachPlane(visit);
-    sigmaScale_.visit(visit, "sigma scale");
-    for (const auto& v : valid_) v.visit(visit, "valid");
-    for (const auto& v : scratch_) v.visit(visit, "variance window input");
+    filter_.forEachPlane(visit);
     for (const auto& st : streams_) {
       visitPlanes(visit, "demodulated", st.demod);
       st.accumulator.forEachPlane(visit);
