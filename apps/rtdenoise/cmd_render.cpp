@@ -155,7 +155,7 @@ void runRender(const RenderOptions& o) {
 void addRender(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   auto* cmd = app.add_subcommand("render", "path-trace a scene into a native sequence (1-spp input, features, references)");
-  cmd->add_option("--scene", o->scene, "built-in scene (cornell, pillars, glossy, dynamic), .gltf/.glb or .json description");
+  cmd->add_option("--scene", o->scene, "built-in scene (cornell, pillars, glossy, dynamic, lightswitch, ghosting), .gltf/.glb or .json description");
   cmd->add_option("--output,-o", o->output, "output directory (a native sequence; stereo: <dir>/left and <dir>/right)");
   cmd->add_option("--frames", o->frames, "number of frames (default: the scene's)");
   cmd->add_option("--size", o->size, "WxH (default: the scene's, 320x180 for built-in scenes)");

@@ -21,8 +21,7 @@ namespace rtd {
 bool isRadianceBuffer(Buffer b) {
   switch (b) {
     case Buffer::Color: case Buffer::Direct: case Buffer::Indirect:
-    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission:
-    case Buffer::GradientPrevious: case Buffer::GradientCurrent: return true;
+    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: return true;
     default: return false;
   }
 }

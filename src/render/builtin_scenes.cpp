@@ -148,9 +148,71 @@ constexpr const char* kDynamic = R"({
   ]}
 })";
 
+// A light switch (A-SVGF's case, Schied et al. 2018): a still room lit by a ceiling lamp that
+// switches off at frame 16 and on again at frame 32, and a small warm lamp that stays on; a ball
+// rolls under the ceiling lamp, so its shadow moves. The camera is still, so every lag comes
+// from the lighting (rtdenoise render --scene lightswitch; scripts/asvgf-experiments.sh).
+constexpr const char* kLightswitch = R"({
+  "name": "lightswitch",
+  "frames": 48,
+  "resolution": [320, 180],
+  "materials": {
+    "floor": {"baseColor": [0.8, 0.78, 0.74], "roughness": 0.7, "checker": {"color": [0.35, 0.35, 0.38], "cells": 10}},
+    "wall":  {"baseColor": [0.75, 0.72, 0.68], "roughness": 0.9, "specular": 0.2},
+    "blue":  {"baseColor": [0.2, 0.35, 0.7], "roughness": 0.9, "specular": 0.2},
+    "ball":  {"baseColor": [0.85, 0.3, 0.2], "roughness": 0.4},
+    "box":   {"baseColor": [0.3, 0.6, 0.35], "roughness": 0.6},
+    "ceiling": {"baseColor": [1, 1, 1], "emissive": [30, 28, 24]},
+    "warm":  {"baseColor": [1, 1, 1], "emissive": [60, 36, 14]}
+  },
+  "objects": [
+    {"name": "floor", "shape": "quad", "material": "floor", "scale": [8, 1, 8]},
+    {"name": "back",  "shape": "quad", "material": "wall",  "translation": [0, 2, -2], "rotation": [90, 0, 0], "scale": [8, 1, 4]},
+    {"name": "left",  "shape": "quad", "material": "blue",  "translation": [-3, 2, 1], "rotation": [0, 0, -90], "scale": [4, 1, 6]},
+    {"name": "box",   "shape": "box",  "material": "box",   "translation": [1.3, 0.4, -0.8], "rotation": [0, 25, 0], "scale": 0.8},
+    {"name": "ceilingLamp", "shape": "quad", "material": "ceiling", "rotation": [180, 0, 0], "scale": [1.2, 1, 0.8],
+     "animation": [{"frame": 0, "translation": [0, 2.8, 0.2], "emission": 1}, {"frame": 15, "emission": 1},
+                   {"frame": 16, "emission": 0}, {"frame": 31, "emission": 0}, {"frame": 32, "emission": 1}]},
+    {"name": "warmLamp", "shape": "sphere", "material": "warm", "translation": [-2.4, 0.5, -1.4], "scale": 0.16},
+    {"name": "ball", "shape": "sphere", "material": "ball", "scale": 0.6, "animation": [
+      {"frame": 0,  "translation": [-1.6, 0.3, 0.6]},
+      {"frame": 47, "translation": [1.4, 0.3, 0.9]}
+    ]}
+  ],
+  "sky": {"color": 0.02},
+  "camera": {"fov": 50, "position": [0, 1.6, 4.6], "target": [0, 0.6, 0]}
+})";
+
+// Higginson Sec. 1.3.2's ghosting demo: a perfect mirror as the whole ground, a blue cube and a
+// light-emitting plane whose reflection slides across the floor as the camera turns around the
+// cube. Reflections have no motion vectors of their own, so history lags behind them.
+constexpr const char* kGhosting = R"({
+  "name": "ghosting",
+  "frames": 48,
+  "resolution": [320, 180],
+  "materials": {
+    "mirror": {"baseColor": [0.95, 0.95, 0.95], "mirror": true},
+    "cube":   {"baseColor": [0.1, 0.2, 0.8], "roughness": 0.5},
+    "panel":  {"baseColor": [1, 1, 1], "emissive": [6, 6, 6]}
+  },
+  "objects": [
+    {"name": "floor", "shape": "quad", "material": "mirror", "scale": [20, 1, 20]},
+    {"name": "cube",  "shape": "box",  "material": "cube", "translation": [0, 0.5, 0], "rotation": [0, 20, 0]},
+    {"name": "panel", "shape": "quad", "material": "panel", "translation": [0, 1.5, -3], "rotation": [90, 0, 0], "scale": [3, 1, 1.6]}
+  ],
+  "sky": {"zenith": [0.05, 0.07, 0.12], "horizon": [0.12, 0.12, 0.14], "ground": [0.05, 0.05, 0.05]},
+  "camera": {"fov": 50, "interpolation": "catmull-rom", "keyframes": [
+    {"frame": 0,  "position": [-3.0, 2.2, 2.6], "target": [0, 0.4, 0]},
+    {"frame": 16, "position": [-1.2, 2.4, 3.8], "target": [0, 0.4, 0]},
+    {"frame": 32, "position": [1.2, 2.4, 3.8],  "target": [0, 0.4, 0]},
+    {"frame": 47, "position": [3.0, 2.2, 2.6],  "target": [0, 0.4, 0]}
+  ]}
+})";
+
 const std::map<std::string, const char*>& table() {
   static const std::map<std::string, const char*> t = {
-      {"cornell", kCornell}, {"pillars", kPillars}, {"glossy", kGlossy}, {"dynamic", kDynamic}};
+      {"cornell", kCornell},         {"pillars", kPillars},   {"glossy", kGlossy}, {"dynamic", kDynamic},
+      {"lightswitch", kLightswitch}, {"ghosting", kGhosting}};
   return t;
 }
 
