@@ -8,6 +8,7 @@
 #include <immintrin.h>
 #endif
 
+#include "core/half.h"
 #include "core/parallel.h"
 #include "rtd/error.h"
 
@@ -180,13 +181,16 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
     const bool ints = v.format == Format::Int32;
     const size_t pixelStride = v.bytesPerPixel(), rowStride = v.bytesPerRow();
     const Bounds bounds = radiance ? Bounds{0.0f, 3.0e38f} : Bounds{-3.0e38f, 3.0e38f};
-    const bool packedFloats = !ints && pixelStride % 4 == 0;
+    const bool half = isHalf(v.format);
+    const bool packedFloats = !ints && !half && pixelStride % 4 == 0;
     parallelRows(h, [&](int y) {
       const char* src = static_cast<const char*>(v.data) + size_t(y) * rowStride;
       float* dst[4];
       for (int c = 0; c < nc; ++c) dst[c] = planes[c].row(y);
       uint64_t bad = 0;
-      if (packedFloats) {
+      if (half) {
+        bad = importHalfRow(src, pixelStride, nc, dst, w, bounds.lo, bounds.hi);
+      } else if (packedFloats) {
         bad = importFloatRow(reinterpret_cast<const float*>(src), int(pixelStride / 4), nc, dst, w, bounds, stream);
       } else {
         for (int x = 0; x < w; ++x)
@@ -246,8 +250,9 @@ inline void interleave8(const __m256 c[4], int stride, __m256 out[4]) {
 }  // namespace
 
 void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out) {
+  if (isHalf(out.format)) return exportRgbHalf(rgb, emission, out);
   if (out.format != Format::Float3 && out.format != Format::Float4)
-    throw Error("output view must be Float3 or Float4");
+    throw Error("output view must be Float3, Float4, Half3 or Half4");
   if (out.width != rgb[0].width || out.height != rgb[0].height)
     throw Error("output view is " + std::to_string(out.width) + "x" + std::to_string(out.height) +
                 ", the frame is " + std::to_string(rgb[0].width) + "x" + std::to_string(rgb[0].height));

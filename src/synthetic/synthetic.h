@@ -3,6 +3,7 @@
 // reference and 1-spp-like noisy radiance (radiance times an exponential variate of mean 1),
 // with no renderer involved. Used by tests, benchmarks and `rtdenoise bench`.
 #pragma once
+#include <array>
 #include <cstdint>
 
 #include "rtd/sequence.h"
@@ -16,7 +17,14 @@ struct Scene {
   float verticalFov = 1.0472f;   ///< radians (60 degrees)
   float noise = 1.0f;            ///< 0: noise-free; 1: exponential noise of mean 1
   uint32_t seed = 1;
+  float cameraYawSpeed = 0.0f;   ///< camera rotation about the world's y axis per frame (radians)
+  /// Jittered camera: frame i's sample of pixel (x, y) is at (x + 0.5, y + 0.5) + jitterOf(i)
+  /// (Halton 2, 3 offsets in [-0.5, 0.5)); motion stays the unjittered (native) motion.
+  bool jitter = false;
 };
+
+/// Sub-pixel jitter of frame `index` (pixels, y down); zero unless scene.jitter.
+std::array<float, 2> jitterOf(const Scene& scene, int index);
 
 /// Frame `index` (0-based; its number is index + 1). Buffers: color, albedo, normal, depth,
 /// position, motion, objectId, roughness; camera matrices valid. `reference`, if not null,

@@ -7,6 +7,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "core/conventions.h"
 #include "core/frame_data.h"
 #include "core/settings_reflect.h"
 #include "core/timer.h"
@@ -36,10 +37,19 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
     used_ = importedBuffers(this->requiredBuffers(), extraBuffers(), this->settings_.reprojection);
     if (output.empty() || output.width != frame[Buffer::Color].width || output.height != frame[Buffer::Color].height)
       throw Error("output view must be non-empty and the size of buffer 'color'");
+    if (output.channels() < 3)  // checked before history changes
+      throw Error("output view must be Float3, Float4, Half3 or Half4");
+    const ConventionTransform conventions =
+        conventionTransform(frame.conventions, frame.camera, frame[Buffer::Color].width,
+                            frame[Buffer::Color].height, frame.has(Buffer::Normal));
     arena_.execute([&] {
       {
         PassTimer t(stats, "import");
         stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_, &used_);
+      }
+      if (conventions.convertsPlanes()) {
+        PassTimer t(stats, "conventions");
+        applyConventions(conventions, current_);
       }
       const int w = current_.width, h = current_.height;
       if (w != width_ || h != height_) {
@@ -51,6 +61,7 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
       } else if (frame.cameraCut) {
         reset();
       }
+      if (hasPrevious_) previous_.camera = jitterCompensated(previous_.camera, conventions, w, h);
       const Plane3& result = process(current_, hasPrevious_ ? &previous_ : nullptr, output_, stats);
       {
         PassTimer t(stats, "export");

@@ -10,6 +10,7 @@
 
 #include "backend/vulkan/context.h"
 #include "backend/vulkan/passes.h"
+#include "core/conventions.h"
 #include "core/settings_reflect.h"
 #include "rtd/denoiser.h"
 #include "rtd/vulkan.h"
@@ -59,8 +60,8 @@ class VulkanDenoiserBase : public Denoiser {
   struct Import {
     Buffer which;
     Binding source;
-    uint32_t offsetWords, pixelStrideWords, rowStrideWords;
-    bool isInt;
+    uint32_t offsetWords, pixelStrideWords, rowStrideWords;  // 16-bit units for halves
+    uint32_t type;  // import.comp's: 0 float, 1 int32, 2 half
     const char* imageShader = nullptr;
   };
   struct Export {
@@ -70,9 +71,10 @@ class VulkanDenoiserBase : public Denoiser {
   };
   void denoiseGpu(const VulkanFrameInputs& frame, const Export& out, VkCommandBuffer cmd);
   void bindBufferView(const VulkanBufferView& v, const std::string& what, uint32_t channels, int w, int h,
-                      Binding& binding, uint32_t& offsetWords, uint32_t& pixelWords, uint32_t& rowWords) const;
+                      Binding& binding, uint32_t& offsetUnits, uint32_t& pixelUnits, uint32_t& rowUnits) const;
   void prepare(int w, int h, bool cameraCut);
-  void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera, const Export& out);
+  void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
+              const ConventionTransform& conventions, const Export& out);
   void submitAndWait();
   /// GPU pass times of the last recorded frame into `stats`; false if not available yet.
   bool readTimings(FrameStats& stats, bool wait);
