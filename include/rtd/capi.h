@@ -14,7 +14,9 @@
  *   on a camera cut: rtdResetDenoiser(den);
  *   rtdReleaseDenoiser(den); rtdReleaseDevice(device);
  *
- * Threading: a device may be used from several threads; a denoiser from one thread at a time.
+ * Threading: a denoiser is used from one thread at a time. CPU denoisers of one device may run
+ * on different threads at once; on a Vulkan device, denoise calls must not overlap (they share
+ * the device's queue, which Vulkan requires to be externally synchronized).
  * Strings returned by the library stay valid until the next call on the same handle (for the
  * device's error message: until the next rtdGetDeviceError on it) unless stated otherwise. */
 #ifndef RTD_CAPI_H

@@ -7,6 +7,12 @@
 
 namespace rtd {
 
+/// Largest image the library accepts, in views and in files: each side at most kMaxImageSide
+/// pixels and at most kMaxImagePixels pixels in all (8192 x 8192, or 16384 x 4096). A view or
+/// a file header claiming more is refused with rtd::Error before anything is allocated.
+constexpr int kMaxImageSide = 16384;
+constexpr int64_t kMaxImagePixels = int64_t(1) << 26;
+
 /// Pixel formats a view may have. Floats are 32-bit IEEE; Int32 is for ids; Half* are 16-bit
 /// IEEE half floats (binary16), as engines keep G-buffers and as the Vulkan backend also reads
 /// from R16*_SFLOAT images. Outputs are Float3/Float4 or Half3/Half4.
@@ -30,7 +36,11 @@ constexpr bool isHalf(Format f) {
 constexpr int channelBytes(Format f) { return isHalf(f) ? 2 : 4; }
 
 /// A strided view of pixels owned by the caller, as in Open Image Denoise's shared buffers.
-/// `pixelStride` and `rowStride` are in bytes; 0 means tightly packed (channelBytes() per channel).
+/// `pixelStride` and `rowStride` are in bytes; 0 means tightly packed (channelBytes() per
+/// channel). Both backends check every view the same way before touching history: `data`
+/// aligned to the channel size (4 bytes, 2 for Half*), strides multiples of it, `pixelStride`
+/// at least the format's size and `rowStride` at least width * pixelStride, the size positive
+/// and within kMaxImageSide / kMaxImagePixels.
 /// Rows run from the top of the image (row 0 is the top), x to the right.
 struct ImageView {
   void* data = nullptr;

@@ -11,3 +11,4 @@
 #include "rtd/methods/accumulate.h"
 #include "rtd/methods/svgf.h"
 #include "rtd/methods/bmfr.h"
+#include "rtd/methods/tnnd.h"

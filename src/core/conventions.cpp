@@ -6,6 +6,10 @@
 
 namespace rtd {
 
+namespace {
+constexpr const char* kWhat = "frame conventions";  // how errors name them
+}  // namespace
+
 bool FrameConventions::native() const {
   const FrameConventions d;
   return motionUnits == d.motionUnits && motionYUp == d.motionYUp && motionToCurrent == d.motionToCurrent &&
@@ -20,11 +24,16 @@ void setConvention(FrameConventions& c, std::string_view name, std::string_view 
   detail::SettingSetter setter{name, value};
   copy.visit(setter);
   if (!setter.found) throw Error("frame conventions have no field '" + std::string(name) + "'");
+  detail::validateSettings(copy, kWhat);
   c = copy;
 }
 
 ConventionTransform conventionTransform(const FrameConventions& c, const Camera& camera, int w, int h,
                                         bool hasNormals) {
+  // Typed conventions get the checks of those set by name (ranges, enum values).
+  detail::validateSettings(c, kWhat);
+  for (float v : c.depthProjection)
+    if (!std::isfinite(v)) throw Error("frame conventions: depthProjection has a non-finite entry");
   ConventionTransform t;
   using C = FrameConventions;
 

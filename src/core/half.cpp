@@ -80,31 +80,16 @@ void floatsToHalves(const float* src, void* halves, size_t n) {
   }
 }
 
-uint64_t importHalfRow(const char* src, size_t pixelStride, int nc, float* const* dst, int w, float lo, float hi) {
-  uint64_t bad = 0;
-  auto sanitized = [&](float v) {
-    if (v >= lo && v <= hi) return v;  // false for NaN
-    ++bad;
-    return 0.0f;
-  };
-  if (pixelStride % 2 == 0) {
-    // The row's halves, from the first pixel's first channel to the last pixel's last one, in
-    // one conversion; then each pixel's channels picked out.
-    const size_t stride = pixelStride / 2, n = size_t(w - 1) * stride + size_t(nc);
-    thread_local std::vector<float> row;
-    if (row.size() < n) row.resize(n);
-    halvesToFloats(src, row.data(), n);
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < nc; ++c) dst[c][x] = sanitized(row[size_t(x) * stride + c]);
-  } else {
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < nc; ++c) {
-        uint16_t h;
-        std::memcpy(&h, src + size_t(x) * pixelStride + 2 * size_t(c), 2);
-        dst[c][x] = sanitized(halfToFloat(h));
-      }
-  }
-  return bad;
+void importHalfRow(const char* src, size_t pixelStride, int nc, float* const* dst, int w, ValueRange range,
+                   SanitizeCounts& bad) {
+  // The row's halves, from the first pixel's first channel to the last pixel's last one, in one
+  // conversion (the pixel stride is a multiple of 2: checked); then each pixel's channels.
+  const size_t stride = pixelStride / 2, n = size_t(w - 1) * stride + size_t(nc);
+  thread_local std::vector<float> row;
+  if (row.size() < n) row.resize(n);
+  halvesToFloats(src, row.data(), n);
+  for (int x = 0; x < w; ++x)
+    for (int c = 0; c < nc; ++c) dst[c][x] = sanitizeValue(row[size_t(x) * stride + c], range, bad);
 }
 
 void exportRgbHalf(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out) {

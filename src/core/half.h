@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/plane.h"
+#include "core/sanitize.h"
 #include "rtd/image.h"
 
 namespace rtd {
@@ -23,9 +24,10 @@ void halvesToFloats(const void* halves, float* dst, size_t n);
 void floatsToHalves(const float* src, void* halves, size_t n);
 
 /// One row of w half pixels (`pixelStride` bytes apart, channels packed, any alignment) into
-/// the first nc planes' rows `dst`, each value outside [lo, hi] (NaN included) replaced by 0 as
-/// importFrame() does for floats; returns the number replaced.
-uint64_t importHalfRow(const char* src, size_t pixelStride, int nc, float* const* dst, int w, float lo, float hi);
+/// the first nc planes' rows `dst`, sanitized into `range` as importFrame() does for floats
+/// (sanitizeValue), counted in `bad`.
+void importHalfRow(const char* src, size_t pixelStride, int nc, float* const* dst, int w, ValueRange range,
+                   SanitizeCounts& bad);
 
 /// exportRgb() for a Half3/Half4 view: RGB (plus the separated emission if not null), alpha 1.
 void exportRgbHalf(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out);

@@ -9,7 +9,9 @@
 #include <set>
 #include <sstream>
 
+#include "render/patterns.h"
 #include "rtd/error.h"
+#include "rtd/render/procedural.h"
 
 namespace rtd::render {
 
@@ -402,7 +404,7 @@ int checkerTexture(SceneData& s, V3 a, V3 b, int cells) {
 }
 
 Material parseMaterial(const Reader& r, const json& j, const std::string& path, SceneData& s) {
-  r.allowOnly(j, path, {"name", "baseColor", "metallic", "roughness", "specular", "emissive", "checker", "mirror"});
+  r.allowOnly(j, path, {"name", "baseColor", "metallic", "roughness", "specular", "emissive", "checker", "pattern", "mirror"});
   Material m;
   m.name = r.getString(j, path, "name", "");
   m.baseColor = r.getColor(j, path, "baseColor", m.baseColor);
@@ -421,6 +423,19 @@ Material parseMaterial(const Reader& r, const json& j, const std::string& path, 
     const V3 other = r.getColor(c, cp, "color", V3(0.2f));
     const int cells = r.getInt(c, cp, "cells", 8, 1, 128);
     m.baseColorTexture = checkerTexture(s, m.baseColor, other, cells);
+  }
+  if (j.contains("pattern")) {  // procedural patterns (src/render/procedural.cpp)
+    const std::string pp = path + ".pattern";
+    const json& c = j["pattern"];
+    r.allowOnly(c, pp, {"kind", "color", "cells", "seed"});
+    const std::string kind = r.getString(c, pp, "kind", "");
+    const auto pattern = patternFromName(kind);
+    if (!pattern) r.fail(pp + ".kind", "unknown pattern '" + kind + "' (expected " + patternNames() + ")");
+    const V3 other = r.getColor(c, pp, "color", V3(0.2f));
+    const int cells = r.getInt(c, pp, "cells", 8, 1, 128);
+    const int seed = r.getInt(c, pp, "seed", 0, 0, 2147483647);
+    s.textures.push_back(makePatternTexture(*pattern, m.baseColor, other, cells, uint32_t(seed)));
+    m.baseColorTexture = int(s.textures.size()) - 1;
   }
   return m;
 }
@@ -650,6 +665,17 @@ std::shared_ptr<Scene> Scene::fromJson(const std::string& text, const fs::path& 
 
 std::shared_ptr<Scene> Scene::load(const std::string& nameOrPath) {
   if (auto builtin = builtinSceneJson(nameOrPath)) return fromJson(*builtin, fs::current_path(), nameOrPath);
+  if (nameOrPath.rfind(kProceduralPrefix, 0) == 0) {  // "procedural:<seed>[:<frames>]"
+    const std::string rest = nameOrPath.substr(std::string(kProceduralPrefix).size());
+    unsigned long seed = 0, frames = ProceduralOptions{}.frames;
+    char tail = 0;
+    const int n = std::sscanf(rest.c_str(), "%lu:%lu%c", &seed, &frames, &tail);
+    if (n < 1 || n > 2 || seed > 0xFFFFFFFFul || frames < 1 || frames > 100000 || rest.find_first_not_of("0123456789:") != std::string::npos)
+      throw Error("scene '" + nameOrPath + "': expected procedural:<seed> or procedural:<seed>:<frames>");
+    ProceduralOptions opt;
+    opt.frames = int(frames);
+    return fromJson(proceduralSceneJson(uint32_t(seed), opt), fs::current_path(), nameOrPath);
+  }
   const fs::path p(nameOrPath);
   std::string ext = p.extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));

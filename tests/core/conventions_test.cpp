@@ -145,6 +145,24 @@ TEST(Conventions, ByName) {
   EXPECT_TRUE(listed);
 }
 
+TEST(Conventions, TypedConventionsAreCheckedLikeNamedOnes) {
+  auto device = Device::create();
+  auto den = device->createDenoiser("accumulate");
+  Image color(8, 4, 3, 0.5f), out(8, 4, 3);
+  FrameInputs in;
+  in[Buffer::Color] = color.view();
+  in.conventions.jitterX = 5;  // outside [-1, 1]
+  EXPECT_THROW(den->denoise(in, out.view()), Error);
+  in.conventions = {};
+  in.conventions.motionUnits = C::MotionUnits(7);
+  EXPECT_THROW(den->denoise(in, out.view()), Error);
+  in.conventions = {};
+  in.conventions.depthProjection[10] = NAN;
+  EXPECT_THROW(den->denoise(in, out.view()), Error);
+  in.conventions = {};
+  EXPECT_NO_THROW(den->denoise(in, out.view()));
+}
+
 // ---- The same scene in each convention gives the same output (SVGF: motion, normals, depth).
 // Measured on this scene: motion conversions exact; positions and cameras, view-space normals
 // and reversed-Z depth about 1e-6 of the peak; standard-Z depth 1e-5 (float depth buffers lose

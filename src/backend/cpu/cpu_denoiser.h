@@ -10,6 +10,7 @@
 #include "core/conventions.h"
 #include "core/frame_data.h"
 #include "core/settings_reflect.h"
+#include "core/validate.h"
 #include "core/timer.h"
 #include "rtd/denoiser.h"
 
@@ -35,17 +36,16 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
     auto start = std::chrono::steady_clock::now();
     // Recomputed per frame: the lists may depend on the settings.
     used_ = importedBuffers(this->requiredBuffers(), extraBuffers(), this->settings_.reprojection);
-    if (output.empty() || output.width != frame[Buffer::Color].width || output.height != frame[Buffer::Color].height)
-      throw Error("output view must be non-empty and the size of buffer 'color'");
-    if (output.channels() < 3)  // checked before history changes
-      throw Error("output view must be Float3, Float4, Half3 or Half4");
+    // Everything is checked before history is touched (the Vulkan backend checks the same).
+    checkInputViews(frame, this->requiredBuffers());
+    checkOutputView(output, frame[Buffer::Color].width, frame[Buffer::Color].height);
     const ConventionTransform conventions =
         conventionTransform(frame.conventions, frame.camera, frame[Buffer::Color].width,
                             frame[Buffer::Color].height, frame.has(Buffer::Normal));
     arena_.execute([&] {
       {
         PassTimer t(stats, "import");
-        stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_, &used_);
+        stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_, &used_, &stats.sanitized);
       }
       if (conventions.convertsPlanes()) {
         PassTimer t(stats, "conventions");

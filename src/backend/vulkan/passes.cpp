@@ -100,6 +100,11 @@ void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Plan
 
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& lv,
                  const Planes& in, Planes& out) {
+  atrousLevel(rec, frame[Buffer::Depth], frame[Buffer::Normal], gradient, lv, in, out);
+}
+
+void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const Planes& gradient,
+                 const GpuAtrousLevel& lv, const Planes& in, Planes& out) {
   struct PC {
     uint32_t width, height;
     int32_t step, radius;
@@ -112,7 +117,7 @@ void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, c
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
            (lv.propagateVariance ? 8u : 0u),
        lv.luminanceMode, uint32_t(lv.validInPlane)};
-  std::vector<Binding> bindings{frame[Buffer::Depth], frame[Buffer::Normal], gradient, in, out,
+  std::vector<Binding> bindings{depth, normal, gradient, in, out,
                                 lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())};
   // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
   constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);

@@ -81,9 +81,13 @@ struct GpuAtrousLevel {
 
 /// The a-trous guide's depth gradient (2 planes) from the frame's depth (AtrousGuide::build).
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient);
-/// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`.
+/// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`. The
+/// guide is the frame's depth and normal and `gradient` (atrousGuide).
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& level,
                  const Planes& in, Planes& out);
+/// The same with the guide's depth (1 plane) and normal (3 planes) given, at the images' size.
+void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const Planes& gradient,
+                 const GpuAtrousLevel& level, const Planes& in, Planes& out);
 /// Clamped 3x3 Gaussian of plane `srcPlane` of `in` into plane `dstPlane` of `out`.
 void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int dstPlane);
 

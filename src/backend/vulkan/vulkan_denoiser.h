@@ -76,6 +76,8 @@ class VulkanDenoiserBase : public Denoiser {
   void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
               const ConventionTransform& conventions, const Export& out);
   void submitAndWait();
+  /// The sanitize counters of the last frame that ran into `stats` (sanitized, sanitizedValues).
+  void readSanitizeCounts(FrameStats& stats) const;
   /// GPU pass times of the last recorded frame into `stats`; false if not available yet.
   bool readTimings(FrameStats& stats, bool wait);
 
