@@ -1,70 +1,44 @@
-// The C++ API in one program (docs/integration.md): a textured wall scrolling one pixel per
-// frame, rendered with 1-spp-like noise, denoised frame by frame. Prints the error of the noisy
-// input and of the denoised output against the clean image, and the passes' times; fails
-// unless denoising removed most of the noise.
-//   denoise_cpp [method]      (default svgf)
+// The C++ API in one program (docs/integration.md): the scene of examples/common/scene.h
+// denoised frame by frame. Prints the error of the noisy input and of the denoised output
+// against the clean image and the passes' times; fails unless denoising removed most of the noise.
+//   example_denoise_cpp [method]      (default svgf)
 #include <rtd/rtd.h>
 
-#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
 
-constexpr int W = 64, H = 48, kFrames = 8;
-
-// The scene at frame t: albedo (a checkerboard), light (a smooth gradient), both scrolling right.
-float albedoAt(int x, int y, int t) { return ((x - t + 64) / 8 + y / 8) % 2 ? 0.8f : 0.2f; }
-float lightAt(int x, int y, int t) { return 1.0f + 0.5f * std::sin(0.1f * float(x - t)) * std::cos(0.13f * float(y)); }
-// 1-spp-like noise: an exponential variate of mean 1 from a hash of (pixel, frame).
-float noiseAt(int x, int y, int t) {
-  unsigned h = unsigned(x) * 73856093u ^ unsigned(y) * 19349663u ^ unsigned(t) * 83492791u;
-  h = (h ^ (h >> 13)) * 1274126177u;
-  return -std::log((float((h >> 8) & 0xffffff) + 0.5f) / 16777216.0f);
-}
+#include "common/scene.h"
 
 int main(int argc, char** argv) {
   const std::string method = argc > 1 ? argv[1] : "svgf";
+  const int w = kSceneWidth, h = kSceneHeight;
   auto device = rtd::Device::create({.backend = rtd::Backend::Cpu});
   auto denoiser = device->createDenoiser(method);
 
   // The application's buffers: one view each, set once; their contents change every frame.
-  std::vector<float> color(W * H * 3), albedo(W * H * 3), normal(W * H * 3), depth(W * H), motion(W * H * 2);
-  std::vector<float> clean(W * H * 3), output(W * H * 4);
+  std::vector<float> color(w * h * 3), clean(w * h * 3), albedo(w * h * 3), normal(w * h * 3), depth(w * h),
+      motion(w * h * 2), output(w * h * 4);
   rtd::FrameInputs frame;
-  frame[rtd::Buffer::Color] = {color.data(), W, H, rtd::Format::Float3};
-  frame[rtd::Buffer::Albedo] = {albedo.data(), W, H, rtd::Format::Float3};
-  frame[rtd::Buffer::Normal] = {normal.data(), W, H, rtd::Format::Float3};
-  frame[rtd::Buffer::Depth] = {depth.data(), W, H, rtd::Format::Float};
-  frame[rtd::Buffer::Motion] = {motion.data(), W, H, rtd::Format::Float2};
-  const rtd::ImageView out{output.data(), W, H, rtd::Format::Float4};
+  frame[rtd::Buffer::Color] = {color.data(), w, h, rtd::Format::Float3};
+  frame[rtd::Buffer::Albedo] = {albedo.data(), w, h, rtd::Format::Float3};
+  frame[rtd::Buffer::Normal] = {normal.data(), w, h, rtd::Format::Float3};
+  frame[rtd::Buffer::Depth] = {depth.data(), w, h, rtd::Format::Float};
+  frame[rtd::Buffer::Motion] = {motion.data(), w, h, rtd::Format::Float2};
+  const rtd::ImageView out{output.data(), w, h, rtd::Format::Float4};
 
-  double inputError = 0, outputError = 0;
-  for (int t = 0; t < kFrames; ++t) {
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        const int p = y * W + x;
-        for (int c = 0; c < 3; ++c) {
-          albedo[p * 3 + c] = albedoAt(x, y, t);
-          clean[p * 3 + c] = albedoAt(x, y, t) * lightAt(x, y, t);
-          color[p * 3 + c] = clean[p * 3 + c] * noiseAt(x, y, t);
-          normal[p * 3 + c] = c == 2 ? 1.0f : 0.0f;  // world-space, facing the camera
-        }
-        depth[p] = 5.0f;        // linear view depth
-        motion[p * 2] = -1.0f;  // the content of pixel x was at x - 1 in the previous frame
-        motion[p * 2 + 1] = 0.0f;
-      }
-    denoiser->denoise(frame, out);
-    inputError = outputError = 0;
-    for (int p = 0; p < W * H; ++p)
-      for (int c = 0; c < 3; ++c) {
-        inputError += std::pow(color[p * 3 + c] - clean[p * 3 + c], 2);
-        outputError += std::pow(output[p * 4 + c] - clean[p * 3 + c], 2);
-      }
+  try {
+    for (int t = 0; t < kSceneFrames; ++t) {
+      sceneFrame(t, color.data(), clean.data(), albedo.data(), normal.data(), depth.data(), motion.data());
+      denoiser->denoise(frame, out);  // on a camera cut: denoiser->reset() first
+    }
+  } catch (const rtd::Error& e) {
+    std::fprintf(stderr, "rtdenoise: %s\n", e.what());
+    return 1;
   }
-  inputError = std::sqrt(inputError / (W * H * 3));
-  outputError = std::sqrt(outputError / (W * H * 3));
-  std::printf("%s, %s: RMSE of frame %d: input %.4f, output %.4f\n", denoiser->method().data(), device->name().c_str(),
-              kFrames, inputError, outputError);
+  const double input = sceneRmse(color.data(), 3, clean.data()), result = sceneRmse(output.data(), 4, clean.data());
+  std::printf("%s, %s: RMSE of frame %d: input %.4f, output %.4f\n", std::string(denoiser->method()).c_str(),
+              device->name().c_str(), kSceneFrames, input, result);
   for (const auto& pass : denoiser->stats().passes) std::printf("  %-24s %8.3f ms\n", pass.name.c_str(), pass.milliseconds);
-  return outputError < 0.5 * inputError ? 0 : 1;
+  return result < 0.5 * input ? 0 : 1;
 }

@@ -159,6 +159,15 @@ const char* methodField(int index, bool summary) {
   return out;
 }
 
+// Pass `index` of the last frame (throws CError out of range).
+const rtd::PassTiming& passAt(RTDDenoiser denoiser, int index) {
+  requireDenoiser(denoiser);
+  const auto& passes = denoiser->denoiser->stats().passes;
+  if (index < 0 || index >= int(passes.size()))
+    fail(RTD_ERROR_INVALID_ARGUMENT, "pass index " + std::to_string(index) + " out of range");
+  return passes[size_t(index)];
+}
+
 std::string formatNumber(double v) {
   std::ostringstream s;
   s.precision(9);
@@ -477,25 +486,13 @@ int rtdGetPassCount(RTDDenoiser denoiser) {
 
 const char* rtdGetPassName(RTDDenoiser denoiser, int index) {
   const char* out = nullptr;
-  guarded(deviceOf(denoiser), [&] {
-    requireDenoiser(denoiser);
-    const auto& passes = denoiser->denoiser->stats().passes;
-    if (index < 0 || index >= int(passes.size()))
-      fail(RTD_ERROR_INVALID_ARGUMENT, "pass index " + std::to_string(index) + " out of range");
-    out = passes[index].name.c_str();
-  });
+  guarded(deviceOf(denoiser), [&] { out = passAt(denoiser, index).name.c_str(); });
   return out;
 }
 
 double rtdGetPassMilliseconds(RTDDenoiser denoiser, int index) {
   double out = -1;
-  guarded(deviceOf(denoiser), [&] {
-    requireDenoiser(denoiser);
-    const auto& passes = denoiser->denoiser->stats().passes;
-    if (index < 0 || index >= int(passes.size()))
-      fail(RTD_ERROR_INVALID_ARGUMENT, "pass index " + std::to_string(index) + " out of range");
-    out = passes[index].milliseconds;
-  });
+  guarded(deviceOf(denoiser), [&] { out = passAt(denoiser, index).milliseconds; });
   return out;
 }
 
