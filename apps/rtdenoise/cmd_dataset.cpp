@@ -146,7 +146,7 @@ void writeNpy(const fs::path& path, const std::string& descr, const std::vector<
   header.append((64 - (10 + header.size() + 1) % 64) % 64, ' ');  // data starts 64-byte aligned
   header += '\n';
   std::string out = "\x93NUMPY";
-  out += {char(1), char(0), char(header.size() & 0xFF), char(header.size() >> 8)};
+  for (const size_t byte : {size_t(1), size_t(0), header.size() & 0xFF, header.size() >> 8}) out.push_back(char(byte));
   out += header;
   out.append(static_cast<const char*>(data), bytes);
   writeFileAtomic(path, out);

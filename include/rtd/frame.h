@@ -60,6 +60,16 @@ enum class Buffer : int {
   /// centres, so denoisers subtract it before filtering and add it back to their output:
   /// bright emitters then cannot bleed into their neighbours.
   Emission,
+  /// A-SVGF gradient samples (Schied et al. 2018; docs/sequence-format.md "Gradient samples"):
+  /// 1 at the one pixel of a 3x3 stratum (strata at multiples of 3 from the top-left corner)
+  /// that holds the stratum's gradient sample, 0 elsewhere, V.
+  GradientSample,
+  /// Rec. 709 luminance of the gradient sample's radiance in the previous frame, at the pixel
+  /// holding it (0 elsewhere), V.
+  GradientPrevious,
+  /// Rec. 709 luminance of the same sample re-shaded in this frame: the previous frame's
+  /// surface point moved with its object, traced with the previous frame's random numbers, V.
+  GradientCurrent,
   Count
 };
 constexpr int kBufferCount = int(Buffer::Count);

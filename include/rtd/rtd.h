@@ -11,4 +11,5 @@
 #include "rtd/methods/accumulate.h"
 #include "rtd/methods/svgf.h"
 #include "rtd/methods/bmfr.h"
+#include "rtd/methods/asvgf.h"
 #include "rtd/methods/tnnd.h"

@@ -1,5 +1,6 @@
 #include "core/conventions.h"
 
+#include "core/flush.h"
 #include "core/parallel.h"
 #include "core/settings_reflect.h"
 #include "rtd/error.h"
@@ -83,7 +84,7 @@ void applyConventions(const ConventionTransform& t, FrameData& f) {
     parallelRows(f.height, [&](int y) {
       for (int c = 0; c < 2; ++c) {
         float* m = f.plane(Buffer::Motion, c).row(y);
-        for (int x = 0; x < w; ++x) m[x] = m[x] * t.motionScale[c] + t.motionOffset[c];
+        for (int x = 0; x < w; ++x) m[x] = flushTiny(m[x] * t.motionScale[c] + t.motionOffset[c]);
       }
     });
   }
@@ -97,14 +98,14 @@ void applyConventions(const ConventionTransform& t, FrameData& f) {
                     wz = a[6] * vx + a[7] * vy + a[8] * vz;
         const float len2 = wx * wx + wy * wy + wz * wz;
         const float s = len2 > 0 ? 1.0f / std::sqrt(len2) : 0.0f;  // background (zero) normals stay zero
-        n[0][x] = wx * s, n[1][x] = wy * s, n[2][x] = wz * s;
+        n[0][x] = flushTiny(wx * s), n[1][x] = flushTiny(wy * s), n[2][x] = flushTiny(wz * s);
       }
     });
   }
   if (t.depth && f.has(Buffer::Depth)) {
     parallelRows(f.height, [&](int y) {
       float* z = f.plane(Buffer::Depth).row(y);
-      for (int x = 0; x < w; ++x) z[x] = t.linearDepth(z[x]);
+      for (int x = 0; x < w; ++x) z[x] = flushTiny(t.linearDepth(z[x]));
     });
   }
 }

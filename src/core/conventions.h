@@ -44,7 +44,8 @@ struct ConventionTransform {
 ConventionTransform conventionTransform(const FrameConventions& c, const Camera& camera, int width, int height,
                                         bool hasNormals);
 
-/// Converts the imported motion, normal and depth planes of `frame` in place (CPU backend).
+/// Converts the imported motion, normal and depth planes of `frame` in place (CPU backend);
+/// what it stores is 0 or at least kTiny in magnitude, as import's values (core/flush.h).
 void applyConventions(const ConventionTransform& t, FrameData& frame);
 
 /// `previous` as the reprojection of a jittered frame must see it: its projection shifted by

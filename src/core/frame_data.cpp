@@ -1,6 +1,7 @@
 #include "core/frame_data.h"
 
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <cfloat>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <immintrin.h>
 #endif
 
+#include "core/flush.h"
 #include "core/half.h"
 #include "core/parallel.h"
 #include "core/sanitize.h"
@@ -20,7 +22,8 @@ namespace rtd {
 bool isRadianceBuffer(Buffer b) {
   switch (b) {
     case Buffer::Color: case Buffer::Direct: case Buffer::Indirect:
-    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: return true;
+    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission:
+    case Buffer::GradientPrevious: case Buffer::GradientCurrent: return true;
     default: return false;
   }
 }
@@ -48,23 +51,29 @@ bool streamsPastCache(size_t bytes) { return bytes >= (size_t(8) << 20); }
 
 namespace {
 
-// The sanitization of a value (core/sanitize.h): non-finite values become 0, finite ones are
-// clamped into the buffer's range [lo, hi]; both counted.
+// The sanitization of a value (sanitizeValue, core/sanitize.h): non-finite values become 0,
+// finite ones are clamped into the buffer's range [lo, hi]; both counted. Magnitudes below kTiny
+// become 0 (not counted: the hot loops never see a subnormal, core/flush.h). sanitize8 decides
+// on the bits as sanitizeValue does.
 struct Bounds {
   float lo, hi;
+  static constexpr uint32_t kMaxBits = std::bit_cast<uint32_t>(FLT_MAX), kTinyBits = std::bit_cast<uint32_t>(kTiny);
   /// The reference for sanitize8.
   float sanitize(float v, SanitizeCounts& bad) const { return sanitizeValue(v, {lo, hi}, bad); }
 };
 
 #ifdef __AVX2__
 inline __m256 sanitize8(__m256 v, Bounds b, SanitizeCounts& bad) {
-  const __m256 finite = _mm256_cmp_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), v), _mm256_set1_ps(FLT_MAX), _CMP_LE_OQ);
+  const __m256i magnitude = _mm256_and_si256(_mm256_castps_si256(v), _mm256_set1_epi32(0x7fffffff));
+  const __m256i finite = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(Bounds::kMaxBits) + 1), magnitude);
+  const __m256i keep = _mm256_and_si256(finite, _mm256_cmpgt_epi32(magnitude, _mm256_set1_epi32(int(Bounds::kTinyBits) - 1)));
+  v = _mm256_and_ps(v, _mm256_castsi256_ps(keep));  // non-finite and tiny values 0
   const __m256 clamped = _mm256_min_ps(_mm256_max_ps(v, _mm256_set1_ps(b.lo)), _mm256_set1_ps(b.hi));
-  const unsigned ok = unsigned(_mm256_movemask_ps(finite));
+  const unsigned ok = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(finite)));
   const unsigned changed = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(clamped, v, _CMP_NEQ_UQ)));
   bad.nonFinite += 8 - unsigned(__builtin_popcount(ok));
   bad.outOfRange += unsigned(__builtin_popcount(ok & changed));
-  return _mm256_and_ps(clamped, finite);
+  return clamped;
 }
 
 // The channels of eight pixels of `stride` (2, 3 or 4) floats each into out[0..stride).

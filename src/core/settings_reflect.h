@@ -115,7 +115,7 @@ struct SettingValidator {
     checkRange(n, v, std::to_string(v), r);
   }
   void operator()(const char*, bool&, const char*) {}
-  void operator()(const char*, std::string&, const char*) {}  // any text (a method checks its meaning)
+  void operator()(const char*, std::string&, const char*) {}  // any text (a file is checked where it is read)
   template <class E, class = std::enable_if_t<std::is_enum_v<E>>>
   void operator()(const char* n, E& v, const char*, Choices choices) {
     const auto i = static_cast<long long>(v);

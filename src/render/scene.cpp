@@ -234,6 +234,17 @@ M4 Object::worldAt(float t) const {
   return k.matrix() * base;
 }
 
+float Object::emissionAt(float t) const {
+  if (keys.empty()) return 1.0f;
+  if (keys.size() == 1 || t <= keys.front().frame) return keys.front().emission;
+  if (t >= keys.back().frame) return keys.back().emission;
+  size_t i = 1;
+  while (keys[i].frame < t) ++i;
+  const TransformKey &a = keys[i - 1], &b = keys[i];
+  const float u = (t - a.frame) / std::max(1e-6f, b.frame - a.frame);
+  return a.emission + (b.emission - a.emission) * u;
+}
+
 static V3 catmullRomSpline(V3 p0, V3 p1, V3 p2, V3 p3, float t) {
   const float t2 = t * t, t3 = t2 * t;
   return (p1 * 2.0f + (p2 - p0) * t + (p0 * 2.0f - p1 * 5.0f + p2 * 4.0f - p3) * t2 + (p1 * 3.0f - p0 - p2 * 3.0f + p3) * t3) * 0.5f;
@@ -459,6 +470,7 @@ TransformKey parseTransform(const Reader& r, const json& j, const std::string& p
   k.translation = r.getV3(j, path, "translation", def.translation);
   if (j.contains("rotation")) k.rotation = parseRotation(r, j["rotation"], path + ".rotation");
   k.scale = r.getV3(j, path, "scale", def.scale);
+  k.emission = r.getFloat(j, path, "emission", def.emission, 0);
   return k;
 }
 
@@ -468,7 +480,7 @@ std::vector<TransformKey> parseKeys(const Reader& r, const json& j, const std::s
   TransformKey prev = start;
   for (size_t i = 0; i < j.size(); ++i) {
     const std::string p = path + "[" + std::to_string(i) + "]";
-    r.allowOnly(j[i], p, {"frame", "translation", "rotation", "scale"});
+    r.allowOnly(j[i], p, {"frame", "translation", "rotation", "scale", "emission"});
     if (!j[i].contains("frame")) r.fail(p + ".frame", "missing (every keyframe needs its frame index)");
     prev = parseTransform(r, j[i], p, prev);  // unspecified fields carry over from the previous key
     if (!keys.empty() && prev.frame <= keys.back().frame) r.fail(p + ".frame", "keyframes must have increasing frames");

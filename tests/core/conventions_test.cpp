@@ -170,6 +170,7 @@ TEST(Conventions, TypedConventionsAreCheckedLikeNamedOnes) {
 
 synthetic::Scene scene() {
   synthetic::Scene s;
+  s.gradientSamples = false;  // A-SVGF's; they do not follow the camera's yaw and jitter
   s.width = 64;
   s.height = 40;
   return s;

@@ -17,6 +17,7 @@ using C = FrameConventions;
 
 synthetic::Scene scene() {
   synthetic::Scene s;
+  s.gradientSamples = false;  // A-SVGF's; they do not follow the camera's yaw and jitter
   s.width = kWidth;
   s.height = kHeight;
   return s;

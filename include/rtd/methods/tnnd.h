@@ -16,8 +16,8 @@ struct TnndSettings {
   static constexpr const char* kMethod = "tnnd";
 
   /// Automaton iterations per frame. The committed weights were trained with a random count
-  /// in [8, 24] per batch (the loss after the last), so any count in that range is stable.
-  int iterations = 16;
+  /// in [8, 16] per batch (the loss after the last), so any count in that range is stable.
+  int iterations = 12;
   /// Weights file (JSON, format "rtdenoise-tnnd-weights" version 1, docs/methods/tnnd.md);
   /// empty = the weights built into the library (src/methods/tnnd/tnnd_weights.json).
   std::string weights;
@@ -29,7 +29,7 @@ struct TnndSettings {
   ReprojectionSettings reprojection;
 
   template <class V> void visit(V& v) {
-    v("iterations", iterations, "automaton iterations per frame (trained with 8..24; Higginson: unstated)", Range{0, 256});
+    v("iterations", iterations, "automaton iterations per frame (trained with 8..16; Higginson: unstated)", Range{0, 256});
     v("weights", weights, "weights file (rtdenoise-tnnd-weights v1 JSON); empty = built-in weights");
     v("accumulate", accumulate, "temporal accumulation of the colour before the automaton (Higginson Fig. 1.1)");
     v("alpha", alpha, "accumulation: new-sample weight floor, w = max(1/n, alpha)", Range{0.001, 1});

@@ -61,8 +61,8 @@ def decode(state):
 
 class TNND(nn.Module):
     # Settings of the training runs (scripts/train.sh tnnd); recorded in the weights file.
-    default_iterations = 16
-    train_iterations = (8, 24)
+    default_iterations = 12
+    train_iterations = (8, 16)
 
     def __init__(self, init_scale: float = 0.01, seed: int = 0):
         super().__init__()

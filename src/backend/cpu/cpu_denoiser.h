@@ -16,7 +16,16 @@
 
 namespace rtd {
 
-template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
+/// Every float array a CPU denoiser keeps, within a frame or across frames, for tests of
+/// invariants on intermediate results (no subnormal anywhere, core/flush.h). Reached from a
+/// Denoiser by dynamic_cast; not part of the public API.
+class PlaneInspection {
+ public:
+  virtual ~PlaneInspection() = default;
+  virtual void forEachPlane(const PlaneVisitor& visit) const = 0;
+};
+
+template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public PlaneInspection {
  public:
   explicit CpuDenoiser(tbb::task_arena& arena) : arena_(arena) {}
 
@@ -29,6 +38,15 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
   void reset() override {
     hasPrevious_ = false;
     resetHistory();
+  }
+
+  /// The imported frames, the output planes and what the method adds (visitMethodPlanes).
+  void forEachPlane(const PlaneVisitor& visit) const final {
+    for (const FrameData* f : {&current_, &previous_})
+      for (const auto& planes : f->buffers)
+        for (const Plane& p : planes) visitPlane(visit, "frame", p);
+    visitPlanes(visit, "output", output_);
+    visitMethodPlanes(visit);
   }
 
   void denoise(const FrameInputs& frame, const ImageView& output) final {
@@ -86,6 +104,8 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
   virtual void resizeHistory(int width, int height) = 0;
   /// Forget history (allocations stay).
   virtual void resetHistory() = 0;
+  /// Every plane the method keeps (PlaneInspection).
+  virtual void visitMethodPlanes(const PlaneVisitor& visit) const = 0;
 
 
   tbb::task_arena& arena_;

@@ -63,6 +63,14 @@ class Filter {
   const AtrousImage& run(const AtrousGuide& guide, TemporalAccumulator& accumulator, const Plane3& current,
                          const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix = {});
 
+  /// Every plane the filter keeps (CPU denoisers' PlaneInspection).
+  void forEachPlane(const PlaneVisitor& visit) const {
+    for (const auto& im : levels_) im.forEachPlane(visit);
+    sigmaScale_.visit(visit, "sigma scale");
+    for (const auto& v : valid_) v.visit(visit, "valid");
+    for (const auto& v : scratch_) v.visit(visit, "variance window input");
+  }
+
  private:
   AtrousImage levels_[3];
   PaddedPlane sigmaScale_;

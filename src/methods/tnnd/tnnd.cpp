@@ -32,6 +32,12 @@ class TnndCpu final : public CpuDenoiser<TnndSettings> {
     for (auto& s : state_) tnnd::resize(s, w, h);
   }
   void resetHistory() override { accumulator_.reset(); }
+  void visitMethodPlanes(const PlaneVisitor& visit) const override {
+    for (const auto& st : state_)
+      for (const Plane& p : st) visitPlane(visit, "automaton state", p);
+    reprojection_.forEachPlane(visit);
+    accumulator_.forEachPlane(visit);
+  }
 
   const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
     const Plane* color = frame.planes(Buffer::Color).data();

@@ -69,8 +69,6 @@ Weights parseWeights(const std::string& text, const std::string& source) {
     if (!b[c].is_number() || !std::isfinite(b[c].get<double>())) fail("field 'b[" + std::to_string(c) + "]' must be a finite number");
     w.b[c] = b[c].get<float>();
   }
-  if (j.contains("iterations") && j["iterations"].is_object() && j["iterations"].contains("default"))
-    w.defaultIterations = j["iterations"]["default"].get<int>();
   return w;
 }
 

@@ -20,7 +20,6 @@ constexpr int kWeightsVersion = 1;
 struct Weights {
   std::array<float, kPerception * kState> w{};
   std::array<float, kState> b{};
-  int defaultIterations = 16;
   std::string source;  ///< file name or "built-in", for messages
 };
 
