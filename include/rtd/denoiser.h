@@ -50,6 +50,9 @@ struct FrameStats {
   /// The same per buffer, indexed by int(Buffer).
   std::array<SanitizeCounts, kBufferCount> sanitized{};
   uint64_t pixels = 0;
+  /// Parts of the method that were asked for but did not run on this frame, and why (e.g.
+  /// "glossyBandwidth off: the frame has no 'reflectedFootprint' buffer").
+  std::vector<std::string> notes;
 };
 
 /// A denoiser owns the history of one image stream. Not thread-safe; use one per stream.
@@ -77,9 +80,9 @@ class Denoiser {
 
   /// Denoise one frame. `output` must have the input's size, Float3, Float4, Half3 or Half4
   /// (alpha is set to 1); it receives linear RGB radiance, remodulated, not tone-mapped. The
-  /// frame's conventions (FrameConventions) are converted to the native ones after import. A frame whose size
-  /// differs from the previous one resizes the history (and resets it). Throws rtd::Error on a
-  /// missing required buffer or a size mismatch, before touching history.
+  /// frame's conventions (FrameConventions) are converted to the native ones after import. A
+  /// frame whose size differs from the previous one resizes the history (and resets it). Throws
+  /// rtd::Error on a missing required buffer or a size mismatch, before touching history.
   virtual void denoise(const FrameInputs& frame, const ImageView& output) = 0;
 
   /// Forget all history (camera cut, scene change).

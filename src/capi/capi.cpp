@@ -103,8 +103,10 @@ template <class F> RTDError guarded(RTDDeviceImpl* device, F&& body, RTDError rt
     code = e.code;
     message = e.message;
   } catch (const rtd::Error& e) {
-    code = rtdErrorCode;
+    // The C++ API reports what escaped it from below (the standard library, oneTBB, a driver)
+    // as rtd::Error("<call>: internal error: ...") (src/core/api_guard.h): not bad input.
     message = e.what();
+    code = message.find(": internal error: ") != std::string::npos ? RTD_ERROR_UNKNOWN : rtdErrorCode;
   } catch (const std::bad_alloc&) {
     code = RTD_ERROR_OUT_OF_MEMORY;
     message = "out of memory";
