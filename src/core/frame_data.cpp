@@ -11,6 +11,7 @@
 #endif
 
 #include "core/flush.h"
+#include "core/half.h"
 #include "core/parallel.h"
 #include "core/sanitize.h"
 #include "core/validate.h"
@@ -49,28 +50,15 @@ bool streamsPastCache(size_t bytes) { return bytes >= (size_t(8) << 20); }
 
 namespace {
 
-// The sanitization of a value (core/sanitize.h): non-finite values become 0, finite ones are
-// clamped into the buffer's range [lo, hi]; both counted. Magnitudes below kTiny become 0 (not
-// counted: the hot loops never see a subnormal, core/flush.h). Non-finite and tiny values are
-// recognized on the bits, so a subnormal input is never the operand of a floating-point
-// instruction.
+// The sanitization of a value (sanitizeValue, core/sanitize.h): non-finite values become 0,
+// finite ones are clamped into the buffer's range [lo, hi]; both counted. Magnitudes below kTiny
+// become 0 (not counted: the hot loops never see a subnormal, core/flush.h). sanitize8 decides
+// on the bits as sanitizeValue does.
 struct Bounds {
   float lo, hi;
   static constexpr uint32_t kMaxBits = std::bit_cast<uint32_t>(FLT_MAX), kTinyBits = std::bit_cast<uint32_t>(kTiny);
   /// The reference for sanitize8.
-  float sanitize(float v, SanitizeCounts& bad) const {
-    const uint32_t magnitude = std::bit_cast<uint32_t>(v) & 0x7fffffffu;
-    if (magnitude > kMaxBits) {  // NaN and infinities
-      ++bad.nonFinite;
-      return 0.0f;
-    }
-    if (magnitude < kTinyBits) v = 0.0f;
-    if (v < lo || v > hi) {
-      ++bad.outOfRange;
-      return v < lo ? lo : hi;
-    }
-    return v;
-  }
+  float sanitize(float v, SanitizeCounts& bad) const { return sanitizeValue(v, {lo, hi}, bad); }
 };
 
 #ifdef __AVX2__
@@ -183,7 +171,9 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
     for (auto& p : planes)
       if (p.width != w || p.height != h) p.resize(w, h);
     const bool ints = v.format == Format::Int32;
-    const size_t pixelFloats = v.bytesPerPixel() / 4, rowStride = v.bytesPerRow();  // multiples of 4 (checked)
+    const bool half = isHalf(v.format);
+    const size_t pixelStride = v.bytesPerPixel(), rowStride = v.bytesPerRow();  // multiples of the channel size (checked)
+    const size_t pixelFloats = pixelStride / 4;
     const ValueRange range = importRange(b);
     const Bounds bounds{range.lo, range.hi};
     std::atomic<uint64_t> nonFinite{0}, outOfRange{0};
@@ -192,7 +182,9 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
       float* dst[4];
       for (int c = 0; c < nc; ++c) dst[c] = planes[c].row(y);
       SanitizeCounts bad;
-      if (!ints) {
+      if (half) {
+        importHalfRow(src, pixelStride, nc, dst, w, range, bad);
+      } else if (!ints) {
         importFloatRow(reinterpret_cast<const float*>(src), int(pixelFloats), nc, dst, w, bounds, stream, bad);
       } else {
         const int32_t* ids = reinterpret_cast<const int32_t*>(src);
@@ -257,8 +249,9 @@ inline void interleave8(const __m256 c[4], int stride, __m256 out[4]) {
 }  // namespace
 
 void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out) {
+  if (isHalf(out.format)) return exportRgbHalf(rgb, emission, out);
   if (out.format != Format::Float3 && out.format != Format::Float4)
-    throw Error("output view must be Float3 or Float4");
+    throw Error("output view must be Float3, Float4, Half3 or Half4");
   if (out.width != rgb[0].width || out.height != rgb[0].height)
     throw Error("output view is " + std::to_string(out.width) + "x" + std::to_string(out.height) +
                 ", the frame is " + std::to_string(rgb[0].width) + "x" + std::to_string(rgb[0].height));
