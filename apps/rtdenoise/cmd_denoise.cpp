@@ -53,6 +53,7 @@ void runDenoise(const DenoiseOptions& o) {
   json perFrame = json::array();
   uint64_t sanitized = 0;
   std::vector<double> totals;
+  std::vector<std::string> notes;  // distinct FrameStats::notes (parts that did not run), in order
 
   Progress progress("denoise", frames);
   Image output(reader->width(), reader->height(), 3);
@@ -68,6 +69,9 @@ void runDenoise(const DenoiseOptions& o) {
     for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
     perFrame.push_back({{"number", frame.number}, {"passes", passes}, {"totalMs", st.totalMilliseconds},
                         {"sanitizedValues", st.sanitizedValues}});
+    if (!st.notes.empty()) perFrame.back()["notes"] = st.notes;
+    for (const auto& n : st.notes)
+      if (std::find(notes.begin(), notes.end(), n) == notes.end()) notes.push_back(n);
     sanitized += st.sanitizedValues;
     totals.push_back(st.totalMilliseconds);
     char detail[64];
@@ -79,11 +83,13 @@ void runDenoise(const DenoiseOptions& o) {
   timing["frames"] = perFrame;
   timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   timing["sanitizedValues"] = sanitized;
+  timing["notes"] = notes;
   writeFileAtomic(fs::path(o.output) / "timings.json", timing.dump(1));
   progress.finish();
   if (sanitized)
     std::fprintf(stderr, "note: %llu NaN/Inf/negative radiance values were replaced by 0 (see timings.json)\n",
                  (unsigned long long)sanitized);
+  for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.c_str());
 }
 }  // namespace
