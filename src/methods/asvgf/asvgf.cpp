@@ -46,14 +46,10 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
   void visitMethodPlanes(const PlaneVisitor& visit) const override {
     reprojection_.forEachPlane(visit);
     guide_.forEachPlane(visit);
-    for (const Plane& p : normals_) visitPlane(visit, "normal", p);
+    for (const Plane& n : normals_) visitPlane(visit, "filter normal", n);
     visitPlanes(visit, "demodulated", demod_);
     visitPlanes(visit, "result", result_);
-    gradient_.guide.forEachPlane(visit);
-    for (const auto& l : gradient_.level) l.forEachPlane(visit);
-    for (const auto& v : gradient_.valid) v.visit(visit, "gradient valid");
-    gradient_.noLuminanceWeight.visit(visit, "gradient w_l off");
-    visitPlane(visit, "gradient", gradient_.result);
+    gradient_.forEachPlane(visit);
     accumulator_.forEachPlane(visit);
     filter_.forEachPlane(visit);
     taa_.forEachPlane(visit);

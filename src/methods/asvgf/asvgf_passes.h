@@ -54,6 +54,14 @@ struct GradientImage {
 
   /// For a frame of w x h pixels; `pad` >= the widest tap offset of the gradient's levels.
   void resize(int w, int h, int pad);
+
+  void forEachPlane(const PlaneVisitor& visit) const {
+    guide.forEachPlane(visit);
+    for (const auto& l : level) l.forEachPlane(visit);
+    for (const auto& v : valid) v.visit(visit, "gradient valid");
+    noLuminanceWeight.visit(visit, "gradient w_l off");
+    visitPlane(visit, "gradient", result);
+  }
 };
 
 /// Border of the gradient planes for `iterations` levels of the 3x3 kernel.

@@ -34,7 +34,7 @@ class TnndCpu final : public CpuDenoiser<TnndSettings> {
   void resetHistory() override { accumulator_.reset(); }
   void visitMethodPlanes(const PlaneVisitor& visit) const override {
     for (const auto& st : state_)
-      for (const Plane& p : st) visitPlane(visit, "state", p);
+      for (const Plane& p : st) visitPlane(visit, "automaton state", p);
     reprojection_.forEachPlane(visit);
     accumulator_.forEachPlane(visit);
   }
