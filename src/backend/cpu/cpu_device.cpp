@@ -5,6 +5,7 @@
 #include <mutex>
 #include <tbb/task_arena.h>
 
+#include "core/cpu_path.h"
 #include "core/registry.h"
 #include "rtd/denoiser.h"
 
@@ -29,7 +30,9 @@ class CpuDevice final : public Device {
   explicit CpuDevice(int threads)
       : threads_(threads > 0 ? threads : tbb::info::default_concurrency()), arena_(arenaFor(threads_)) {}
   Backend backend() const override { return Backend::Cpu; }
-  std::string name() const override { return "CPU (" + std::to_string(threads_) + " threads, oneTBB)"; }
+  std::string name() const override {
+    return "CPU (" + std::to_string(threads_) + " threads, oneTBB, " + cpuPathName(cpuPath()) + ")";
+  }
   std::unique_ptr<Denoiser> createDenoiser(std::string_view method) override {
     const MethodEntry* e = findMethod(method);
     if (!e) throw Error("unknown method '" + std::string(method) + "' (see `rtdenoise methods`)");
@@ -51,7 +54,7 @@ std::vector<DeviceInfo> listVulkanDevices();
 std::vector<DeviceInfo> listDevices(std::string* vulkanError) {
   std::vector<DeviceInfo> out;
   const int threads = tbb::info::default_concurrency();
-  out.push_back({Backend::Cpu, 0, "CPU", std::to_string(threads) + " threads, oneTBB"});
+  out.push_back({Backend::Cpu, 0, "CPU", std::to_string(threads) + " threads, oneTBB, SIMD path " + describeCpuPath()});
 #ifdef RTD_HAS_VULKAN
   try {
     for (auto& d : listVulkanDevices()) out.push_back(std::move(d));
@@ -65,7 +68,10 @@ std::vector<DeviceInfo> listDevices(std::string* vulkanError) {
 }
 
 std::unique_ptr<Device> Device::create(const DeviceDesc& desc) {
-  if (desc.backend == Backend::Cpu) return std::make_unique<CpuDevice>(desc.threads);
+  if (desc.backend == Backend::Cpu) {
+    checkCpuPathSetting();  // a bad RTD_CPU_PATH is an error here rather than silently ignored
+    return std::make_unique<CpuDevice>(desc.threads);
+  }
 #ifdef RTD_HAS_VULKAN
   return createVulkanDevice(desc);
 #else
