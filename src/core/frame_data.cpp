@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <bit>
 #include <atomic>
+#include <cfloat>
 #include <cmath>
 #include <string>
 
 #include "core/frame_data_kernels.h"
 #include "core/parallel.h"
+#include "core/sanitize.h"
+#include "core/validate.h"
 #include "rtd/error.h"
 
 namespace rtd {
@@ -15,12 +18,11 @@ namespace rtd {
 bool isRadianceBuffer(Buffer b) {
   switch (b) {
     case Buffer::Color: case Buffer::Direct: case Buffer::Indirect:
-    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: return true;
+    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission:
+    case Buffer::GradientPrevious: case Buffer::GradientCurrent: return true;
     default: return false;
   }
 }
-
-static std::string describe(Buffer b) { return "buffer '" + std::string(bufferName(b)) + "'"; }
 
 std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const std::vector<Buffer>& extra,
                                     const ReprojectionSettings& reprojection) {
@@ -44,28 +46,15 @@ std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const s
 bool streamsPastCache(size_t bytes) { return bytes >= (size_t(8) << 20); }
 
 uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out,
-                     const std::vector<Buffer>* used) {
-  for (Buffer b : required)
-    if (!in.has(b)) throw Error("missing required " + describe(b));
+                     const std::vector<Buffer>* used, SanitizeStats* counts) {
+  checkInputViews(in, required);
   const ImageView& color = in[Buffer::Color];
   const int w = color.width, h = color.height;
-  if (w <= 0 || h <= 0) throw Error("buffer 'color' has an empty size");
-  for (int i = 0; i < kBufferCount; ++i) {
-    const ImageView& v = in.buffers[i];
-    if (v.empty()) continue;
-    Buffer b = Buffer(i);
-    if (v.width != w || v.height != h)
-      throw Error(describe(b) + " is " + std::to_string(v.width) + "x" + std::to_string(v.height) +
-                  " but color is " + std::to_string(w) + "x" + std::to_string(h));
-    if (v.channels() < bufferChannelCount(b))
-      throw Error(describe(b) + " needs " + std::to_string(bufferChannelCount(b)) + " channels, the view has " +
-                  std::to_string(v.channels()));
-  }
 
   out.width = w;
   out.height = h;
   out.camera = in.camera;
-  std::atomic<uint64_t> replaced{0};
+  SanitizeStats stats{};
   auto wanted = [&](int i) {
     return !in.buffers[i].empty() && (!used || std::find(used->begin(), used->end(), Buffer(i)) != used->end());
   };
@@ -85,30 +74,35 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
     planes.resize(nc);
     for (auto& p : planes)
       if (p.width != w || p.height != h) p.resize(w, h);
-    const bool radiance = isRadianceBuffer(b);
     const bool ints = v.format == Format::Int32;
-    const size_t pixelStride = v.bytesPerPixel(), rowStride = v.bytesPerRow();
-    const Bounds bounds{radiance};
-    const bool packedFloats = !ints && pixelStride % 4 == 0;
+    const size_t pixelFloats = v.bytesPerPixel() / 4, rowStride = v.bytesPerRow();  // multiples of 4 (checked)
+    const ValueRange range = importRange(b);
+    const Bounds bounds{range.lo, range.hi};
+    std::atomic<uint64_t> nonFinite{0}, outOfRange{0};
     parallelRows(h, [&](int y) {
       const char* src = static_cast<const char*>(v.data) + size_t(y) * rowStride;
       float* dst[4];
       for (int c = 0; c < nc; ++c) dst[c] = planes[c].row(y);
-      uint64_t bad = 0;
-      if (packedFloats) {
-        bad = RTD_SIMD(importFloatRow)(reinterpret_cast<const float*>(src), int(pixelStride / 4), nc, dst, w, bounds, stream);
+      SanitizeCounts bad;
+      if (!ints) {
+        RTD_SIMD(importFloatRow)(reinterpret_cast<const float*>(src), int(pixelFloats), nc, dst, w, bounds, stream, bad);
       } else {
+        const int32_t* ids = reinterpret_cast<const int32_t*>(src);
         for (int x = 0; x < w; ++x)
-          for (int c = 0; c < nc; ++c) {
-            const char* p = src + x * pixelStride + c * 4;
-            dst[c][x] = bounds.sanitize(ints ? float(*reinterpret_cast<const int32_t*>(p)) : *reinterpret_cast<const float*>(p), bad);
-          }
+          for (int c = 0; c < nc; ++c) dst[c][x] = bounds.sanitize(float(ids[size_t(x) * pixelFloats + c]), bad);
       }
-      if (bad) replaced += bad;
+      if (bad.nonFinite) nonFinite += bad.nonFinite;
+      if (bad.outOfRange) outOfRange += bad.outOfRange;
     }, 16);
+    stats[size_t(i)].nonFinite = nonFinite;
+    stats[size_t(i)].outOfRange = outOfRange;
   }
+  sanitizeUnitVectors(out, stats);
   separateEmission(out);
-  return replaced;
+  uint64_t total = 0;
+  for (const SanitizeCounts& c : stats) total += c.total();
+  if (counts) *counts = stats;
+  return total;
 }
 
 void separateEmission(FrameData& f) {

@@ -10,18 +10,17 @@ namespace rtd::RTD_SIMD_NS {
 
 namespace {
 #ifdef RTD_SIMD_AVX2
-inline __m256 sanitize8(__m256 v, Bounds b, uint64_t& bad) {
-  const __m256i bits = _mm256_castps_si256(v);
-  const __m256i magnitude = _mm256_and_si256(bits, _mm256_set1_epi32(0x7fffffff));
-  __m256i ok = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(Bounds::kMaxBits) + 1), magnitude);
-  if (b.nonNegative) {
-    const __m256i negative = _mm256_and_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), bits),
-                                              _mm256_cmpgt_epi32(magnitude, _mm256_setzero_si256()));
-    ok = _mm256_andnot_si256(negative, ok);
-  }
-  bad += 8 - unsigned(__builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(ok)))));
-  const __m256i keep = _mm256_and_si256(ok, _mm256_cmpgt_epi32(magnitude, _mm256_set1_epi32(int(Bounds::kTinyBits) - 1)));
-  return _mm256_and_ps(v, _mm256_castsi256_ps(keep));
+inline __m256 sanitize8(__m256 v, Bounds b, SanitizeCounts& bad) {
+  const __m256i magnitude = _mm256_and_si256(_mm256_castps_si256(v), _mm256_set1_epi32(0x7fffffff));
+  const __m256i finite = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(Bounds::kMaxBits) + 1), magnitude);
+  const __m256i keep = _mm256_and_si256(finite, _mm256_cmpgt_epi32(magnitude, _mm256_set1_epi32(int(Bounds::kTinyBits) - 1)));
+  v = _mm256_and_ps(v, _mm256_castsi256_ps(keep));  // non-finite and tiny values 0
+  const __m256 clamped = _mm256_min_ps(_mm256_max_ps(v, _mm256_set1_ps(b.lo)), _mm256_set1_ps(b.hi));
+  const unsigned ok = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(finite)));
+  const unsigned changed = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(clamped, v, _CMP_NEQ_UQ)));
+  bad.nonFinite += 8 - unsigned(__builtin_popcount(ok));
+  bad.outOfRange += unsigned(__builtin_popcount(ok & changed));
+  return clamped;
 }
 
 // The channels of eight pixels of `stride` (2, 3 or 4) floats each into out[0..stride).
@@ -60,8 +59,8 @@ inline void deinterleave8(const float* src, int stride, __m256 out[4]) {
 
 }  // namespace
 
-uint64_t importFloatRow(const float* src, int stride, int nc, float* const* dst, int w, Bounds b, bool stream) {
-  uint64_t bad = 0;
+void importFloatRow(const float* src, int stride, int nc, float* const* dst, int w, Bounds b, bool stream,
+                    SanitizeCounts& bad) {
   int x = 0;
 #ifdef RTD_SIMD_AVX2
   for (int c = 0; c < nc; ++c) stream = stream && reinterpret_cast<uintptr_t>(dst[c]) % 32 == 0;
@@ -82,7 +81,6 @@ uint64_t importFloatRow(const float* src, int stride, int nc, float* const* dst,
 #endif
   for (; x < w; ++x)
     for (int c = 0; c < nc; ++c) dst[c][x] = b.sanitize(src[size_t(x) * stride + c], bad);
-  return bad;
 }
 
 

@@ -52,6 +52,8 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
   const float maxLength = float(maxHistoryLength);
   const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
   const Plane* albedo = options.albedo ? options.albedo->data() : nullptr;
+  const Plane* gradient = options.temporalGradient;
+  const int gradientStride = std::max(1, options.temporalGradientStride);
   // One fused pass per pixel: history length, colour and both moments from the same taps.
   auto pixel = [&](size_t i) {
     float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
@@ -66,6 +68,21 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
     for (int k = 0; k < 3; ++k) hist[k] = rp.gather(h.colorPrev[k], i);
     // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
     const bool none = rp.kind[i] == Reprojection::None;
+    if (gradient) {
+      // A-SVGF: the history shrinks where the shading changed, N' = min(N (1-G)^e + 1, cap),
+      // and the new sample weighs mix(max(1/N', floor), 1, G).
+      const int x = int(i % size_t(w)), y = int(i / size_t(w));
+      const float g = std::clamp((*gradient)(x / gradientStride, y / gradientStride), 0.0f, 1.0f);
+      const float n = adaptiveHistoryLength(none ? 0.0f : histLength, g, options.historyExponent, maxLength);
+      const float a = adaptiveAlpha(n, g, alpha), am = adaptiveAlpha(n, g, momentsAlpha);
+      h.length.data[i] = n;
+      for (int k = 0; k < 3; ++k) h.color[k].data[i] = flushTiny(a * c[k] + (1.0f - a) * hist[k]);
+      if (moments) {
+        h.m1.data[i] = flushTiny(am * l + (1.0f - am) * hist1);
+        h.m2.data[i] = flushTiny(am * squareOrZero(l) + (1.0f - am) * hist2);
+      }
+      return;
+    }
     const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
     const float a = newSampleWeight(n, alpha);
     // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
@@ -90,7 +107,7 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
     }
   };
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-  const bool vectorized = !mask && options.luminance != MomentLuminance::CieLightness;
+  const bool vectorized = !mask && !gradient && options.luminance != MomentLuminance::CieLightness;
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef RTD_SIMD_AVX2

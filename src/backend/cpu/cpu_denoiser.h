@@ -9,6 +9,7 @@
 
 #include "core/frame_data.h"
 #include "core/settings_reflect.h"
+#include "core/validate.h"
 #include "core/timer.h"
 #include "rtd/denoiser.h"
 
@@ -52,12 +53,13 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
     auto start = std::chrono::steady_clock::now();
     // Recomputed per frame: the lists may depend on the settings.
     used_ = importedBuffers(this->requiredBuffers(), extraBuffers(), this->settings_.reprojection);
-    if (output.empty() || output.width != frame[Buffer::Color].width || output.height != frame[Buffer::Color].height)
-      throw Error("output view must be non-empty and the size of buffer 'color'");
+    // Everything is checked before history is touched (the Vulkan backend checks the same).
+    checkInputViews(frame, this->requiredBuffers());
+    checkOutputView(output, frame[Buffer::Color].width, frame[Buffer::Color].height);
     arena_.execute([&] {
       {
         PassTimer t(stats, "import");
-        stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_, &used_);
+        stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_, &used_, &stats.sanitized);
       }
       const int w = current_.width, h = current_.height;
       if (w != width_ || h != height_) {

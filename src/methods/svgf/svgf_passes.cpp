@@ -3,6 +3,7 @@
 #include <atomic>
 
 #include "core/parallel.h"
+#include "methods/svgf/svgf_filter.h"
 
 namespace rtd::svgf {
 
@@ -48,20 +49,7 @@ size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const Va
 }
 
 void luminanceSigmaScale(const Plane& len, const SvgfSettings& s, PaddedPlane& out) {
-  const int w = len.width;
-  const bool off = s.shortHistory == SvgfShortHistory::disableLuminanceWeight;
-  parallelRows(len.height, [&](int y) {
-    const float* n = len.row(y);
-    float* o = out.row(y);
-    for (int x = 0; x < w; ++x) {
-      if (off && n[x] < float(s.shortHistoryFrames)) {
-        o[x] = 0.0f;
-        continue;
-      }
-      // h = successful reprojections = history length - 1.
-      o[x] = s.shortHistoryBandwidth ? shortHistoryBandwidthScale(int(n[x]) - 1) : 1.0f;
-    }
-  });
+  luminanceSigmaScale(len, filterParams(s, false), out);
 }
 
 void median3x3(const Plane3& in, const Plane* roughness, Plane3& out) {
