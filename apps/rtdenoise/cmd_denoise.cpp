@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
+#include "sanitize_report.h"
 
 namespace rtd::cli {
 
@@ -20,10 +21,11 @@ struct DenoiseOptions {
   std::string vulkanDevice;
   int threads = 0;
   int maxFrames = 0;
+  SequenceOptions sequence;  // --cut, --continuous
 };
 
 void runDenoise(const DenoiseOptions& o) {
-  auto reader = SequenceReader::open(o.input);
+  auto reader = SequenceReader::open(o.input, o.sequence);
   auto device = Device::create({.backend = parseBackend(o.backend), .threads = o.threads, .vulkanDevice = o.vulkanDevice});
   auto denoiser = device->createDenoiser(o.method);
   applySettings(*denoiser, o.settings);
@@ -35,6 +37,7 @@ void runDenoise(const DenoiseOptions& o) {
                   o.input + "' does not have (first frame: '" + reader->framePath(0).string() + "')");
 
   fs::create_directories(o.output);
+  removeStaleTemporaryFiles(o.output);
   const int frames = o.maxFrames > 0 ? std::min(o.maxFrames, reader->frameCount()) : reader->frameCount();
   std::fprintf(stderr, "denoising %d frames (%dx%d, %s input) with '%s' on %s\n", frames, reader->width(),
                reader->height(), reader->kind() == SequenceKind::Native ? "native" : "Blender", o.method.c_str(),
@@ -52,6 +55,7 @@ void runDenoise(const DenoiseOptions& o) {
   timing["settings"] = settings;
   json perFrame = json::array();
   uint64_t sanitized = 0;
+  BufferCounts sanitizedPerBuffer{};
   std::vector<double> totals;
 
   Progress progress("denoise", frames);
@@ -67,8 +71,10 @@ void runDenoise(const DenoiseOptions& o) {
     json passes = json::object();
     for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
     perFrame.push_back({{"number", frame.number}, {"passes", passes}, {"totalMs", st.totalMilliseconds},
-                        {"sanitizedValues", st.sanitizedValues}});
+                        {"sanitizedValues", st.sanitizedValues}, {"sanitized", sanitizeJson(st.sanitized)}});
+    if (frame.cut) perFrame.back()["cut"] = true;
     sanitized += st.sanitizedValues;
+    accumulate(sanitizedPerBuffer, st.sanitized);
     totals.push_back(st.totalMilliseconds);
     char detail[64];
     std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
@@ -79,11 +85,12 @@ void runDenoise(const DenoiseOptions& o) {
   timing["frames"] = perFrame;
   timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   timing["sanitizedValues"] = sanitized;
+  timing["sanitized"] = sanitizeJson(sanitizedPerBuffer);
   writeFileAtomic(fs::path(o.output) / "timings.json", timing.dump(1));
   progress.finish();
   if (sanitized)
-    std::fprintf(stderr, "note: %llu NaN/Inf/negative radiance values were replaced by 0 (see timings.json)\n",
-                 (unsigned long long)sanitized);
+    std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized,
+                 sanitizeSummary(sanitizedPerBuffer).c_str());
   std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.c_str());
 }
 }  // namespace
@@ -99,6 +106,12 @@ void addDenoise(CLI::App& app) {
   cmd->add_option("--device", o->vulkanDevice, "Vulkan device index or name substring");
   cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
   cmd->add_option("--frames", o->maxFrames, "denoise only the first N frames (0 = all)");
+  cmd->add_option("--cut", o->sequence.cuts,
+                  "frame number(s) where the camera cuts: history is reset there (repeatable or comma-separated; "
+                  "sequence.json and cameras.json can mark cuts too)")
+      ->delimiter(',');
+  cmd->add_flag("--continuous", o->sequence.continuous,
+                "gaps in the frame numbering are not cuts (by default a gap resets history)");
   cmd->callback([o] { runDenoise(*o); });
 }
 

@@ -1,10 +1,14 @@
 // rtdenoise — command-line front end. Every subcommand is a client of the public API.
 #include <cstdio>
+#include <filesystem>
+#include <new>
 #include <string>
 
 #include "cli.h"
+#include "interrupt.h"
 
 int main(int argc, char** argv) {
+  rtd::cli::installInterruptHandlers();
   CLI::App app{"rtdenoise: real-time denoisers for 1-spp path-traced sequences"};
   app.set_version_flag("--version", std::string("rtdenoise ") + rtd::versionString());
   app.footer("Exit status: 0 success, 1 bad input, 2 usage error, 3 internal error.");
@@ -29,6 +33,12 @@ int main(int argc, char** argv) {
     return printed == 0 ? rtd::cli::kExitOk : rtd::cli::kExitUsage;
   } catch (const rtd::Error& e) {
     std::fprintf(stderr, "rtdenoise: error: %s\n", e.what());
+    return rtd::cli::kExitBadInput;
+  } catch (const std::filesystem::filesystem_error& e) {  // the user's paths: a missing or unwritable directory
+    std::fprintf(stderr, "rtdenoise: error: %s\n", e.what());
+    return rtd::cli::kExitBadInput;
+  } catch (const std::bad_alloc&) {  // inputs too large for this machine (the library refuses absurd sizes)
+    std::fprintf(stderr, "rtdenoise: error: out of memory\n");
     return rtd::cli::kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rtdenoise: internal error: %s\n", e.what());

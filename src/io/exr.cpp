@@ -8,8 +8,11 @@
 #include <ImfOutputFile.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 
+#include "io/exr_limits.h"
+#include "io/temp_files.h"
 #include "rtd/error.h"
 
 namespace rtd::exr {
@@ -24,7 +27,7 @@ static std::string quoted(const fs::path& p) {
 }
 
 Header readHeader(const fs::path& path) {
-  if (!fs::exists(path)) throw Error("file " + quoted(path) + " does not exist");
+  checkHeader(path);
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
@@ -42,11 +45,18 @@ Header readHeader(const fs::path& path) {
 std::vector<std::vector<float>> readChannels(const fs::path& path, const std::vector<std::string>& names,
                                              const std::string& context) {
   const std::string where = (context.empty() ? "" : context + ", ") + "file " + quoted(path);
-  if (!fs::exists(path)) throw Error(where + ": file does not exist");
+  const ReadDeadline deadline(where);
+  HeaderCheck checked;
+  try {
+    checked = checkHeader(path);
+  } catch (const Error& e) {
+    throw Error((context.empty() ? "" : context + ", ") + e.what());
+  }
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    if (w != checked.width || h != checked.height) throw Error(where + ": the header does not parse consistently");
     std::vector<std::vector<float>> planes(names.size(), std::vector<float>(size_t(w) * h));
     Imf::FrameBuffer fb;
     for (size_t i = 0; i < names.size(); ++i) {
@@ -56,7 +66,14 @@ std::vector<std::vector<float>> readChannels(const fs::path& path, const std::ve
     }
     file.setFrameBuffer(fb);
     try {
-      file.readPixels(dw.min.y, dw.max.y);
+      // Slab by slab (whole chunks), so that a file whose decoding stalls stops at the deadline.
+      const int slab = std::max(checked.linesPerChunk, 32 / checked.linesPerChunk * checked.linesPerChunk);
+      for (int y = dw.min.y; y <= dw.max.y; y += slab) {
+        deadline.check();
+        file.readPixels(y, std::min(dw.max.y, y + slab - 1));
+      }
+    } catch (const Error&) {
+      throw;
     } catch (const std::exception& e) {
       std::string list;
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
@@ -71,7 +88,7 @@ std::vector<std::vector<float>> readChannels(const fs::path& path, const std::ve
 }
 
 void writeChannels(const fs::path& path, int width, int height, const std::vector<ChannelSource>& channels) {
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
+  TemporaryFile tmp(path);
   try {
     Imf::Header header(width, height);
     header.compression() = Imf::ZIP_COMPRESSION;
@@ -82,14 +99,14 @@ void writeChannels(const fs::path& path, int width, int height, const std::vecto
                                    sizeof(float) * c.stride * size_t(width)));
     }
     {
-      Imf::OutputFile out(tmp.c_str(), header);
+      Imf::OutputFile out(tmp.path().c_str(), header);
       out.setFrameBuffer(fb);
       out.writePixels(height);
     }
-    fs::rename(tmp, path);
+    tmp.commit();
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
     throw Error("cannot write " + quoted(path) + ": " + e.what());
   }
 }

@@ -12,6 +12,7 @@ struct AtrousTap {
   ptrdiff_t offset;
   float ox, oy;
   float h;
+  float k2;  // |k|^2, k the offset in kernel units (Eq. 6 falloff)
 };
 }  // namespace rtd
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "core/parallel.h"
 #include "passes/atrous_kernels.h"
@@ -75,7 +76,7 @@ template <class Fn> void stridedRows(int height, int step, Fn&& fn) {
   });
 }
 
-template <bool kPropagate, bool kLogNormal, bool kMasked>
+template <bool kPropagate, bool kLogNormal, bool kMasked, bool kFalloff>
 void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
                 const AtrousTap* taps, int tapCount, float h0) {
   const PaddedPlane& z = g.depth;
@@ -98,6 +99,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const bool cie = lv.luminance == MomentLuminance::CieLightness;
   const float* pvalid = kMasked ? lv.validIn->data.data() : nullptr;
   float* qvalid = kMasked ? lv.validOut->data.data() : nullptr;
+  const float* pfall = kFalloff ? lv.spatialFalloff->data.data() : nullptr;
 
   stridedRows(z.height, lv.step, [&](int y) {
     for (int x = 0; x < w; x += kLanes) {
@@ -117,6 +119,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         const vf k = pscale ? load(pscale + c) : splat(1.0f);
         inv = k > 0.0f ? 1.0f / (sigmaL * k * sd + epsL) : splat(0.0f);
       }
+      const vf fall = kFalloff ? load(pfall + c) : splat(0.0f);
       const vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
       vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
       vf sv = kPropagate ? w0 * w0 * load(pv + c) : splat(0.0f);
@@ -125,6 +128,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
         vf expo = kExpShift + vabs(zc - load(pz + q)) * depthScale;  // fused: expNegShifted
         expo = expo + vabs(lc - load(pl + q)) * inv;
+        if constexpr (kFalloff) expo += fall * t.k2;
         vf wt;
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
@@ -243,20 +247,18 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
   // The series form of w_n is accurate for large exponents (the papers' 64 and 128); small
   // ones use the exact power.
   const bool series = lv.normalExponent >= 16;
-  const bool p = lv.propagateVariance;
-  auto run = [&](auto propagate, auto logNormal, auto masked) {
-    atrousRowsT<decltype(propagate)::value, decltype(logNormal)::value, decltype(masked)::value>(g, lv, in, out, taps,
-                                                                                                 tapCount, h0);
+  const bool p = lv.propagateVariance, masked = lv.validIn && lv.validOut, falloff = lv.spatialFalloff;
+  // One instantiation per combination of the four switches.
+  auto run = [&](auto prop, auto logNormal, auto mask, auto fall) {
+    atrousRowsT<decltype(prop)::value, decltype(logNormal)::value, decltype(mask)::value, decltype(fall)::value>(
+        g, lv, in, out, taps, tapCount, h0);
   };
   using T = std::true_type;
   using F = std::false_type;
-  if (lv.validIn && lv.validOut) {
-    if (series) p ? run(T{}, T{}, T{}) : run(F{}, T{}, T{});
-    else p ? run(T{}, F{}, T{}) : run(F{}, F{}, T{});
-  } else {
-    if (series) p ? run(T{}, T{}, F{}) : run(F{}, T{}, F{});
-    else p ? run(T{}, F{}, F{}) : run(F{}, F{}, F{});
-  }
+  auto withFalloff = [&](auto prop, auto logNormal, auto mask) { falloff ? run(prop, logNormal, mask, T{}) : run(prop, logNormal, mask, F{}); };
+  auto withMask = [&](auto prop, auto logNormal) { masked ? withFalloff(prop, logNormal, T{}) : withFalloff(prop, logNormal, F{}); };
+  auto withSeries = [&](auto prop) { series ? withMask(prop, T{}) : withMask(prop, F{}); };
+  p ? withSeries(T{}) : withSeries(F{});
 }
 
 void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,
