@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -23,11 +24,11 @@ const std::vector<MetricInfo>& metricList() {
       {"flip", "FLIP", "tone-mapped sRGB", false, &FrameMetrics::flip, false},
       {"relMse", "relMSE", "linear HDR", false, &FrameMetrics::relMse, false},
       {"rmse", "RMSE", "linear HDR", false, &FrameMetrics::rmse, false},
-      {"temporalError", "temporal", "tone-mapped sRGB luma", false, &FrameMetrics::temporalError, true},
       {"temporalErrorVsReference", "temporal vs ref", "tone-mapped sRGB luma", false,
        &FrameMetrics::temporalErrorVsReference, true},
-      {"referenceTemporalError", "ref temporal", "tone-mapped sRGB luma", false,
-       &FrameMetrics::referenceTemporalError, true},
+      {"temporalError", "temporal change", "tone-mapped sRGB luma", false, &FrameMetrics::temporalError, true, false},
+      {"referenceTemporalError", "ref temporal change", "tone-mapped sRGB luma", false,
+       &FrameMetrics::referenceTemporalError, true, false},
   };
   return list;
 }
@@ -206,6 +207,52 @@ std::unique_ptr<RgbSequence> RgbSequence::open(const fs::path& dir, const std::s
   return std::make_unique<ExrFilesSequence>(std::move(files));
 }
 
+namespace {
+/// The result's frames are the reference's (or its first N), and those `timings.json` lists.
+void checkResultFrames(const RgbSequence& result, const RgbSequence& reference, const fs::path& resultDir,
+                       const fs::path& referenceDir) {
+  const int n = result.frameCount();
+  const auto listed = [](const RgbSequence& s) {
+    const int count = s.frameCount();
+    if (count == 0) return std::string("no frames");
+    std::string text = std::to_string(count) + " frame(s), " + std::to_string(s.frameNumber(0));
+    bool consecutive = true;
+    for (int i = 1; i < count; ++i) consecutive &= s.frameNumber(i) == s.frameNumber(i - 1) + 1;
+    return text + (count > 1 ? (consecutive ? "-" : " ... ") + std::to_string(s.frameNumber(count - 1)) : std::string());
+  };
+  const std::string mismatch = "the result's frames (" + listed(result) + " in '" + resultDir.string() +
+                               "') do not match the reference's (" + listed(reference) + " in '" + referenceDir.string() + "')";
+  for (int i = 0; i < n; ++i) {
+    if (i < reference.frameCount() && result.frameNumber(i) == reference.frameNumber(i)) continue;
+    if (i >= reference.frameCount() || result.frameNumber(i) < reference.frameNumber(i))
+      throw Error(mismatch + ": reference: no frame " + std::to_string(result.frameNumber(i)) + " in '" +
+                  referenceDir.string() + "' for result frame '" + result.framePath(i).string() + "'");
+    throw Error(mismatch + ": result: frame " + std::to_string(reference.frameNumber(i)) + " is missing before '" +
+                result.framePath(i).string() + "' (a result must cover the reference's frames from the first on)");
+  }
+  // timings.json (rtdenoise denoise) lists the frames its run wrote.
+  const fs::path timings = resultDir / "timings.json";
+  if (!fs::exists(timings)) return;
+  nlohmann::json j;
+  try {
+    std::ifstream in(timings);
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw Error("'" + timings.string() + "' is not valid JSON: " + e.what());
+  }
+  if (!j.contains("frames") || !j["frames"].is_array()) return;
+  std::vector<int> written;
+  for (const auto& f : j["frames"])
+    if (f.contains("number") && f["number"].is_number_integer()) written.push_back(f["number"].get<int>());
+  std::vector<int> present;
+  for (int i = 0; i < n; ++i) present.push_back(result.frameNumber(i));
+  std::sort(written.begin(), written.end());
+  if (written != present)
+    throw Error("result '" + resultDir.string() + "' holds " + std::to_string(present.size()) + " frame file(s) but its timings.json lists " +
+                std::to_string(written.size()) + " frame(s) written by its run: the directory mixes runs (denoise again with --overwrite)");
+}
+}  // namespace
+
 std::vector<StreamMetrics> evaluateDirectories(const fs::path& referenceDir, const fs::path& resultDir,
                                                const std::optional<fs::path>& inputDir, const EvalSettings& settings,
                                                const std::function<void(int, int)>& progress) {
@@ -215,16 +262,11 @@ std::vector<StreamMetrics> evaluateDirectories(const fs::path& referenceDir, con
   if (inputDir) input = RgbSequence::open(*inputDir, "input");
 
   const int n = result->frameCount();
+  checkResultFrames(*result, *reference, resultDir, referenceDir);
   std::vector<int> refIndex(n), inIndex(n, -1);
   for (int i = 0; i < n; ++i) {
     const int number = result->frameNumber(i);
-    if (i > 0 && number != result->frameNumber(i - 1) + 1)
-      throw Error("result: frame " + std::to_string(result->frameNumber(i - 1) + 1) + " is missing between '" +
-                  result->framePath(i - 1).string() + "' and '" + result->framePath(i).string() + "'");
     refIndex[i] = reference->indexOf(number);
-    if (refIndex[i] < 0)
-      throw Error("reference: no frame " + std::to_string(number) + " in '" + referenceDir.string() +
-                  "' for result frame '" + result->framePath(i).string() + "'");
     if (input) {
       inIndex[i] = input->indexOf(number);
       if (inIndex[i] < 0)

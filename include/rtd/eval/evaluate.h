@@ -54,6 +54,10 @@ struct MetricInfo {
   bool higherIsBetter;
   double FrameMetrics::*field;
   bool temporal;  ///< undefined on the first frame
+  /// Whether a lower (higher) value means a better result, so tables highlight the best. Not
+  /// for the raw temporal change (a frozen image would win) nor the reference's own change:
+  /// those are shown as information.
+  bool ranked = true;
 };
 const std::vector<MetricInfo>& metricList();
 
@@ -121,9 +125,13 @@ struct StreamMetrics {
 };
 
 /// Evaluates `resultDir` (and `inputDir`, when given, as a second stream named "input")
-/// against `referenceDir`. Frames are matched by number; the result's frames must be
-/// consecutive and each must exist in the reference (and input). Throws rtd::Error naming the
-/// missing or mismatched file. `progress(done, total)` is called after each frame.
+/// against `referenceDir`. Frames are matched by number. The result's frames must be the
+/// reference's frames, or the first N of them (a shorter run): a frame the reference lacks, a
+/// gap, or a result that starts later throws. Where the result directory has `timings.json`
+/// (as `rtdenoise denoise` writes), its frames must be exactly the frames listed there, so the
+/// leftovers of an earlier run are never scored. Input frames must exist for every result frame.
+/// Errors (rtd::Error) name the missing or mismatched file. `progress(done, total)` is called
+/// after each frame.
 std::vector<StreamMetrics> evaluateDirectories(const std::filesystem::path& referenceDir,
                                                const std::filesystem::path& resultDir,
                                                const std::optional<std::filesystem::path>& inputDir,

@@ -105,8 +105,10 @@ struct SvgfSettings {
   /// Setting "variant" by name is a preset: it resets the [variant] fields to that paper's
   /// defaults (fields set afterwards override them). Called by every backend's set().
   void settingSet(std::string_view name) {
-    if (name == "variant") applyVariant(variant);
+    if (isPreset(name)) applyVariant(variant);
   }
+  /// The settings that are presets (SettingInfo::preset): "variant".
+  static bool isPreset(std::string_view name) { return name == "variant"; }
 
   /// Resets the [variant] fields to the papers' defaults.
   void applyVariant(SvgfVariant v) {
@@ -169,7 +171,7 @@ struct SvgfSettings {
   }
 
   template <class V> void visit(V& v) {
-    v("variant", variant, "preset of the [variant] settings: schied, dundr, gersthofer, voorhuis (set it first)",
+    v("variant", variant, "preset of the [variant] settings: schied, dundr, gersthofer, voorhuis (applied before the other settings)",
       {"schied", "dundr", "gersthofer", "voorhuis"});
     v("components", components, "radiance streams filtered separately and summed",
       {"auto", "color", "directIndirect", "diffuseSpecular"});
