@@ -14,7 +14,8 @@ struct EvalOptions {
   std::string warmup = "auto";
   std::string toneMap = "aces";
   float exposure = 0.0f;
-  bool noFlip = false;
+  std::string flip = "ldr,hdr";
+  double pixelsPerDegree = 0;
 
   void add(CLI::App* cmd) {
     cmd->add_option("--warmup", warmup,
@@ -23,7 +24,11 @@ struct EvalOptions {
     cmd->add_option("--tonemap", toneMap, "tone map for the display-referred metrics: aces, reinhard or clamp")
         ->capture_default_str();
     cmd->add_option("--exposure", exposure, "exposure in stops applied before tone mapping")->capture_default_str();
-    cmd->add_flag("--no-flip", noFlip, "skip FLIP (faster)");
+    cmd->add_option("--flip", flip, "FLIP variants: ldr (tone-mapped), hdr (exposure bracket), both, or none (faster)")
+        ->capture_default_str();
+    cmd->add_option("--pixels-per-degree", pixelsPerDegree,
+                    "FLIP viewing condition (default 67.02: a 0.7 m wide 3840-pixel monitor at 0.7 m)")
+        ->check(atLeast(1));
   }
 
   /// The warm-up for a sequence of `frames` frames: "auto" scales with the length, an explicit
@@ -52,7 +57,15 @@ struct EvalOptions {
       throw UsageError(std::string("--tonemap: ") + e.what());
     }
     s.toneMap.exposure = exposure;
-    s.computeFlip = !noFlip;
+    s.computeFlip = s.computeHdrFlip = false;
+    for (const auto& v : splitList(flip)) {
+      if (v == "ldr") s.computeFlip = true;
+      else if (v == "hdr") s.computeHdrFlip = true;
+      else if (v != "none") throw UsageError("--flip '" + flip + "': expected ldr, hdr, ldr,hdr or none");
+    }
+    if (pixelsPerDegree > 0 && !s.computeFlip && !s.computeHdrFlip)
+      throw UsageError("--pixels-per-degree sets FLIP's viewing condition, but --flip is none");
+    s.flip.ppd = pixelsPerDegree;
     return s;
   }
 };

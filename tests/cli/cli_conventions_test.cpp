@@ -163,7 +163,7 @@ TEST(CliConventions, UnknownOrMeaninglessOptionsAreUsageErrors) {
   const fs::path dir = scratch("usage");
   writeScene(dir, 4);
   const std::string io = " -i " + (dir / "input").string() + " -r " + (dir / "reference").string() + " -o " +
-                         (dir / "cmp").string() + " --no-flip";
+                         (dir / "cmp").string() + " --flip none";
   struct Case {
     std::string args, mentions;
   };
@@ -201,7 +201,7 @@ TEST(CliConventions, CompareRunsConfigurationsOfOneMethodAsLabelledRuns) {
   writeScene(dir, 3);
   const auto r = runCli("compare -i " + (dir / "input").string() + " -r " + (dir / "reference").string() + " -o " +
                         (dir / "cmp").string() +
-                        " --no-flip --warmup 1 --methods svgf,svgf:variant=dundr:sigmaNormal=32 -m bmfr:blockSize=64");
+                        " --flip none --warmup 1 --methods svgf,svgf:variant=dundr:sigmaNormal=32 -m bmfr:blockSize=64");
   ASSERT_EQ(r.code, 0) << r.output;
   const auto j = readJson(dir / "cmp" / "metrics.json");
   ASSERT_EQ(j["runs"].size(), 4u);  // the input and three configurations

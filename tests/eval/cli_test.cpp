@@ -46,7 +46,7 @@ TEST(EvalCli, DemoDenoiseEvalAndCompare) {
   EXPECT_NEAR(j["streams"][0]["steady"]["psnr"].get<double>(), demoJson["runs"][1]["steady"]["psnr"].get<double>(), 1e-3);
 
   const auto cmp = runCli("compare -i " + (scene / "input").string() + " -r " + (scene / "reference").string() +
-                          " -o " + (dir / "cmp").string() + " --warmup 1 --no-flip");
+                          " -o " + (dir / "cmp").string() + " --warmup 1 --flip none");
   ASSERT_EQ(cmp.code, 0) << cmp.output;
   EXPECT_TRUE(fs::exists(dir / "cmp" / "report.html"));
 
