@@ -1,7 +1,11 @@
 // rtdenoise bench: per-pass timings of one method on the analytic synthetic scene.
 #include <algorithm>
+#include <ctime>
 #include <map>
 #include <nlohmann/json.hpp>
+#if defined(__x86_64__) || defined(__i386__)
+#include <xmmintrin.h>
+#endif
 
 #include "cli.h"
 #include "synthetic/synthetic.h"
@@ -18,7 +22,27 @@ struct BenchOptions {
   int warmup = 5;
   std::string json;
   bool sampleMask = false;
+  bool ftzDaz = false;
 };
+
+// CPU time of the whole process (all threads), milliseconds.
+double processCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+// --ftz-daz: flush-to-zero and denormals-are-zero in this benchmark process's MXCSR, set
+// before the device's thread arena starts (oneTBB workers take the floating-point settings of
+// the thread that initializes the arena). Only to compare: the library never sets them, and
+// the figures it is measured by are without.
+void setFlushToZero() {
+#if defined(__x86_64__) || defined(__i386__)
+  _mm_setcsr(_mm_getcsr() | 0x8040);  // FTZ (bit 15) | DAZ (bit 6)
+#else
+  throw Error("--ftz-daz is only implemented on x86");
+#endif
+}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -30,6 +54,7 @@ double median(std::vector<double> v) {
 void runBench(const BenchOptions& o) {
   const auto [w, h] = parseSize(o.size);
   (void)methodInfo(o.method);
+  if (o.ftzDaz) setFlushToZero();
   auto device = Device::create(o.device.desc(o.device.single()));
   auto denoiser = device->createDenoiser(o.method);
   applySettings(*denoiser, o.settings);
@@ -55,14 +80,16 @@ void runBench(const BenchOptions& o) {
 
   std::map<std::string, std::vector<double>> passes;
   std::vector<std::string> order;
-  std::vector<double> totals;
+  std::vector<double> totals, cpuTimes;
   Progress progress("bench " + o.method, o.warmup + o.frames);
   for (int i = 0; i < o.warmup + o.frames; ++i) {
     // Cycle 0,1,2,3,2,1,0,... so consecutive frames are always one camera step apart.
     const int k = i % 6, idx = k < 4 ? k : 6 - k;
     FrameInputs in = inputs[idx].inputs();
     if (o.sampleMask) in[Buffer::SampleMask] = masks[size_t(i % 4)].view();
+    const double cpuStart = processCpuMs();
     denoiser->denoise(in, output.view());
+    const double cpu = processCpuMs() - cpuStart;
     progress.update(i + 1);
     if (i < o.warmup) continue;
     for (const auto& p : denoiser->stats().passes) {
@@ -70,14 +97,16 @@ void runBench(const BenchOptions& o) {
       passes[p.name].push_back(p.milliseconds);
     }
     totals.push_back(denoiser->stats().totalMilliseconds);
+    cpuTimes.push_back(cpu);
   }
   progress.finish();
 
-  std::printf("method %s, %dx%d, %s, %d frames after %d warm-up (medians)%s\n", o.method.c_str(), w, h,
-              device->name().c_str(), o.frames, o.warmup, o.sampleMask ? ", 1/4 sample mask" : "");
+  std::printf("method %s, %dx%d, %s, %d frames after %d warm-up (medians)%s%s\n", o.method.c_str(), w, h,
+              device->name().c_str(), o.frames, o.warmup, o.sampleMask ? ", 1/4 sample mask" : "",
+              o.ftzDaz ? ", FTZ/DAZ set in this process" : "");
   nlohmann::json j = {{"method", o.method}, {"width", w}, {"height", h}, {"device", device->name()},
                       {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames},
-                      {"sampleMask", o.sampleMask}};
+                      {"sampleMask", o.sampleMask}, {"ftzDaz", o.ftzDaz}};
   for (const auto& name : order) {
     const double m = median(passes[name]);
     std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
@@ -86,6 +115,11 @@ void runBench(const BenchOptions& o) {
   const double total = median(totals);
   std::printf("  %-24s %9.3f ms\n", "total", total);
   j["totalMedianMs"] = total;
+  // Process CPU time per frame (every thread): less sensitive than wall time to other
+  // processes sharing the cores; / threads is the wall time of a perfectly parallel frame.
+  const double cpu = median(cpuTimes);
+  std::printf("  %-24s %9.3f ms\n", "cpu time (all threads)", cpu);
+  j["cpuMedianMs"] = cpu;
   if (!o.json.empty()) writeFileAtomic(o.json, j.dump(1));
 }
 }  // namespace
@@ -101,6 +135,9 @@ void addBench(CLI::App& app) {
   cmd->add_option("--warmup", o->warmup, "untimed frames first")->capture_default_str()->check(atLeast(0));
   cmd->add_option("--json", o->json, "FILE: also write the medians as JSON to FILE");
   cmd->add_flag("--sample-mask", o->sampleMask, "frames carry a rotating 1/4 sampleMask (progressive modes)");
+  cmd->add_flag("--ftz-daz", o->ftzDaz,
+                "set flush-to-zero and denormals-are-zero in this process first (for comparison only; "
+                "the library never changes the caller's floating-point mode)");
   cmd->callback([o] { runBench(*o); });
 }
 

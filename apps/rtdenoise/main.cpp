@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
 #endif
 #ifdef HAVE_RTDENOISE_RENDER
   addRender(app);
+  addDataset(app);
 #endif
   addPack(app);
   addDevices(app);

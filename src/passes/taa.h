@@ -27,6 +27,11 @@ class Taa {
   void begin(int width, int height);
   void runRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBegin, int rowEnd);
   const Plane3& result() const { return history_[cur_]; }
+  /// Both histories and this thread's window rows (PlaneVisitor).
+  void forEachPlane(const PlaneVisitor& visit) const {
+    for (const Plane3& h : history_) visitPlanes(visit, "taa history", h);
+    for (const Window& w : windows_) visit("taa window", w.rows.data(), w.rows.size());
+  }
 
  private:
   /// Per-thread rows: the 3x3 box is built from a rolling window of three rows' YCoCg and

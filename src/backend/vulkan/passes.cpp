@@ -66,26 +66,47 @@ void GpuTemporalAccumulator::resize(Context& ctx, int w, int h) {
   cur_ = 0;
 }
 
+namespace {
+struct AccumulationPC {
+  uint32_t width, height;
+  float alpha, momentsAlpha, maxHistoryLength;
+  uint32_t luminanceMode, cumulativeMoments;
+  uint32_t gradientWidth = 0, gradientStride = 1;
+  float historyExponent = 0;
+};
+}  // namespace
+
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
                                  int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments,
                                  const Planes* sampleMask) {
+  const Planes& prev = advance(rec);
+  AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
+                    luminanceMode, cumulativeMoments};
+  if (sampleMask)
+    rec.dispatch("temporal_accumulation_masked", {rp, color, prev, history_[cur_], *sampleMask}, pc, color.width,
+                 color.height);
+  else
+    rec.dispatch("temporal_accumulation", {rp, color, prev, history_[cur_]}, pc, color.width, color.height);
+}
+
+void GpuTemporalAccumulator::runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha,
+                                         float momentsAlpha, int maxHistoryLength, uint32_t luminanceMode,
+                                         const Planes& gradient, int stride, float historyExponent) {
+  const Planes& prev = advance(rec);
+  AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
+                    luminanceMode, 1, uint32_t(gradient.width), uint32_t(stride), historyExponent};
+  rec.dispatch("temporal_accumulation_gradient", {rp, color, prev, history_[cur_], gradient}, pc, color.width,
+               color.height);
+}
+
+const Planes& GpuTemporalAccumulator::advance(Recorder& rec) {
   const int prev = cur_;
   cur_ ^= 1;
   if (clear_) {
     rec.fill(history_[prev].buffer, 0);
     clear_ = false;
   }
-  struct PC {
-    uint32_t width, height;
-    float alpha, momentsAlpha, maxHistoryLength;
-    uint32_t luminanceMode, cumulativeMoments;
-  } pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength), luminanceMode,
-       cumulativeMoments};
-  if (sampleMask)
-    rec.dispatch("temporal_accumulation_masked", {rp, color, history_[prev], history_[cur_], *sampleMask}, pc,
-                 color.width, color.height);
-  else
-    rec.dispatch("temporal_accumulation", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
+  return history_[prev];
 }
 
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient) {
@@ -100,6 +121,11 @@ void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Plan
 
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& lv,
                  const Planes& in, Planes& out) {
+  atrousLevel(rec, frame[Buffer::Depth], frame[Buffer::Normal], gradient, lv, in, out);
+}
+
+void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const Planes& gradient,
+                 const GpuAtrousLevel& lv, const Planes& in, Planes& out) {
   struct PC {
     uint32_t width, height;
     int32_t step, radius;
@@ -112,7 +138,7 @@ void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, c
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
            (lv.propagateVariance ? 8u : 0u),
        lv.luminanceMode, uint32_t(lv.validInPlane)};
-  std::vector<Binding> bindings{frame[Buffer::Depth], frame[Buffer::Normal], gradient, in, out,
+  std::vector<Binding> bindings{depth, normal, gradient, in, out,
                                 lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())};
   // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
   constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);

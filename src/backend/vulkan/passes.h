@@ -48,11 +48,19 @@ class GpuTemporalAccumulator {
   /// history carries over unchanged (shader variant temporal_accumulation_masked).
   void run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha, int maxHistoryLength,
            uint32_t luminanceMode = 0, bool cumulativeMoments = true, const Planes* sampleMask = nullptr);
+  /// A-SVGF's adaptive accumulation (AccumulationOptions::temporalGradient; shader variant
+  /// temporal_accumulation_gradient): G in the first plane of `gradient`, one texel per
+  /// stride x stride pixels; alpha and momentsAlpha are the weights' floors.
+  void runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
+                   int maxHistoryLength, uint32_t luminanceMode, const Planes& gradient, int stride,
+                   float historyExponent);
   /// This frame's result; methods that feed a filtered colour back (SVGF) write its planes 0-2.
   Planes& current() { return history_[cur_]; }
   const Planes& current() const { return history_[cur_]; }
 
  private:
+  /// Swaps the history buffers (clearing the previous one after reset()); returns it.
+  const Planes& advance(Recorder& rec);
   Planes history_[2];
   int cur_ = 0;
   bool clear_ = false;
@@ -81,9 +89,13 @@ struct GpuAtrousLevel {
 
 /// The a-trous guide's depth gradient (2 planes) from the frame's depth (AtrousGuide::build).
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient);
-/// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`.
+/// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`. The
+/// guide is the frame's depth and normal and `gradient` (atrousGuide).
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& level,
                  const Planes& in, Planes& out);
+/// The same with the guide's depth (1 plane) and normal (3 planes) given, at the images' size.
+void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const Planes& gradient,
+                 const GpuAtrousLevel& level, const Planes& in, Planes& out);
 /// Clamped 3x3 Gaussian of plane `srcPlane` of `in` into plane `dstPlane` of `out`.
 void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int dstPlane);
 

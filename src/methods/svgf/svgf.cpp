@@ -7,6 +7,7 @@
 
 #include "backend/cpu/cpu_denoiser.h"
 #include "core/parallel.h"
+#include "methods/svgf/svgf_filter.h"
 #include "methods/svgf/svgf_passes.h"
 #include "passes/demodulation.h"
 #include "passes/reprojection.h"
@@ -19,14 +20,6 @@ namespace rtd {
 namespace {
 
 constexpr int kMaxStreams = 2;
-
-MomentLuminance toMomentLuminance(SvgfLuminance l) {
-  switch (l) {
-    case SvgfLuminance::rec601: return MomentLuminance::Rec601;
-    case SvgfLuminance::cieLightness: return MomentLuminance::CieLightness;
-    default: return MomentLuminance::Rec709;
-  }
-}
 
 // One radiance stream (Color, or one half of a split) and its history.
 struct Stream {
@@ -44,12 +37,8 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
  protected:
   void resizeHistory(int w, int h) override {
     const int pad = requiredPad();
-    pad_ = pad;
     guide_.resize(w, h, pad);
-    for (auto& im : levels_) im.resize(w, h, pad);
-    sigmaScale_.resize(w, h, pad);
-    for (auto& v : valid_) v.resize(w, h, pad);
-    for (auto& v : scratch_) v.resize(w, h, pad);
+    filter_.resize(w, h, pad);
     for (auto& s : streams_) {
       rtd::resize(s.demod, w, h);
       s.accumulator.resize(w, h);
@@ -62,10 +51,22 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     for (auto& s : streams_) s.accumulator.reset();
     taa_.reset();
   }
+  void visitMethodPlanes(const PlaneVisitor& visit) const override {
+    reprojection_.forEachPlane(visit);
+    guide_.forEachPlane(visit);
+    filter_.forEachPlane(visit);
+    for (const auto& st : streams_) {
+      visitPlanes(visit, "demodulated", st.demod);
+      st.accumulator.forEachPlane(visit);
+    }
+    visitPlanes(visit, "sum", sum_);
+    visitPlanes(visit, "display", display_);
+    taa_.forEachPlane(visit);
+  }
 
   const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& /*out*/, FrameStats& stats) override {
     const SvgfSettings& s = settings_;
-    if (requiredPad() > pad_) {  // more levels than allocated for: settings changed
+    if (requiredPad() > filter_.pad()) {  // more levels than allocated for: settings changed
       resizeHistory(frame.width, frame.height);
       resetHistory();
       previous = nullptr;
@@ -85,9 +86,9 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     for (int k = 0; k < nStreams; ++k) {
       Stream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
-      filterStream(frame, st, st.plan.demodulated ? albedo : nullptr, suffix, stats);
+      const AtrousImage& result = filterStream(frame, st, st.plan.demodulated ? albedo : nullptr, suffix, stats);
       PassTimer t(stats, "sum" + suffix);
-      addStream(st, k == 0, albedo);
+      addStream(st, result, k == 0, albedo);
     }
     Plane3* shown = &sum_;
     if (s.fireflyMedian) {
@@ -105,11 +106,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   }
 
  private:
-  int requiredPad() const {
-    const int r = settings_.kernel == SvgfKernel::b3spline5x5 ? 2 : 1;
-    const int maxStep = settings_.atrousIterations > 0 ? 1 << (settings_.atrousIterations - 1) : 1;
-    return std::max({r * maxStep, settings_.spatialVarianceRadius, 8});
-  }
+  int requiredPad() const { return svgf::filterParams(settings_, false).requiredPad(); }
 
   // Which streams this frame has, per the `components` setting.
   int chooseStreams(const FrameData& f) {
@@ -123,10 +120,12 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     return n;
   }
 
-  void filterStream(const FrameData& frame, Stream& st, const std::vector<Plane>* albedo, const std::string& suffix,
-                    FrameStats& stats) {
+  // Demodulate and accumulate one stream, then the shared SVGF filter (variance, a-trous
+  // levels, feedback); returns the filtered image.
+  const AtrousImage& filterStream(const FrameData& frame, Stream& st, const std::vector<Plane>* albedo,
+                                  const std::string& suffix, FrameStats& stats) {
     const SvgfSettings& s = settings_;
-    const MomentLuminance lum = toMomentLuminance(s.luminance);
+    const svgf::FilterParams p = svgf::filterParams(s, st.plan.indirect);
     {
       PassTimer t(stats, "demodulate" + suffix);
       demodulate(frame.planes(st.plan.buffer), albedo, st.demod);
@@ -134,80 +133,17 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     {
       PassTimer t(stats, "accumulate" + suffix);
       AccumulationOptions opt;
-      opt.luminance = lum;
+      opt.luminance = p.variance.luminance;
       opt.cumulativeMoments = s.momentsTrueAverage;
       opt.sampleMask = mask_;
       st.accumulator.run(reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
     }
-    const int normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
-    {
-      PassTimer t(stats, "variance" + suffix);
-      svgf::VarianceInputs in{&st.accumulator.historyLength(), &st.accumulator.moment1(), &st.accumulator.moment2(),
-                              &st.demod, &st.accumulator.color()};
-      svgf::VarianceParams p;
-      p.shortHistoryFrames = s.shortHistoryFrames;
-      p.shortHistory = s.shortHistory;
-      p.radius = s.spatialVarianceRadius;
-      p.fromMoments = s.spatialVarianceFromMoments;
-      p.sigmaDepth = s.sigmaDepth;
-      p.depthEpsilon = s.depthEpsilon;
-      p.normalExponent = normalExponent;
-      p.luminance = lum;
-      svgf::estimateVariance(guide_, in, p, levels_[0], scratch_);
-      svgf::luminanceSigmaScale(st.accumulator.historyLength(), s, sigmaScale_);
-      if (mask_) markValid(st.accumulator.historyLength(), valid_[0]);
-      if (s.variancePrefilter == SvgfVariancePrefilter::once) {
-        gaussian3x3(levels_[0].var, levels_[2].var);
-        std::swap(levels_[0].var, levels_[2].var);
-      }
-    }
-    const int n = s.atrousIterations;
-    int steps[8];
-    svgf::levelSteps(s.levelOrder, n, steps);
-    const bool propagate = s.varianceFiltering && !(st.plan.indirect && !s.indirectVarianceFiltering);
-    int cur = 0;
-    for (int i = 0; i < n; ++i) {
-      PassTimer t(stats, "atrous" + std::to_string(i + 1) + suffix);
-      AtrousImage& src = levels_[cur];
-      AtrousImage& dst = levels_[cur ^ 1];
-      AtrousLevel lv;
-      lv.kernel = s.kernel == SvgfKernel::b3spline5x5 ? AtrousKernel::B3Spline5x5 : AtrousKernel::Binomial3x3;
-      lv.step = steps[i];
-      lv.sigmaDepth = s.sigmaDepth;
-      lv.depthEpsilon = s.depthEpsilon;
-      lv.normalExponent = normalExponent;
-      lv.sigmaLuminance = s.sigmaLuminance;
-      lv.luminanceEpsilon = s.luminanceEpsilon;
-      lv.prefilterVariance = s.variancePrefilter == SvgfVariancePrefilter::everyLevel;
-      lv.varianceScale = s.luminanceScale == SvgfLuminanceScale::variance;
-      lv.sigmaScale = &sigmaScale_;
-      // The last level's variance is not used any more.
-      lv.propagateVariance = propagate && i + 1 < n;
-      lv.luminance = lum;
-      if (mask_) {
-        lv.validIn = &valid_[cur];
-        lv.validOut = &valid_[cur ^ 1];
-      }
-      atrousLevel(guide_, lv, src, dst);
-      if (!lv.propagateVariance) std::swap(src.var, dst.var);  // keep the unfiltered variance
-      cur ^= 1;
-      if (i + 1 == s.feedbackLevel) {
-        // The first level's output becomes next frame's colour history (Schied Sec. 4.3).
-        Plane3& history = st.accumulator.color();
-        if (mask_) feedbackSampled(levels_[cur], *mask_, history);
-        else for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyTo(history[c]);
-      }
-    }
-    // Result of this stream: levels_[cur].color (or the accumulation when n == 0).
-    if (n == 0)
-      for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyFrom(st.accumulator.color()[c]);
-    result_ = cur;
+    return filter_.run(guide_, st.accumulator, st.demod, mask_, p, stats, suffix);
   }
 
   // sum_ (+)= this stream's filtered illumination; a non-demodulated stream (specular) is
   // divided by the albedo here so that the shared remodulation restores it exactly.
-  void addStream(const Stream& st, bool first, const std::vector<Plane>* albedo) {
-    const AtrousImage& r = levels_[result_];
+  void addStream(const Stream& st, const AtrousImage& r, bool first, const std::vector<Plane>* albedo) {
     const int w = sum_[0].width;
     const bool divide = !st.plan.demodulated && albedo;
     parallelRows(sum_[0].height, [&](int y) {
@@ -223,42 +159,13 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     });
   }
 
-  // Level-0 validity: pixels with any accumulated data.
-  static void markValid(const Plane& length, PaddedPlane& valid) {
-    const int w = length.width;
-    parallelRows(length.height, [&](int y) {
-      const float* n = length.row(y);
-      float* v = valid.row(y);
-      for (int x = 0; x < w; ++x) v[x] = n[x] > 0.0f ? 1.0f : 0.0f;
-    });
-  }
-
-  // Dundr Sec. 5: feeding the filtered level back everywhere would blur untouched samples
-  // again every frame; only pixels sampled this frame take the filtered value.
-  static void feedbackSampled(const AtrousImage& level, const Plane& mask, Plane3& history) {
-    const int w = mask.width;
-    parallelRows(mask.height, [&](int y) {
-      const float* m = mask.row(y);
-      for (int c = 0; c < 3; ++c) {
-        const float* in = level.color[c].row(y);
-        float* o = history[c].row(y);
-        for (int x = 0; x < w; ++x)
-          if (m[x] != 0.0f) o[x] = in[x];
-      }
-    });
-  }
-
   Reprojection reprojection_;
   AtrousGuide guide_;
-  AtrousImage levels_[3];
-  PaddedPlane sigmaScale_;
-  PaddedPlane valid_[2], scratch_[2];
+  svgf::Filter filter_;
   const Plane* mask_ = nullptr;
   Stream streams_[kMaxStreams];
   Plane3 sum_, display_;
   Taa taa_;
-  int pad_ = 0;
-  int result_ = 0;
 };
 
 }  // namespace

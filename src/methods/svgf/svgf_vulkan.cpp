@@ -2,10 +2,8 @@
 // shaders (shared ones in src/backend/vulkan/shaders, SVGF's own in shaders/ here). Every
 // setting of SvgfSettings is honoured, variants and the progressive sub-1-spp mode included.
 #if defined(RTD_HAS_VULKAN) && __has_include("rtd/methods/svgf.h")
-#include <algorithm>
-#include <cmath>
-
 #include "backend/vulkan/vulkan_denoiser.h"
+#include "methods/svgf/svgf_filter_vulkan.h"
 #include "methods/svgf/svgf_passes.h"
 #include "rtd/methods/svgf.h"
 
@@ -14,14 +12,6 @@ namespace rtd {
 namespace {
 
 constexpr int kMaxStreams = 2;
-
-uint32_t luminanceMode(SvgfLuminance l) {
-  switch (l) {
-    case SvgfLuminance::rec601: return 1;
-    case SvgfLuminance::cieLightness: return 2;
-    default: return 0;
-  }
-}
 
 // One radiance stream and its history, as in svgf.cpp.
 struct GpuStream {
@@ -41,9 +31,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   void resizeHistory(int w, int h) override {
     reprojection_.allocate(ctx_, w, h, 8);
     gradient_.allocate(ctx_, w, h, 2);
-    for (auto& l : levels_) l.allocate(ctx_, w, h, 5);
-    sigmaScale_.allocate(ctx_, w, h, 1);
-    for (auto& v : valid_) v.allocate(ctx_, w, h, 1);
+    filter_.resize(ctx_, w, h);
     for (auto& s : streams_) {
       s.demod.allocate(ctx_, w, h, 3);
       s.accumulator.resize(ctx_, w, h);
@@ -107,101 +95,23 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     return n;
   }
 
-  // Demodulate, accumulate, estimate the variance, filter; returns the level holding the result.
+  // Demodulate and accumulate one stream, then the shared SVGF filter (variance, a-trous
+  // levels, feedback); returns the planes holding the result.
   const vk::Planes& filterStream(vk::Recorder& rec, const vk::GpuFrame& frame, GpuStream& st, const vk::Planes* albedo,
                                  const std::string& suffix) {
     const SvgfSettings& s = settings_;
-    const uint32_t lum = luminanceMode(s.luminance);
-    const size_t planeBytes = size_t(frame.width) * frame.height * 4;
+    const svgf::FilterParams p = svgf::filterParams(s, st.plan.indirect);
     rec.pass("demodulate" + suffix);
     vk::demodulate(rec, frame[st.plan.buffer], albedo, st.demod);
     rec.pass("accumulate" + suffix);
-    st.accumulator.run(rec, reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, lum,
-                       s.momentsTrueAverage, mask_);
-    const int normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
-    rec.pass("variance" + suffix);
-    {
-      struct PC {
-        uint32_t width, height;
-        float shortHistoryFrames;
-        int32_t radius;
-        float sigmaDepth, depthEpsilon;
-        int32_t normalExponent;
-        uint32_t luminanceMode, flags;
-      } pc{uint32_t(frame.width), uint32_t(frame.height), float(s.shortHistoryFrames), s.spatialVarianceRadius,
-           s.sigmaDepth, s.depthEpsilon, normalExponent, lum, 0};
-      if (s.shortHistory == SvgfShortHistory::spatialEstimate && s.shortHistoryFrames > 0) pc.flags |= 1;
-      if (s.spatialVarianceFromMoments) pc.flags |= 2;
-      if (s.shortHistory == SvgfShortHistory::disableLuminanceWeight) pc.flags |= 4;
-      if (s.shortHistoryBandwidth) pc.flags |= 8;
-      rec.dispatch("svgf_variance",
-                   {frame[Buffer::Depth], frame[Buffer::Normal], gradient_, st.accumulator.current(), st.demod,
-                    levels_[0], sigmaScale_},
-                   pc, frame.width, frame.height);
-      if (s.variancePrefilter == SvgfVariancePrefilter::once) {
-        vk::gaussian3x3(rec, levels_[0], 4, levels_[2], 4);
-        rec.copy(levels_[2].buffer, levels_[0].buffer, planeBytes, 4 * planeBytes, 4 * planeBytes);
-      }
-    }
-    const int n = s.atrousIterations;
-    const bool propagate = s.varianceFiltering && !(st.plan.indirect && !s.indirectVarianceFiltering);
-    int cur = 0;
-    for (int i = 0; i < n; ++i) {
-      rec.pass("atrous" + std::to_string(i + 1) + suffix);
-      vk::GpuAtrousLevel lv;
-      lv.radius = s.kernel == SvgfKernel::b3spline5x5 ? 2 : 1;
-      lv.step = levelStep(s.levelOrder, n, i);
-      lv.sigmaDepth = s.sigmaDepth;
-      lv.depthEpsilon = s.depthEpsilon;
-      lv.normalExponent = normalExponent;
-      lv.sigmaLuminance = s.sigmaLuminance;
-      lv.luminanceEpsilon = s.luminanceEpsilon;
-      lv.prefilterVariance = s.variancePrefilter == SvgfVariancePrefilter::everyLevel;
-      lv.varianceScale = s.luminanceScale == SvgfLuminanceScale::variance;
-      lv.sigmaScale = &sigmaScale_;
-      lv.propagateVariance = propagate && i + 1 < n;  // the last level's variance is not used
-      lv.luminanceMode = lum;
-      if (mask_) {
-        // Level-0 validity is historyLength > 0 (the CPU's markValid), read straight from the
-        // accumulator's length plane; later levels read the previous level's validity.
-        if (i == 0) {
-          lv.validIn = &st.accumulator.current();
-          lv.validInPlane = 5;
-        } else {
-          lv.validIn = &valid_[(i - 1) & 1];
-        }
-        lv.validOut = &valid_[i & 1];
-      }
-      vk::atrousLevel(rec, frame, gradient_, lv, levels_[cur], levels_[cur ^ 1]);
-      cur ^= 1;
-      // The feedback level's output becomes next frame's colour history (Schied Sec. 4.3).
-      if (i + 1 == s.feedbackLevel) {
-        if (mask_) {
-          struct PC {
-            uint32_t width, height;
-          } pc{uint32_t(frame.width), uint32_t(frame.height)};
-          rec.dispatch("svgf_feedback_sampled", {levels_[cur], *mask_, st.accumulator.current()}, pc, frame.width,
-                       frame.height);
-        } else {
-          rec.copy(levels_[cur].buffer, st.accumulator.current().buffer, 3 * planeBytes);
-        }
-      }
-    }
-    if (n == 0) rec.copy(st.accumulator.current().buffer, levels_[cur].buffer, 3 * planeBytes);
-    return levels_[cur];
+    st.accumulator.run(rec, reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength,
+                       uint32_t(p.variance.luminance), s.momentsTrueAverage, mask_);
+    return filter_.run(rec, frame[Buffer::Depth], frame[Buffer::Normal], gradient_, st.accumulator, st.demod, mask_,
+                       p, suffix);
   }
 
-  // Tap spacing of executed level i of n (svgf::levelSteps).
-  static int levelStep(SvgfLevelOrder order, int n, int i) {
-    switch (order) {
-      case SvgfLevelOrder::coarseToFine: return 1 << (n - 1 - i);
-      case SvgfLevelOrder::firstThenCoarseToFine: return i == 0 ? 1 : 1 << (n - i);
-      default: return 1 << i;
-    }
-  }
-
-  vk::Planes reprojection_, gradient_, levels_[3], sigmaScale_, sum_, display_, remodulated_;
-  vk::Planes valid_[2];                  // a-trous validity per level in the progressive mode
+  vk::Planes reprojection_, gradient_, sum_, display_, remodulated_;
+  svgf::GpuFilter filter_;
   const vk::Planes* mask_ = nullptr;     // this frame's sample mask, or null (dense)
   GpuStream streams_[kMaxStreams];
   vk::GpuTaa taa_;

@@ -159,14 +159,13 @@ void main() {
       const float wn = normalWeight(dot(n, nq), pc.normalExponent);
       const float denomZ = abs(gx * float(ox) + gy * float(oy)) + pc.depthEpsilon;
       const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv;
-      const float wt = (kernel1D(dx) * kernel1D(dy) * wn) * exp(-expo);
+      const float wt = kernel1D(dx) * kernel1D(dy) * cutWeight(wn * exp(-expo));
       sw += wt;
       sc += wt * cq;
       if (propagate) sv += wt * wt * img[4u * plane + q];
     }
 #ifdef RTD_SAMPLE_MASK
-  // Total weights this small are the CPU exp's e^-87 floor, not data (as atrousRows<kMasked>).
-  const bool any = sw > 1e-20;
+  const bool any = sw > 0.0;
   const float rcp = any ? 1.0 / sw : 0.0;
   validOut[c] = any ? 1.0 : 0.0;
 #else

@@ -1,0 +1,158 @@
+#include "methods/svgf/svgf_filter.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/parallel.h"
+
+namespace rtd::svgf {
+
+namespace {
+
+MomentLuminance toMomentLuminance(SvgfLuminance l) {
+  switch (l) {
+    case SvgfLuminance::rec601: return MomentLuminance::Rec601;
+    case SvgfLuminance::cieLightness: return MomentLuminance::CieLightness;
+    default: return MomentLuminance::Rec709;
+  }
+}
+
+// Level-0 validity: pixels with any accumulated data.
+void markValid(const Plane& length, PaddedPlane& valid) {
+  const int w = length.width;
+  parallelRows(length.height, [&](int y) {
+    const float* n = length.row(y);
+    float* v = valid.row(y);
+    for (int x = 0; x < w; ++x) v[x] = n[x] > 0.0f ? 1.0f : 0.0f;
+  });
+}
+
+// Dundr Sec. 5: feeding the filtered level back everywhere would blur untouched samples
+// again every frame; only pixels sampled this frame take the filtered value.
+void feedbackSampled(const AtrousImage& level, const Plane& mask, Plane3& history) {
+  const int w = mask.width;
+  parallelRows(mask.height, [&](int y) {
+    const float* m = mask.row(y);
+    for (int c = 0; c < 3; ++c) {
+      const float* in = level.color[c].row(y);
+      float* o = history[c].row(y);
+      for (int x = 0; x < w; ++x)
+        if (m[x] != 0.0f) o[x] = in[x];
+    }
+  });
+}
+
+}  // namespace
+
+int FilterParams::requiredPad() const {
+  const int r = kernel == SvgfKernel::b3spline5x5 ? 2 : 1;
+  const int maxStep = iterations > 0 ? 1 << (iterations - 1) : 1;
+  return std::max({r * maxStep, variance.radius, 8});
+}
+
+FilterParams filterParams(const SvgfSettings& s, bool indirect) {
+  FilterParams p;
+  VarianceParams& v = p.variance;
+  v.shortHistoryFrames = s.shortHistoryFrames;
+  v.shortHistory = s.shortHistory;
+  v.radius = s.spatialVarianceRadius;
+  v.fromMoments = s.spatialVarianceFromMoments;
+  v.sigmaDepth = s.sigmaDepth;
+  v.depthEpsilon = s.depthEpsilon;
+  v.normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
+  v.luminance = toMomentLuminance(s.luminance);
+  p.variancePrefilter = s.variancePrefilter;
+  p.shortHistoryBandwidth = s.shortHistoryBandwidth;
+  p.kernel = s.kernel;
+  p.iterations = s.atrousIterations;
+  p.levelOrder = s.levelOrder;
+  p.feedbackLevel = s.feedbackLevel;
+  p.sigmaLuminance = s.sigmaLuminance;
+  p.luminanceEpsilon = s.luminanceEpsilon;
+  p.luminanceScale = s.luminanceScale;
+  p.propagateVariance = s.varianceFiltering && !(indirect && !s.indirectVarianceFiltering);
+  return p;
+}
+
+void luminanceSigmaScale(const Plane& len, const FilterParams& p, PaddedPlane& out) {
+  const int w = len.width;
+  const bool off = p.variance.shortHistory == SvgfShortHistory::disableLuminanceWeight;
+  const float shortFrames = float(p.variance.shortHistoryFrames);
+  parallelRows(len.height, [&](int y) {
+    const float* n = len.row(y);
+    float* o = out.row(y);
+    for (int x = 0; x < w; ++x) {
+      if (off && n[x] < shortFrames) {
+        o[x] = 0.0f;
+        continue;
+      }
+      // h = successful reprojections = history length - 1.
+      o[x] = p.shortHistoryBandwidth ? shortHistoryBandwidthScale(int(n[x]) - 1) : 1.0f;
+    }
+  });
+}
+
+void Filter::resize(int w, int h, int pad) {
+  pad_ = pad;
+  for (auto& im : levels_) im.resize(w, h, pad);
+  sigmaScale_.resize(w, h, pad);
+  for (auto& v : valid_) v.resize(w, h, pad);
+  for (auto& v : scratch_) v.resize(w, h, pad);
+}
+
+const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& acc, const Plane3& current,
+                               const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix) {
+  {
+    PassTimer t(stats, "variance" + suffix);
+    VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &acc.color()};
+    estimateVariance(guide, in, p.variance, levels_[0], scratch_);
+    luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);
+    if (mask) markValid(acc.historyLength(), valid_[0]);
+    if (p.variancePrefilter == SvgfVariancePrefilter::once) {
+      gaussian3x3(levels_[0].var, levels_[2].var);
+      std::swap(levels_[0].var, levels_[2].var);
+    }
+  }
+  const int n = p.iterations;
+  int steps[8];
+  levelSteps(p.levelOrder, n, steps);
+  int cur = 0;
+  for (int i = 0; i < n; ++i) {
+    PassTimer t(stats, "atrous" + std::to_string(i + 1) + suffix);
+    AtrousImage& src = levels_[cur];
+    AtrousImage& dst = levels_[cur ^ 1];
+    AtrousLevel lv;
+    lv.kernel = p.kernel == SvgfKernel::b3spline5x5 ? AtrousKernel::B3Spline5x5 : AtrousKernel::Binomial3x3;
+    lv.step = steps[i];
+    lv.sigmaDepth = p.variance.sigmaDepth;
+    lv.depthEpsilon = p.variance.depthEpsilon;
+    lv.normalExponent = p.variance.normalExponent;
+    lv.sigmaLuminance = p.sigmaLuminance;
+    lv.luminanceEpsilon = p.luminanceEpsilon;
+    lv.prefilterVariance = p.variancePrefilter == SvgfVariancePrefilter::everyLevel;
+    lv.varianceScale = p.luminanceScale == SvgfLuminanceScale::variance;
+    lv.sigmaScale = &sigmaScale_;
+    // The last level's variance is not used any more.
+    lv.propagateVariance = p.propagateVariance && i + 1 < n;
+    lv.luminance = p.variance.luminance;
+    if (mask) {
+      lv.validIn = &valid_[cur];
+      lv.validOut = &valid_[cur ^ 1];
+    }
+    atrousLevel(guide, lv, src, dst);
+    if (!lv.propagateVariance) std::swap(src.var, dst.var);  // keep the unfiltered variance
+    cur ^= 1;
+    if (i + 1 == p.feedbackLevel) {
+      // The first level's output becomes next frame's colour history (Schied Sec. 4.3).
+      Plane3& history = acc.color();
+      if (mask) feedbackSampled(levels_[cur], *mask, history);
+      else for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyTo(history[c]);
+    }
+  }
+  // Without levels the result is the accumulation itself.
+  if (n == 0)
+    for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyFrom(acc.color()[c]);
+  return levels_[cur];
+}
+
+}  // namespace rtd::svgf

@@ -1,0 +1,81 @@
+// The spatial half of SVGF for one radiance stream (Schied et al. 2017 Sec. 4.2-4.3): the
+// variance estimate, the a-trous levels and the feedback of one level into the colour history.
+// Shared by the methods that accumulate first and then filter like SVGF (`svgf`, `asvgf`):
+// each turns its settings into FilterParams and calls Filter::run once per stream per frame.
+// The Vulkan twin is GpuFilter (svgf_filter_vulkan.h).
+#pragma once
+#include <string>
+
+#include "core/timer.h"
+#include "methods/svgf/svgf_passes.h"
+#include "passes/atrous.h"
+#include "passes/temporal_accumulation.h"
+#include "rtd/methods/svgf.h"
+
+namespace rtd::svgf {
+
+/// What the filter does with one stream. svgf builds it with filterParams(); other methods fill
+/// it from their own settings (the fields mean what the SvgfSettings fields of the same names
+/// mean, docs/methods/svgf.md).
+struct FilterParams {
+  /// Short-history estimate, window, depth/normal weights (also those of the a-trous levels)
+  /// and the luminance of moments, variance and w_l.
+  VarianceParams variance;
+  SvgfVariancePrefilter variancePrefilter = SvgfVariancePrefilter::everyLevel;
+  /// Per-pixel multiplier of sigma_l (luminanceSigmaScale): Dundr's w_l off for short
+  /// histories (variance.shortHistory == disableLuminanceWeight) and Voorhuis Eq. 8.
+  bool shortHistoryBandwidth = false;
+  SvgfKernel kernel = SvgfKernel::b3spline5x5;
+  int iterations = 5;
+  SvgfLevelOrder levelOrder = SvgfLevelOrder::fineToCoarse;
+  /// 1-based executed level whose output overwrites the accumulated colour; 0 = none.
+  int feedbackLevel = 1;
+  float sigmaLuminance = 4.0f;
+  float luminanceEpsilon = 1e-10f;
+  SvgfLuminanceScale luminanceScale = SvgfLuminanceScale::standardDeviation;
+  /// Var' = sum h^2 w^2 Var / (sum h w)^2 between levels (Schied Eq. 4).
+  bool propagateVariance = true;
+
+  /// Border the planes need: the widest tap offset, the spatial window, one SIMD vector.
+  int requiredPad() const;
+};
+
+/// SVGF's parameters for a stream (`indirect`: Voorhuis' indirectVarianceFiltering applies).
+FilterParams filterParams(const SvgfSettings& s, bool indirect);
+
+/// Per-pixel multiplier of sigma_l from the history length: 0 where w_l is off (Dundr, n <
+/// shortHistoryFrames with disableLuminanceWeight), Voorhuis Eq. 8 where enabled, else 1.
+void luminanceSigmaScale(const Plane& historyLength, const FilterParams& p, PaddedPlane& out);
+
+/// The filter's planes, allocated once per size (resize) and reused by every stream.
+class Filter {
+ public:
+  void resize(int w, int h, int pad);
+  int pad() const { return pad_; }
+
+  /// Filters one stream: the level-0 image from `accumulator` (colour, moments, length) and
+  /// `current` (this frame's demodulated sample, for the spatial variance estimate), then
+  /// p.iterations a-trous levels over `guide`. After executed level p.feedbackLevel its output
+  /// replaces accumulator.color() (with `mask`, Dundr Sec. 5: only at pixels sampled this
+  /// frame; missing pixels weigh 0 in the levels). Times the passes "variance" + suffix and
+  /// "atrous<i>" + suffix into `stats`. Returns the filtered image (its colour planes hold the
+  /// accumulation when p.iterations is 0); valid until the next run.
+  const AtrousImage& run(const AtrousGuide& guide, TemporalAccumulator& accumulator, const Plane3& current,
+                         const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix = {});
+
+  /// Every plane the filter keeps (CPU denoisers' PlaneInspection).
+  void forEachPlane(const PlaneVisitor& visit) const {
+    for (const auto& im : levels_) im.forEachPlane(visit);
+    sigmaScale_.visit(visit, "sigma scale");
+    for (const auto& v : valid_) v.visit(visit, "valid");
+    for (const auto& v : scratch_) v.visit(visit, "variance window input");
+  }
+
+ private:
+  AtrousImage levels_[3];
+  PaddedPlane sigmaScale_;
+  PaddedPlane valid_[2], scratch_[2];
+  int pad_ = 0;
+};
+
+}  // namespace rtd::svgf

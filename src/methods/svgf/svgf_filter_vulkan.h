@@ -1,0 +1,29 @@
+// The Vulkan twin of svgf::Filter (svgf_filter.h): variance estimate, a-trous levels and
+// feedback of one radiance stream, recorded as compute dispatches. Shared by `svgf` and `asvgf`.
+#pragma once
+#include <string>
+
+#include "backend/vulkan/passes.h"
+#include "methods/svgf/svgf_filter.h"
+
+namespace rtd::svgf {
+
+class GpuFilter {
+ public:
+  void resize(vk::Context& ctx, int w, int h);
+
+  /// Filter::run on the GPU: level 0 from `accumulator` (planes R, G, B, m1, m2, length) and
+  /// `current` (demodulated sample), p.iterations levels over the guide (`depth`, `normal`,
+  /// `gradient`), feedback of level p.feedbackLevel into the accumulator's colour (with `mask`:
+  /// at sampled pixels only). Passes "variance" + suffix and "atrous<i>" + suffix. Returns the
+  /// planes holding the result (R, G, B, luminance, variance).
+  const vk::Planes& run(vk::Recorder& rec, const vk::Planes& depth, const vk::Planes& normal,
+                        const vk::Planes& gradient, vk::GpuTemporalAccumulator& accumulator, const vk::Planes& current,
+                        const vk::Planes* mask, const FilterParams& p, const std::string& suffix = {});
+
+ private:
+  vk::Planes levels_[3], sigmaScale_;
+  vk::Planes valid_[2];  // a-trous validity per level in the progressive mode
+};
+
+}  // namespace rtd::svgf
