@@ -16,7 +16,7 @@ namespace rtd::cli {
 /// Exit status of every subcommand (documented in `rtdenoise --help` and docs/cli.md):
 enum ExitCode : int {
   kExitOk = 0,        ///< success
-  kExitBadInput = 1,  ///< bad input data or files (rtd::Error): the message names file, frame, channel
+  kExitBadInput = 1,  ///< bad input data or files (rtd::Error, a file-system error, out of memory): the message names file, frame, channel
   kExitUsage = 2,     ///< bad command line: unknown or meaningless option, bad value
   kExitInternal = 3,  ///< anything else: a bug in rtdenoise
 };

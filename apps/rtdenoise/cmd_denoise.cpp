@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "rtd/eval/compare.h"
+#include "sanitize_report.h"
 
 namespace rtd::cli {
 
@@ -24,6 +25,7 @@ struct DenoiseOptions {
   bool preview = false;
   std::string toneMap = "aces";
   float exposure = 0.0f;
+  SequenceOptions sequence;  // --cut, --continuous
 };
 
 /// What `denoise` writes into its output directory (and --overwrite replaces).
@@ -41,7 +43,7 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   }
   previewToneMap.exposure = o.exposure;
   (void)methodInfo(o.method);
-  auto reader = SequenceReader::open(o.input);
+  auto reader = SequenceReader::open(o.input, o.sequence);
   const int frames = framesToUse(o.maxFrames, reader->frameCount());
   auto device = Device::create(o.device.desc(backend));
   auto denoiser = device->createDenoiser(o.method);
@@ -71,6 +73,7 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   timing["settings"] = settings;
   json perFrame = json::array();
   uint64_t sanitized = 0;
+  BufferCounts sanitizedPerBuffer{};
   std::vector<double> totals;
 
   Progress progress("denoise", frames);
@@ -87,8 +90,10 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
     json passes = json::object();
     for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
     perFrame.push_back({{"number", frame.number}, {"passes", passes}, {"totalMs", st.totalMilliseconds},
-                        {"sanitizedValues", st.sanitizedValues}});
+                        {"sanitizedValues", st.sanitizedValues}, {"sanitized", sanitizeJson(st.sanitized)}});
+    if (frame.cut) perFrame.back()["cut"] = true;
     sanitized += st.sanitizedValues;
+    accumulate(sanitizedPerBuffer, st.sanitized);
     totals.push_back(st.totalMilliseconds);
     char detail[64];
     std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
@@ -100,11 +105,12 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   timing["pixels"] = o.half ? "half" : "float";
   timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   timing["sanitizedValues"] = sanitized;
+  timing["sanitized"] = sanitizeJson(sanitizedPerBuffer);
   writeFileAtomic(out / "timings.json", timing.dump(1));
   progress.finish();
   if (sanitized)
-    std::fprintf(stderr, "note: %llu NaN/Inf/negative radiance values were replaced by 0 (see timings.json)\n",
-                 (unsigned long long)sanitized);
+    std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized,
+                 sanitizeSummary(sanitizedPerBuffer).c_str());
   std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.dir.c_str());
 }
 }  // namespace
@@ -118,6 +124,12 @@ void addDenoise(CLI::App& app) {
   cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable; presets such as variant= apply first)");
   o->device.add(cmd);
   cmd->add_option("--frames", o->maxFrames, "denoise only the first N frames (0 = all)")->capture_default_str();
+  cmd->add_option("--cut", o->sequence.cuts,
+                  "frame number(s) where the camera cuts: history is reset there (repeatable or comma-separated; "
+                  "sequence.json and cameras.json can mark cuts too)")
+      ->delimiter(',');
+  cmd->add_flag("--continuous", o->sequence.continuous,
+                "gaps in the frame numbering are not cuts (by default a gap resets history)");
   cmd->add_flag("--half", o->half, "write half-float EXRs (default 32-bit float)");
   cmd->add_flag("--preview", o->preview, "also write a tone-mapped 8-bit sRGB preview frame_NNNN.png per frame");
   cmd->add_option("--tonemap", o->toneMap, "tone map of the previews: aces, reinhard or clamp")->capture_default_str();

@@ -128,11 +128,14 @@ void OutputOptions::prepare(const std::vector<std::string>& ours) const {
     fs::create_directories(path);
     return;
   }
+  removeStaleTemporaryFiles(path);  // left by a killed run; a running one's still count below
   std::vector<std::regex> patterns;
   for (const auto& p : ours) patterns.emplace_back(p);
   std::vector<fs::path> mine, foreign;
+  static const std::regex temporary(R"(.+\.tmp\d+)");  // a running writer's (TemporaryFile): left alone
   for (const auto& e : fs::directory_iterator(path)) {
     const std::string name = e.path().filename().string();
+    if (std::regex_match(name, temporary)) continue;
     const bool match = std::any_of(patterns.begin(), patterns.end(), [&](const std::regex& r) { return std::regex_match(name, r); });
     (match ? mine : foreign).push_back(e.path());
   }

@@ -1,12 +1,16 @@
 // rtdenoise — command-line front end. Every subcommand is a client of the public API; the
 // conventions they share (exit codes, option spellings) are in cli.h and docs/cli.md.
 #include <cstdio>
+#include <filesystem>
+#include <new>
 #include <string>
 
 #include "cli.h"
+#include "interrupt.h"
 
 int main(int argc, char** argv) {
   using namespace rtd::cli;
+  installInterruptHandlers();
   CLI::App app{"rtdenoise: real-time denoisers for 1-spp path-traced sequences", "rtdenoise"};
   app.set_version_flag("--version", std::string("rtdenoise ") + rtd::versionString());
   app.footer(kExitStatusFooter);
@@ -51,6 +55,12 @@ int main(int argc, char** argv) {
     return kExitUsage;
   } catch (const rtd::Error& e) {
     std::fprintf(stderr, "rtdenoise%s: error: %s\n", which.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const std::filesystem::filesystem_error& e) {  // the user's paths: a missing or unwritable directory
+    std::fprintf(stderr, "rtdenoise%s: error: %s\n", which.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {  // inputs too large for this machine (the library refuses absurd sizes)
+    std::fprintf(stderr, "rtdenoise%s: error: out of memory\n", which.c_str());
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rtdenoise%s: internal error: %s\n", which.c_str(), e.what());

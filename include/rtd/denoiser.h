@@ -51,6 +51,9 @@ struct FrameStats {
   /// The same per buffer, indexed by int(Buffer).
   std::array<SanitizeCounts, kBufferCount> sanitized{};
   uint64_t pixels = 0;
+  /// Parts of the method that were asked for but did not run on this frame, and why (e.g.
+  /// "glossyBandwidth off: the frame has no 'reflectedFootprint' buffer").
+  std::vector<std::string> notes;
 };
 
 /// A denoiser owns the history of one image stream. Not thread-safe; use one per stream.

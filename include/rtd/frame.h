@@ -45,9 +45,9 @@ enum class Buffer : int {
   Indirect,           ///< indirect part of Color, RGB (optional split component)
   Diffuse,            ///< diffuse part of Color, RGB (optional split component)
   Specular,           ///< specular part of Color, RGB (optional split component)
-  ReflectedPosition,  ///< first non-mirror hit's world position for mirror pixels, XYZ
-  ReflectedNormal,    ///< first non-mirror hit's world normal for mirror pixels, XYZ
-  ReflectedAlbedo,    ///< first non-mirror hit's albedo for mirror pixels, RGB
+  ReflectedPosition,  ///< first non-mirror hit of the perfect mirror ray (mirror and glossy pixels), XYZ
+  ReflectedNormal,    ///< first non-mirror hit's world normal (mirror and glossy pixels), XYZ
+  ReflectedAlbedo,    ///< first non-mirror hit's albedo (mirror and glossy pixels), RGB
   SecondaryDistance,  ///< distance from the primary to the secondary hit, Z
   MirrorDirection,    ///< perfect mirror direction at the primary hit, XYZ
   Seed,               ///< per-pixel random seed (A-SVGF re-shading), id
@@ -67,6 +67,14 @@ enum class Buffer : int {
   /// Rec. 709 luminance of the same sample re-shaded in this frame: the previous frame's
   /// surface point moved with its object, traced with the previous frame's random numbers, V.
   GradientCurrent,
+  /// For glossy and mirror pixels: (|dP/dx| + |dP/dy|) / 2 of the ray differentials (Igehy
+  /// 1999) at the first non-mirror hit of the perfect mirror ray, world units per pixel, V
+  /// (Voorhuis Eq. 6); 0 elsewhere.
+  ReflectedFootprint,
+  /// Colour that demodulates the Diffuse stream where it is not Albedo (Blender's DiffCol), RGB.
+  DiffuseAlbedo,
+  /// Colour that demodulates the Specular stream (Blender's GlossCol), RGB.
+  SpecularAlbedo,
   Count
 };
 constexpr int kBufferCount = int(Buffer::Count);

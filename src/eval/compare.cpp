@@ -269,7 +269,9 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
       c.reference = reference;
       c.shownFrameNumber = frame.number;
     }
-    const FrameInputs inputs = frame.inputs();
+    const FrameInputs inputs = frame.inputs();  // a cut (Frame::cut) resets each denoiser's history
+    if (frame.cut)
+      for (auto& r : runners) r.evaluator.resetTemporal();  // no temporal error across a cut
     const PreparedReference prepared = prepareReference(frame.number, reference, settings.eval);
     for (auto& r : runners) {
       const Image* result = &frame[Buffer::Color];

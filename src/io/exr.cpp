@@ -9,8 +9,11 @@
 #include <unistd.h>
 #include <Imath/half.h>
 
+#include <algorithm>
 #include <fstream>
 
+#include "io/exr_limits.h"
+#include "io/temp_files.h"
 #include "rtd/error.h"
 
 namespace rtd::exr {
@@ -25,7 +28,7 @@ static std::string quoted(const fs::path& p) {
 }
 
 Header readHeader(const fs::path& path) {
-  if (!fs::exists(path)) throw Error("file " + quoted(path) + " does not exist");
+  checkHeader(path);
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
@@ -43,11 +46,18 @@ Header readHeader(const fs::path& path) {
 std::vector<std::vector<float>> readChannels(const fs::path& path, const std::vector<std::string>& names,
                                              const std::string& context) {
   const std::string where = (context.empty() ? "" : context + ", ") + "file " + quoted(path);
-  if (!fs::exists(path)) throw Error(where + ": file does not exist");
+  const ReadDeadline deadline(where);
+  HeaderCheck checked;
+  try {
+    checked = checkHeader(path);
+  } catch (const Error& e) {
+    throw Error((context.empty() ? "" : context + ", ") + e.what());
+  }
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    if (w != checked.width || h != checked.height) throw Error(where + ": the header does not parse consistently");
     std::vector<std::vector<float>> planes(names.size(), std::vector<float>(size_t(w) * h));
     Imf::FrameBuffer fb;
     for (size_t i = 0; i < names.size(); ++i) {
@@ -57,7 +67,14 @@ std::vector<std::vector<float>> readChannels(const fs::path& path, const std::ve
     }
     file.setFrameBuffer(fb);
     try {
-      file.readPixels(dw.min.y, dw.max.y);
+      // Slab by slab (whole chunks), so that a file whose decoding stalls stops at the deadline.
+      const int slab = std::max(checked.linesPerChunk, 32 / checked.linesPerChunk * checked.linesPerChunk);
+      for (int y = dw.min.y; y <= dw.max.y; y += slab) {
+        deadline.check();
+        file.readPixels(y, std::min(dw.max.y, y + slab - 1));
+      }
+    } catch (const Error&) {
+      throw;
     } catch (const std::exception& e) {
       std::string list;
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
@@ -72,7 +89,7 @@ std::vector<std::vector<float>> readChannels(const fs::path& path, const std::ve
 }
 
 void writeChannels(const fs::path& path, int width, int height, const std::vector<ChannelSource>& channels, bool half) {
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
+  TemporaryFile tmp(path);
   try {
     Imf::Header header(width, height);
     header.compression() = Imf::ZIP_COMPRESSION;
@@ -93,14 +110,14 @@ void writeChannels(const fs::path& path, int width, int height, const std::vecto
       }
     }
     {
-      Imf::OutputFile out(tmp.c_str(), header);
+      Imf::OutputFile out(tmp.path().c_str(), header);
       out.setFrameBuffer(fb);
       out.writePixels(height);
     }
-    fs::rename(tmp, path);
+    tmp.commit();
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
     throw Error("cannot write " + quoted(path) + ": " + e.what());
   }
 }

@@ -2,6 +2,7 @@
 
 #include <cassert>
 #include <cstring>
+#include <type_traits>
 
 #include "core/parallel.h"
 
@@ -131,9 +132,10 @@ struct Tap {
   ptrdiff_t offset;  // in floats
   float ox, oy;      // pixels
   float h;
+  float k2;          // |k|^2, k the offset in kernel units (Eq. 6 falloff)
 };
 
-template <bool kPropagate, bool kLogNormal, bool kMasked>
+template <bool kPropagate, bool kLogNormal, bool kMasked, bool kFalloff>
 void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
                 const std::vector<Tap>& taps, float h0) {
   const PaddedPlane& z = g.depth;
@@ -156,6 +158,7 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
   const bool cie = lv.luminance == MomentLuminance::CieLightness;
   const float* pvalid = kMasked ? lv.validIn->data.data() : nullptr;
   float* qvalid = kMasked ? lv.validOut->data.data() : nullptr;
+  const float* pfall = kFalloff ? lv.spatialFalloff->data.data() : nullptr;
 
   stridedRows(z.height, lv.step, [&](int y) {
     for (int x = 0; x < w; x += kLanes) {
@@ -175,6 +178,7 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
         const vf k = pscale ? load(pscale + c) : splat(1.0f);
         inv = k > 0.0f ? 1.0f / (sigmaL * k * sd + epsL) : splat(0.0f);
       }
+      const vf fall = kFalloff ? load(pfall + c) : splat(0.0f);
       const vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
       vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
       vf sv = kPropagate ? w0 * w0 * load(pv + c) : splat(0.0f);
@@ -183,6 +187,7 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
         vf expo = kExpShift + vabs(zc - load(pz + q)) * depthScale;  // fused: expNegShifted
         expo = expo + vabs(lc - load(pl + q)) * inv;
+        if constexpr (kFalloff) expo += fall * t.k2;
         vf wt;
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
@@ -314,7 +319,7 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       if (!dx && !dy) continue;
       const int ox = dx * lv.step, oy = dy * lv.step;
       taps.push_back({ptrdiff_t(oy) * z.stride + ox, float(ox), float(oy),
-                      kernelWeight1D(lv.kernel, dx) * kernelWeight1D(lv.kernel, dy)});
+                      kernelWeight1D(lv.kernel, dx) * kernelWeight1D(lv.kernel, dy), float(dx * dx + dy * dy)});
     }
   // atrousRows pairs tap k with tap n-1-k: the list above is point-symmetric.
   for (size_t k = 0; k < taps.size(); ++k) assert(taps[k].offset == -taps[taps.size() - 1 - k].offset);
@@ -322,14 +327,18 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   // The series form of w_n is accurate for large exponents (the papers' 64 and 128); small
   // ones use the exact power.
   const bool series = lv.normalExponent >= 16;
-  const bool p = lv.propagateVariance;
-  if (lv.validIn && lv.validOut) {
-    if (series) p ? atrousRows<true, true, true>(g, lv, in, out, taps, h0) : atrousRows<false, true, true>(g, lv, in, out, taps, h0);
-    else p ? atrousRows<true, false, true>(g, lv, in, out, taps, h0) : atrousRows<false, false, true>(g, lv, in, out, taps, h0);
-  } else {
-    if (series) p ? atrousRows<true, true, false>(g, lv, in, out, taps, h0) : atrousRows<false, true, false>(g, lv, in, out, taps, h0);
-    else p ? atrousRows<true, false, false>(g, lv, in, out, taps, h0) : atrousRows<false, false, false>(g, lv, in, out, taps, h0);
-  }
+  const bool p = lv.propagateVariance, masked = lv.validIn && lv.validOut, falloff = lv.spatialFalloff;
+  // One instantiation per combination of the four switches.
+  auto run = [&](auto prop, auto logNormal, auto mask, auto fall) {
+    atrousRows<decltype(prop)::value, decltype(logNormal)::value, decltype(mask)::value, decltype(fall)::value>(
+        g, lv, in, out, taps, h0);
+  };
+  using T = std::true_type;
+  using F = std::false_type;
+  auto withFalloff = [&](auto prop, auto logNormal, auto mask) { falloff ? run(prop, logNormal, mask, T{}) : run(prop, logNormal, mask, F{}); };
+  auto withMask = [&](auto prop, auto logNormal) { masked ? withFalloff(prop, logNormal, T{}) : withFalloff(prop, logNormal, F{}); };
+  auto withSeries = [&](auto prop) { series ? withMask(prop, T{}) : withMask(prop, F{}); };
+  p ? withSeries(T{}) : withSeries(F{});
 }
 
 namespace {

@@ -279,32 +279,10 @@ void reprojectRows(const FrameData& cur, const FrameData* previous, const Reproj
     const size_t i = size_t(y) * w + x;
     const float px = out.prevX.data[i], py = out.prevY.data[i];
     const TapTest::Pixel pixel = test.load(i, test.z ? test.depthTolerance(x, y, w, h) : 0.0f);
-    // Bilinear footprint: taps are pixel centres, so the top-left tap is floor(p - 0.5).
-    const float fx = px - 0.5f, fy = py - 0.5f;
     out.kind[i] = Reprojection::None;
-    if (!(std::abs(fx) < 1e6f && std::abs(fy) < 1e6f)) return;
-    const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
-    const float ax = fx - x0, ay = fy - y0;
-    const float bw[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
-    const int tx[4] = {x0, x0 + 1, x0, x0 + 1}, ty[4] = {y0, y0, y0 + 1, y0 + 1};
-    float sum = 0.0f;
-    std::array<float, 4> wt{0, 0, 0, 0};
-    for (int t = 0; t < 4; ++t)
-      if (bw[t] > 0.0f && test.valid(pixel, tx[t], ty[t])) { wt[t] = bw[t]; sum += bw[t]; }
-    if (sum > 1e-4f && w >= 2 && h >= 2) {
-      for (auto& v : wt) v /= sum;
-      // Taps outside the image have weight 0; slide the 2x2 window inside (moving the weights
-      // with it) so gathers can read all four taps without bounds checks.
-      int bx = x0, by = y0;
-      if (bx < 0) { bx = 0; wt = {wt[1], 0.0f, wt[3], 0.0f}; }
-      if (bx > w - 2) { bx = w - 2; wt = {0.0f, wt[0], 0.0f, wt[2]}; }
-      if (by < 0) { by = 0; wt = {wt[2], wt[3], 0.0f, 0.0f}; }
-      if (by > h - 2) { by = h - 2; wt = {0.0f, 0.0f, wt[0], wt[1]}; }
-      out.kind[i] = Reprojection::Bilinear;
-      out.base[i] = by * w + bx;
-      out.weights[i] = wt;
-      return;
-    }
+    if (!(std::abs(px) < 1e6f && std::abs(py) < 1e6f)) return;
+    // valid() checks the frame bounds itself.
+    if (setBilinear(out, i, px, py, [&](int tx, int ty) { return test.valid(pixel, tx, ty); })) return;
     if (!s.fallback3x3) return;
     const int cx = int(std::floor(px)), cy = int(std::floor(py));
     uint16_t mask = 0;

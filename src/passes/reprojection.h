@@ -2,6 +2,7 @@
 // consistency tests (Schied et al. 2017 Sec. 4.1; Higginson Sec. 1.3.1, Eq. 1.4).
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #ifdef __AVX2__
@@ -151,6 +152,40 @@ struct Bilinear8 {
   }
 };
 #endif
+
+/// Makes pixel i of `out` a Bilinear record for the continuous previous position (px, py)
+/// (pixel units, centres at i + 0.5) of a frame of out's size, keeping the taps (tx, ty) for
+/// which valid(tx, ty) holds, renormalized; taps outside the frame weigh 0 and the 2x2 window
+/// is slid inside so gathers need no bounds checks. Returns false, leaving the record as it
+/// was, when no tap is valid (accepted weight <= 1e-4) or the frame is narrower than 2 pixels.
+template <class Valid> bool setBilinear(Reprojection& out, size_t i, float px, float py, Valid&& valid) {
+  const int w = out.width, h = out.height;
+  // Bilinear footprint: taps are pixel centres, so the top-left tap is floor(p - 0.5).
+  const float fx = px - 0.5f, fy = py - 0.5f;
+  if (!(std::abs(fx) < 1e6f && std::abs(fy) < 1e6f) || w < 2 || h < 2) return false;
+  const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+  const float ax = fx - x0, ay = fy - y0;
+  const float bw[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
+  const int tx[4] = {x0, x0 + 1, x0, x0 + 1}, ty[4] = {y0, y0, y0 + 1, y0 + 1};
+  float sum = 0.0f;
+  std::array<float, 4> wt{0, 0, 0, 0};
+  for (int t = 0; t < 4; ++t)
+    if (bw[t] > 0.0f && tx[t] >= 0 && ty[t] >= 0 && tx[t] < w && ty[t] < h && valid(tx[t], ty[t])) {
+      wt[t] = bw[t];
+      sum += bw[t];
+    }
+  if (!(sum > 1e-4f)) return false;
+  for (auto& v : wt) v /= sum;
+  int bx = x0, by = y0;
+  if (bx < 0) { bx = 0; wt = {wt[1], 0.0f, wt[3], 0.0f}; }
+  if (bx > w - 2) { bx = w - 2; wt = {0.0f, wt[0], 0.0f, wt[2]}; }
+  if (by < 0) { by = 0; wt = {wt[2], wt[3], 0.0f, 0.0f}; }
+  if (by > h - 2) { by = h - 2; wt = {0.0f, 0.0f, wt[0], wt[1]}; }
+  out.kind[i] = Reprojection::Bilinear;
+  out.base[i] = by * w + bx;
+  out.weights[i] = wt;
+  return true;
+}
 
 /// The 3x3 fallback kernel of Higginson Eq. 1.4 (a Gaussian with sigma ~ 1.04 px), row-major.
 extern const float kFallbackKernel3x3[9];

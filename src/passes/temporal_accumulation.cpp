@@ -96,6 +96,9 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
   const Plane* albedo = options.albedo ? options.albedo->data() : nullptr;
   const Plane* gradient = options.temporalGradient;
   const int gradientStride = std::max(1, options.temporalGradientStride);
+  const float* alphas = options.alphaPlane ? options.alphaPlane->ptr() : nullptr;
+  const Plane* clipLo = options.clipLow ? options.clipLow->data() : nullptr;
+  const Plane* clipHi = options.clipHigh ? options.clipHigh->data() : nullptr;
   // One fused pass per pixel: history length, colour and both moments from the same taps.
   auto pixel = [&](size_t i) {
     float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
@@ -108,6 +111,8 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
     const float hist1 = moments ? rp.gather(m1_[prev], i) : 0.0f, hist2 = moments ? rp.gather(m2_[prev], i) : 0.0f;
     float hist[3];
     for (int k = 0; k < 3; ++k) hist[k] = rp.gather(color_[prev][k], i);
+    if (clipLo)  // clip before the blend (Voorhuis Sec. 4.2.3)
+      for (int k = 0; k < 3; ++k) hist[k] = std::min(std::max(hist[k], clipLo[k].data[i]), clipHi[k].data[i]);
     // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
     const bool none = rp.kind[i] == Reprojection::None;
     if (gradient) {
@@ -126,7 +131,7 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
       return;
     }
     const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
-    const float a = newSampleWeight(n, alpha);
+    const float a = newSampleWeight(n, alphas ? alphas[i] : alpha);
     // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
     // wherever there is history (Schied et al. 2017).
     const float am = options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
@@ -174,7 +179,7 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
         rounded = _mm256_add_ps(rounded, _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(len, rounded), half, _CMP_GE_OQ), one));
         const __m256 n = _mm256_min_ps(_mm256_add_ps(rounded, one), maxLen);
         const __m256 invN = _mm256_div_ps(one, n);
-        const __m256 a = _mm256_max_ps(invN, vAlpha);
+        const __m256 a = _mm256_max_ps(invN, alphas ? _mm256_loadu_ps(alphas + i) : vAlpha);
         const __m256 am = options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha) : vMomentsAlpha;
         _mm256_storeu_ps(length_[cur_].ptr() + i, n);
         __m256 c[3];
@@ -184,7 +189,9 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
             const __m256 a = _mm256_loadu_ps(albedo[k].ptr() + i);
             c[k] = _mm256_div_ps(c[k], _mm256_blendv_ps(one, a, _mm256_cmp_ps(a, _mm256_set1_ps(kAlbedoEpsilon), _CMP_GT_OQ)));
           }
-          const __m256 hist = taps8.gather(cPrev[k]);
+          __m256 hist = taps8.gather(cPrev[k]);
+          if (clipLo)
+            hist = _mm256_min_ps(_mm256_max_ps(hist, _mm256_loadu_ps(clipLo[k].ptr() + i)), _mm256_loadu_ps(clipHi[k].ptr() + i));
           _mm256_storeu_ps(color_[cur_][k].ptr() + i,
                            flushTiny8(_mm256_fmadd_ps(a, c[k], _mm256_mul_ps(_mm256_sub_ps(one, a), hist))));
         }

@@ -7,6 +7,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "core/api_guard.h"
 #include "core/frame_data.h"
 #include "core/settings_reflect.h"
 #include "core/validate.h"
@@ -49,6 +50,11 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
   }
 
   void denoise(const FrameInputs& frame, const ImageView& output) final {
+    guarded("denoise", [&] { denoiseFrame(frame, output); });
+  }
+
+ private:
+  void denoiseFrame(const FrameInputs& frame, const ImageView& output) {
     FrameStats stats;
     auto start = std::chrono::steady_clock::now();
     // Recomputed per frame: the lists may depend on the settings.

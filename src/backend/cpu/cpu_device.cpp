@@ -5,6 +5,7 @@
 #include <mutex>
 #include <tbb/task_arena.h>
 
+#include "core/api_guard.h"
 #include "core/registry.h"
 #include "rtd/denoiser.h"
 
@@ -65,12 +66,18 @@ std::vector<DeviceInfo> listDevices(std::string* vulkanError) {
 }
 
 std::unique_ptr<Device> Device::create(const DeviceDesc& desc) {
-  if (desc.backend == Backend::Cpu) return std::make_unique<CpuDevice>(desc.threads);
+  if (desc.threads < 0 || desc.threads > 4096)
+    throw Error("DeviceDesc::threads is " + std::to_string(desc.threads) + ", expected 0 (all cores) to 4096");
+  if (desc.backend != Backend::Cpu && desc.backend != Backend::Vulkan)
+    throw Error("DeviceDesc::backend " + std::to_string(int(desc.backend)) + " is not a backend");
+  return guarded("Device::create", [&]() -> std::unique_ptr<Device> {
+    if (desc.backend == Backend::Cpu) return std::make_unique<CpuDevice>(desc.threads);
 #ifdef RTD_HAS_VULKAN
-  return createVulkanDevice(desc);
+    return createVulkanDevice(desc);
 #else
-  throw Error("this build of rtdenoise has no Vulkan backend (configure with -DRTD_VULKAN=ON)");
+    throw Error("this build of rtdenoise has no Vulkan backend (configure with -DRTD_VULKAN=ON)");
 #endif
+  });
 }
 
 }  // namespace rtd

@@ -73,20 +73,22 @@ struct AccumulationPC {
   uint32_t luminanceMode, cumulativeMoments;
   uint32_t gradientWidth = 0, gradientStride = 1;
   float historyExponent = 0;
+  uint32_t options = 0;  // 1: per-pixel alpha (binding 5); 2: clip box (binding 6)
 };
 }  // namespace
 
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
                                  int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments,
-                                 const Planes* sampleMask) {
+                                 const Planes* sampleMask, const Planes* alphaPlane, const Planes* clipBox) {
   const Planes& prev = advance(rec);
   AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
                     luminanceMode, cumulativeMoments};
-  if (sampleMask)
-    rec.dispatch("temporal_accumulation_masked", {rp, color, prev, history_[cur_], *sampleMask}, pc, color.width,
-                 color.height);
-  else
-    rec.dispatch("temporal_accumulation", {rp, color, prev, history_[cur_]}, pc, color.width, color.height);
+  pc.options = (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u);
+  const Binding dummy(rec.context().dummy());
+  const Binding a = alphaPlane ? Binding(*alphaPlane) : dummy, c = clipBox ? Binding(*clipBox) : dummy;
+  rec.dispatch(sampleMask ? "temporal_accumulation_masked" : "temporal_accumulation",
+               {rp, color, prev, history_[cur_], sampleMask ? Binding(*sampleMask) : dummy, a, c}, pc, color.width,
+               color.height);
 }
 
 void GpuTemporalAccumulator::runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha,
@@ -95,8 +97,9 @@ void GpuTemporalAccumulator::runAdaptive(Recorder& rec, const Planes& rp, const 
   const Planes& prev = advance(rec);
   AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
                     luminanceMode, 1, uint32_t(gradient.width), uint32_t(stride), historyExponent};
-  rec.dispatch("temporal_accumulation_gradient", {rp, color, prev, history_[cur_], gradient}, pc, color.width,
-               color.height);
+  const Binding dummy(rec.context().dummy());
+  rec.dispatch("temporal_accumulation_gradient", {rp, color, prev, history_[cur_], gradient, dummy, dummy}, pc,
+               color.width, color.height);
 }
 
 const Planes& GpuTemporalAccumulator::advance(Recorder& rec) {
@@ -110,13 +113,18 @@ const Planes& GpuTemporalAccumulator::advance(Recorder& rec) {
 }
 
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient) {
+  atrousGuide(rec, frame[Buffer::Depth], frame.has(Buffer::DepthGradient) ? &frame[Buffer::DepthGradient] : nullptr,
+              maxDepthSlope, gradient);
+}
+
+void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient, float maxDepthSlope, Planes& gradient) {
   struct PC {
     uint32_t width, height, hasGradient;
     float maxDepthSlope;
-  } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::DepthGradient), maxDepthSlope};
+  } pc{uint32_t(depth.width), uint32_t(depth.height), depthGradient != nullptr, maxDepthSlope};
   rec.dispatch("atrous_guide",
-               {frame[Buffer::Depth], frame.bindingOf(Buffer::DepthGradient, rec.context()), gradient}, pc,
-               frame.width, frame.height);
+               {depth, depthGradient ? Binding(*depthGradient) : Binding(rec.context().dummy()), gradient}, pc,
+               depth.width, depth.height);
 }
 
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& lv,
@@ -136,10 +144,11 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
   } pc{uint32_t(in.width), uint32_t(in.height), lv.step, lv.radius, lv.sigmaDepth, lv.depthEpsilon,
        std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
-           (lv.propagateVariance ? 8u : 0u),
+           (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u),
        lv.luminanceMode, uint32_t(lv.validInPlane)};
-  std::vector<Binding> bindings{depth, normal, gradient, in, out,
-                                lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())};
+  const Binding dummy(rec.context().dummy());
+  std::vector<Binding> bindings{depth, normal, gradient, in, out, lv.sigmaScale ? Binding(*lv.sigmaScale) : dummy,
+                                lv.spatialFalloff ? Binding(*lv.spatialFalloff) : dummy};
   // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
   constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);
   const bool tiled = lv.sharedTile && rec.context().limits().maxComputeSharedMemorySize >= kTileBytes;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "core/api_guard.h"
 #include "core/frame_data.h"
 #include "core/sanitize.h"
 #include "core/timer.h"
@@ -247,6 +248,10 @@ bool VulkanDenoiserBase::readTimings(FrameStats& stats, bool wait) {
 }
 
 void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output) {
+  guarded("denoise", [&] { denoiseHost(in, output); });
+}
+
+void VulkanDenoiserBase::denoiseHost(const FrameInputs& in, const ImageView& output) {
   const auto start = std::chrono::steady_clock::now();
   FrameStats stats;
   // Everything is checked before history is touched, as on the CPU (core/validate.h).
@@ -319,10 +324,20 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
   readSanitizeCounts(stats);
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.notes = notes_;
   stats_ = std::move(stats);
 }
 
 void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanBufferView& output, VkCommandBuffer cmd) {
+  guarded("denoiseVulkan", [&] { denoiseIntoBuffer(in, output, cmd); });
+}
+
+void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanImageView& output, VkCommandBuffer cmd) {
+  guarded("denoiseVulkan", [&] { denoiseIntoImage(in, output, cmd); });
+}
+
+void VulkanDenoiserBase::denoiseIntoBuffer(const VulkanFrameInputs& in, const VulkanBufferView& output,
+                                           VkCommandBuffer cmd) {
   if (output.empty() || (output.format != Format::Float3 && output.format != Format::Float4))
     throw Error("output VkBuffer view must be set and Float3 or Float4");
   checkImageSize("VulkanFrameInputs", in.width, in.height);
@@ -333,7 +348,8 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanBuf
   denoiseGpu(in, ex, cmd);
 }
 
-void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanImageView& output, VkCommandBuffer cmd) {
+void VulkanDenoiserBase::denoiseIntoImage(const VulkanFrameInputs& in, const VulkanImageView& output,
+                                          VkCommandBuffer cmd) {
   Export ex{};
   if (output.empty()) throw Error("output VkImageView must be set");
   if (output.format == VK_FORMAT_R32G32B32A32_SFLOAT) ex.imageShader = "export_image_rgba32f";
@@ -415,6 +431,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
     if (readTimings(previous, false)) {
       previous.pixels = uint64_t(width_) * height_;
       readSanitizeCounts(previous);
+      previous.notes = notes_;
       stats_ = std::move(previous);
     }
     prepare(w, h, in.cameraCut);
@@ -434,6 +451,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
   readSanitizeCounts(stats);
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.notes = notes_;
   stats_ = std::move(stats);
 }
 

@@ -52,6 +52,8 @@ class VulkanDenoiserBase : public Denoiser {
   std::shared_ptr<Context> keepAlive_;
   Context& ctx_;
   int width_ = 0, height_ = 0;
+  /// FrameStats::notes of the frame process() recorded (parts that did not run, and why).
+  std::vector<std::string> notes_;
 
  private:
   /// Where the pixels come from and go to: a buffer with strides, or an image (`shader` then
@@ -68,6 +70,9 @@ class VulkanDenoiserBase : public Denoiser {
     uint32_t offsetWords, pixelStrideWords, rowStrideWords, channels;
     const char* imageShader = nullptr;
   };
+  void denoiseHost(const FrameInputs& frame, const ImageView& output);
+  void denoiseIntoBuffer(const VulkanFrameInputs& frame, const VulkanBufferView& output, VkCommandBuffer cmd);
+  void denoiseIntoImage(const VulkanFrameInputs& frame, const VulkanImageView& output, VkCommandBuffer cmd);
   void denoiseGpu(const VulkanFrameInputs& frame, const Export& out, VkCommandBuffer cmd);
   void bindBufferView(const VulkanBufferView& v, const std::string& what, uint32_t channels, int w, int h,
                       Binding& binding, uint32_t& offsetWords, uint32_t& pixelWords, uint32_t& rowWords) const;

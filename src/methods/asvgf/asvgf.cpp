@@ -43,7 +43,6 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
     accumulator_.reset();
     taa_.reset();
   }
-
   void visitMethodPlanes(const PlaneVisitor& visit) const override {
     reprojection_.forEachPlane(visit);
     guide_.forEachPlane(visit);

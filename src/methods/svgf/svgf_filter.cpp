@@ -135,6 +135,7 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     // The last level's variance is not used any more.
     lv.propagateVariance = p.propagateVariance && i + 1 < n;
     lv.luminance = p.variance.luminance;
+    lv.spatialFalloff = p.spatialFalloff;
     if (mask) {
       lv.validIn = &valid_[cur];
       lv.validOut = &valid_[cur ^ 1];

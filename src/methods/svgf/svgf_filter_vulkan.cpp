@@ -12,7 +12,8 @@ void GpuFilter::resize(vk::Context& ctx, int w, int h) {
 const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, const vk::Planes& normal,
                                  const vk::Planes& gradient, vk::GpuTemporalAccumulator& acc,
                                  const vk::Planes& current, const vk::Planes* mask, const FilterParams& p,
-                                 const std::string& suffix) {
+                                 const std::string& suffix,
+                                 const vk::Planes* spatialFalloff) {
   const int width = current.width, height = current.height;
   const uint32_t lum = uint32_t(p.variance.luminance);
   const size_t planeBytes = size_t(width) * height * 4;
@@ -69,6 +70,7 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
       }
       lv.validOut = &valid_[i & 1];
     }
+    lv.spatialFalloff = spatialFalloff;
     vk::atrousLevel(rec, depth, normal, gradient, lv, levels_[cur], levels_[cur ^ 1]);
     cur ^= 1;
     // The feedback level's output becomes next frame's colour history (Schied Sec. 4.3).

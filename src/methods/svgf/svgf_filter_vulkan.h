@@ -16,10 +16,12 @@ class GpuFilter {
   /// `current` (demodulated sample), p.iterations levels over the guide (`depth`, `normal`,
   /// `gradient`), feedback of level p.feedbackLevel into the accumulator's colour (with `mask`:
   /// at sampled pixels only). Passes "variance" + suffix and "atrous<i>" + suffix. Returns the
-  /// planes holding the result (R, G, B, luminance, variance).
+  /// planes holding the result (R, G, B, luminance, variance). `spatialFalloff`: Voorhuis Eq. 6
+  /// (the GPU form of FilterParams::spatialFalloff), or null.
   const vk::Planes& run(vk::Recorder& rec, const vk::Planes& depth, const vk::Planes& normal,
                         const vk::Planes& gradient, vk::GpuTemporalAccumulator& accumulator, const vk::Planes& current,
-                        const vk::Planes* mask, const FilterParams& p, const std::string& suffix = {});
+                        const vk::Planes* mask, const FilterParams& p, const std::string& suffix = {},
+                        const vk::Planes* spatialFalloff = nullptr);
 
  private:
   vk::Planes levels_[3], sigmaScale_;

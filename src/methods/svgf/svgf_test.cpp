@@ -501,6 +501,30 @@ TEST(SvgfSettingsTest, VariantPresetsAndToggles) {
   EXPECT_FALSE(v.indirectVarianceFiltering);
   EXPECT_FLOAT_EQ(v.sigmaNormal, 64.0f);
   EXPECT_FLOAT_EQ(v.sigmaLuminance, 5.0f);
+  // voorhuis = the paper's whole method ("Ours"): reflections, clipping and per-class alpha on top.
+  EXPECT_EQ(v.specularMotion, SvgfSpecularMotion::automatic);
+  EXPECT_TRUE(v.preferLobes);
+  for (SvgfPart p : {v.reflectedFeatures, v.glossyBandwidth, v.neighbourhoodClipping, v.materialAlpha})
+    EXPECT_EQ(p, SvgfPart::automatic);
+  // The robustness-only set keeps its own name; Base and NoSpecReproj are the paper's baselines.
+  const auto r = SvgfSettings::forVariant(SvgfVariant::voorhuisRobustness);
+  EXPECT_TRUE(r.momentsTrueAverage && r.fireflyMedian && !r.indirectVarianceFiltering);
+  EXPECT_EQ(r.specularMotion, SvgfSpecularMotion::primary);
+  EXPECT_EQ(r.neighbourhoodClipping, SvgfPart::off);
+  const auto base = SvgfSettings::forVariant(SvgfVariant::voorhuisBase);
+  EXPECT_FALSE(base.momentsTrueAverage || base.fireflyMedian || base.shortHistoryBandwidth);
+  EXPECT_FLOAT_EQ(base.sigmaNormal, 64.0f);
+  EXPECT_FLOAT_EQ(base.sigmaLuminance, 5.0f);
+  EXPECT_EQ(base.specularMotion, SvgfSpecularMotion::primary);
+  const auto nsr = SvgfSettings::forVariant(SvgfVariant::voorhuisNoSpecReproj);
+  EXPECT_EQ(nsr.specularMotion, SvgfSpecularMotion::none);
+  EXPECT_FLOAT_EQ(nsr.sigmaLuminance, 5.0f);
+  d->set("variant", "voorhuis");
+  d->set("variant", "schied");  // a preset resets every Voorhuis part
+  s = d->getSettings<SvgfSettings>();
+  EXPECT_EQ(s.specularMotion, SvgfSpecularMotion::primary);
+  EXPECT_EQ(s.neighbourhoodClipping, SvgfPart::off);
+  EXPECT_FALSE(s.preferLobes);
   EXPECT_THROW(d->set("variant", "nope"), Error);
 }
 
