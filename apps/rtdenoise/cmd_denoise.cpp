@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
+#include "rtd/eval/compare.h"
 #include "sanitize_report.h"
 
 namespace rtd::cli {
@@ -15,18 +16,36 @@ using nlohmann::json;
 namespace {
 struct DenoiseOptions {
   std::string method = "svgf";
-  std::string input, output;
+  std::string input;
+  OutputOptions output;
   std::vector<std::string> settings;
-  std::string backend = "cpu";
-  std::string vulkanDevice;
-  int threads = 0;
+  DeviceOptions device;
   int maxFrames = 0;
+  bool half = false;
+  bool preview = false;
+  std::string toneMap = "aces";
+  float exposure = 0.0f;
   SequenceOptions sequence;  // --cut, --continuous
 };
 
-void runDenoise(const DenoiseOptions& o) {
+/// What `denoise` writes into its output directory (and --overwrite replaces).
+const std::vector<std::string> kDenoiseOutputs = {R"(frame_\d+\.(exr|png))", R"(timings\.json)"};
+
+void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
+  const auto backend = o.device.single();
+  if (!o.preview && (cmd.count("--tonemap") || cmd.count("--exposure")))
+    throw UsageError("--tonemap and --exposure shape the PNG previews: give them with --preview");
+  eval::ToneMapSettings previewToneMap;
+  try {
+    previewToneMap.op = eval::parseOperator(o.toneMap);
+  } catch (const Error& e) {
+    throw UsageError(std::string("--tonemap: ") + e.what());
+  }
+  previewToneMap.exposure = o.exposure;
+  (void)methodInfo(o.method);
   auto reader = SequenceReader::open(o.input, o.sequence);
-  auto device = Device::create({.backend = parseBackend(o.backend), .threads = o.threads, .vulkanDevice = o.vulkanDevice});
+  const int frames = framesToUse(o.maxFrames, reader->frameCount());
+  auto device = Device::create(o.device.desc(backend));
   auto denoiser = device->createDenoiser(o.method);
   applySettings(*denoiser, o.settings);
 
@@ -36,9 +55,8 @@ void runDenoise(const DenoiseOptions& o) {
       throw Error("method '" + o.method + "' needs buffer '" + std::string(bufferName(b)) + "', which sequence '" +
                   o.input + "' does not have (first frame: '" + reader->framePath(0).string() + "')");
 
-  fs::create_directories(o.output);
-  removeStaleTemporaryFiles(o.output);
-  const int frames = o.maxFrames > 0 ? std::min(o.maxFrames, reader->frameCount()) : reader->frameCount();
+  o.output.prepare(kDenoiseOutputs);
+  const fs::path out(o.output.dir);
   std::fprintf(stderr, "denoising %d frames (%dx%d, %s input) with '%s' on %s\n", frames, reader->width(),
                reader->height(), reader->kind() == SequenceKind::Native ? "native" : "Blender", o.method.c_str(),
                device->name().c_str());
@@ -65,8 +83,9 @@ void runDenoise(const DenoiseOptions& o) {
     const Frame frame = reader->read(i);
     denoiser->denoise(frame.inputs(), output.view());
     char name[32];
-    std::snprintf(name, sizeof name, "frame_%04d.exr", frame.number);
-    writeRgbExr(fs::path(o.output) / name, output);
+    std::snprintf(name, sizeof name, "frame_%04d", frame.number);
+    writeRgbExr(out / (std::string(name) + ".exr"), output, o.half ? ExrPixels::Half : ExrPixels::Float);
+    if (o.preview) writeFileAtomic(out / (std::string(name) + ".png"), eval::encodePng(eval::toneMap(output, previewToneMap)));
 
     const FrameStats& st = denoiser->stats();
     json passes = json::object();
@@ -87,38 +106,41 @@ void runDenoise(const DenoiseOptions& o) {
   std::vector<double> sorted = totals;
   std::sort(sorted.begin(), sorted.end());
   timing["frames"] = perFrame;
+  timing["pixels"] = o.half ? "half" : "float";
   timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   timing["sanitizedValues"] = sanitized;
   timing["sanitized"] = sanitizeJson(sanitizedPerBuffer);
   timing["notes"] = notes;
-  writeFileAtomic(fs::path(o.output) / "timings.json", timing.dump(1));
+  writeFileAtomic(out / "timings.json", timing.dump(1));
   progress.finish();
   if (sanitized)
     std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized,
                  sanitizeSummary(sanitizedPerBuffer).c_str());
   for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
-  std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.c_str());
+  std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.dir.c_str());
 }
 }  // namespace
 
 void addDenoise(CLI::App& app) {
   auto o = std::make_shared<DenoiseOptions>();
-  auto* cmd = app.add_subcommand("denoise", "denoise a sequence (native or Blender multilayer EXR)");
+  auto* cmd = addSubcommand(app, "denoise", "denoise a sequence (native, per-buffer image files or Blender multilayer EXR)");
   cmd->add_option("--method,-m", o->method, "method name (see `rtdenoise methods`)")->capture_default_str();
-  cmd->add_option("--input,-i", o->input, "sequence directory")->required();
-  cmd->add_option("--output,-o", o->output, "output directory (frame_NNNN.exr + timings.json)")->required();
-  cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable)");
-  cmd->add_option("--backend,-b", o->backend, "cpu or vulkan")->capture_default_str();
-  cmd->add_option("--device", o->vulkanDevice, "Vulkan device index or name substring");
-  cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
-  cmd->add_option("--frames", o->maxFrames, "denoise only the first N frames (0 = all)");
+  cmd->add_option("--input,-i", o->input, "sequence directory (docs/sequence-format.md)")->required();
+  o->output.add(cmd, "frame_NNNN.exr + timings.json");
+  cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable; presets such as variant= apply first)");
+  o->device.add(cmd);
+  cmd->add_option("--frames", o->maxFrames, "denoise only the first N frames (0 = all)")->capture_default_str();
   cmd->add_option("--cut", o->sequence.cuts,
                   "frame number(s) where the camera cuts: history is reset there (repeatable or comma-separated; "
                   "sequence.json and cameras.json can mark cuts too)")
       ->delimiter(',');
   cmd->add_flag("--continuous", o->sequence.continuous,
                 "gaps in the frame numbering are not cuts (by default a gap resets history)");
-  cmd->callback([o] { runDenoise(*o); });
+  cmd->add_flag("--half", o->half, "write half-float EXRs (default 32-bit float)");
+  cmd->add_flag("--preview", o->preview, "also write a tone-mapped 8-bit sRGB preview frame_NNNN.png per frame");
+  cmd->add_option("--tonemap", o->toneMap, "tone map of the previews: aces, reinhard or clamp")->capture_default_str();
+  cmd->add_option("--exposure", o->exposure, "exposure of the previews in stops")->capture_default_str();
+  cmd->callback([o, cmd] { runDenoise(*o, *cmd); });
 }
 
 }  // namespace rtd::cli

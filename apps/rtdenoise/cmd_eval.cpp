@@ -79,8 +79,7 @@ nlohmann::json reflectionMotion(const Options& o) {
 }
 
 void run(const Options& o) {
-  const auto settings = o.eval.settings();
-  Progress progress("eval", 1);
+  const auto settings = o.eval.settings(eval::RgbSequence::open(o.result, "result")->frameCount());
   std::unique_ptr<Progress> bar;
   const auto streams = eval::evaluateDirectories(
       o.reference, o.result, o.input.empty() ? std::nullopt : std::optional<std::filesystem::path>(o.input), settings,
@@ -90,7 +89,6 @@ void run(const Options& o) {
       });
   if (bar) bar->finish();
   std::printf("%s", eval::summaryTable(streams, settings).c_str());
-  const std::string json = o.json.empty() ? (std::filesystem::path(o.result) / "metrics.json").string() : o.json;
   std::string text = eval::metricsJson(streams, settings);
   if (o.reflectionMotion || o.maskRoughness > 0) {
     nlohmann::json j = nlohmann::json::parse(text);
@@ -98,18 +96,20 @@ void run(const Options& o) {
     if (o.reflectionMotion) j["reflectionMotion"] = reflectionMotion(o);
     text = j.dump(1);
   }
-  writeFileAtomic(json, text);
-  std::printf("wrote %s\n", json.c_str());
+  if (!o.json.empty()) {
+    writeFileAtomic(o.json, text);
+    std::printf("wrote %s\n", o.json.c_str());
+  }
 }
 }  // namespace
 
 void addEval(CLI::App& app) {
   auto o = std::make_shared<Options>();
-  auto* cmd = app.add_subcommand("eval", "metrics of a result sequence against a reference (table + JSON)");
-  cmd->add_option("--reference,-r", o->reference, "reference directory (frame EXRs or a sequence)")->required();
+  auto* cmd = addSubcommand(app, "eval", "metrics of a result sequence against a reference (table, and JSON with --json)");
+  cmd->add_option("--reference,-r", o->reference, "reference directory (frame images or a sequence)")->required();
   cmd->add_option("--result", o->result, "result directory (e.g. `rtdenoise denoise` output)")->required();
   auto* input = cmd->add_option("--input,-i", o->input, "noisy input sequence, evaluated as a second row");
-  cmd->add_option("--json", o->json, "JSON output (default: <result>/metrics.json)");
+  cmd->add_option("--json", o->json, "FILE: also write per-frame metrics and summaries as JSON to FILE (nothing is written without it)");
   o->eval.add(cmd);
   cmd->add_flag("--reflection-motion", o->reflectionMotion,
                 "also compare the input's reflection motion vectors (diamond search) with the brute-force search "

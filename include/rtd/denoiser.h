@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "rtd/error.h"
@@ -139,5 +140,14 @@ std::vector<DeviceInfo> listDevices(std::string* vulkanError = nullptr);
 
 /// Every registered method with its settings' defaults.
 std::vector<MethodInfo> listMethods();
+
+/// One setting by name and its value as text ("sigmaLuminance", "4").
+using SettingAssignment = std::pair<std::string, std::string>;
+
+/// Sets several settings by name as one request: presets (SettingInfo::preset, e.g. SVGF's
+/// "variant") first, then the others in the order given, so that a preset never overrides a
+/// setting given with it whatever the order. Throws rtd::Error, before changing anything, for
+/// an unknown name or a name given twice; a bad value throws as Denoiser::set() does.
+void applySettings(Denoiser& denoiser, const std::vector<SettingAssignment>& assignments);
 
 }  // namespace rtd

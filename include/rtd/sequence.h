@@ -105,8 +105,12 @@ class SequenceWriter {
   std::vector<Buffer> buffers_;
 };
 
-/// Writes an RGB image as a float EXR with channels R, G, B (linear), atomically.
-void writeRgbExr(const std::filesystem::path& path, const Image& rgb);
+/// Pixel type of written EXR channels.
+enum class ExrPixels { Float, Half };
+
+/// Writes an RGB image as an EXR with channels R, G, B (linear), atomically: 32-bit float, or
+/// 16-bit half (values beyond 65504 become infinite, as OpenEXR converts them).
+void writeRgbExr(const std::filesystem::path& path, const Image& rgb, ExrPixels pixels = ExrPixels::Float);
 /// Reads the R, G, B channels of an EXR (single-part, top-level channels).
 Image readRgbExr(const std::filesystem::path& path);
 

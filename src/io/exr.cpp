@@ -7,6 +7,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <unistd.h>
+#include <Imath/half.h>
 
 #include <algorithm>
 #include <fstream>
@@ -87,16 +88,26 @@ std::vector<std::vector<float>> readChannels(const fs::path& path, const std::ve
   }
 }
 
-void writeChannels(const fs::path& path, int width, int height, const std::vector<ChannelSource>& channels) {
+void writeChannels(const fs::path& path, int width, int height, const std::vector<ChannelSource>& channels, bool half) {
   TemporaryFile tmp(path);
   try {
     Imf::Header header(width, height);
     header.compression() = Imf::ZIP_COMPRESSION;
     Imf::FrameBuffer fb;
-    for (const auto& c : channels) {
-      header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
-      fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char*)c.data, sizeof(float) * c.stride,
-                                   sizeof(float) * c.stride * size_t(width)));
+    // OpenEXR writes a slice only as its own pixel type: half channels get half copies.
+    std::vector<std::vector<Imath::half>> halves(half ? channels.size() : 0);
+    for (size_t k = 0; k < channels.size(); ++k) {
+      const auto& c = channels[k];
+      header.channels().insert(c.name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
+      if (half) {
+        auto& h = halves[k];
+        h.resize(size_t(width) * height);
+        for (size_t i = 0; i < h.size(); ++i) h[i] = Imath::half(c.data[i * c.stride]);
+        fb.insert(c.name, Imf::Slice(Imf::HALF, (char*)h.data(), sizeof(Imath::half), sizeof(Imath::half) * size_t(width)));
+      } else {
+        fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char*)c.data, sizeof(float) * c.stride,
+                                     sizeof(float) * c.stride * size_t(width)));
+      }
     }
     {
       Imf::OutputFile out(tmp.path().c_str(), header);

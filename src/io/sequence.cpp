@@ -582,11 +582,12 @@ void SequenceWriter::finish() const {
   writeFileAtomic(dir_ / "sequence.json", j.dump(1));
 }
 
-void writeRgbExr(const fs::path& path, const Image& rgb) {
+void writeRgbExr(const fs::path& path, const Image& rgb, ExrPixels pixels) {
   if (rgb.channels < 3) throw Error("cannot write '" + path.string() + "': the image has fewer than 3 channels");
   const size_t s = size_t(rgb.channels);
   exr::writeChannels(path, rgb.width, rgb.height,
-                     {{"R", rgb.pixels.data(), s}, {"G", rgb.pixels.data() + 1, s}, {"B", rgb.pixels.data() + 2, s}});
+                     {{"R", rgb.pixels.data(), s}, {"G", rgb.pixels.data() + 1, s}, {"B", rgb.pixels.data() + 2, s}},
+                     pixels == ExrPixels::Half);
 }
 
 Image readRgbExr(const fs::path& path) {

@@ -156,8 +156,10 @@ struct SvgfSettings {
   /// Setting "variant" by name is a preset: it resets the [variant] fields to that paper's
   /// defaults (fields set afterwards override them). Called by every backend's set().
   void settingSet(std::string_view name) {
-    if (name == "variant") applyVariant(variant);
+    if (isPreset(name)) applyVariant(variant);
   }
+  /// The settings that are presets (SettingInfo::preset): "variant".
+  static bool isPreset(std::string_view name) { return name == "variant"; }
 
   /// Resets the [variant] fields to the papers' defaults.
   void applyVariant(SvgfVariant v) {
@@ -239,7 +241,7 @@ struct SvgfSettings {
 
   template <class V> void visit(V& v) {
     v("variant", variant,
-      "preset of the [variant] settings (set it first): schied, dundr, gersthofer; voorhuis = Voorhuis' whole method "
+      "preset of the [variant] settings (applied before the other settings): schied, dundr, gersthofer; voorhuis = Voorhuis' whole method "
       "(Ours), voorhuisBase / voorhuisNoSpecReproj = its baselines, voorhuisRobustness = its Sec. 6 changes only",
       {"schied", "dundr", "gersthofer", "voorhuis", "voorhuisBase", "voorhuisNoSpecReproj", "voorhuisRobustness"});
     v("components", components, "radiance streams filtered separately and summed",
