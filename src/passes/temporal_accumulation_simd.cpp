@@ -111,8 +111,10 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
       h.m2.data[i] = flushTiny(am * squareOrZero(l) + (1.0f - am) * hist2);
     }
   };
+#ifdef RTD_SIMD_AVX2
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
   const bool vectorized = !mask && !gradient && options.luminance != MomentLuminance::CieLightness;
+#endif
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef RTD_SIMD_AVX2
