@@ -8,7 +8,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libtinygltf-dev libstb-dev
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
-  chromium help2man
+  chromium help2man libwebp-dev
   # Training of the learned methods and its tests only (python/rtdenoise_train, /usr/bin/python3).
   python3-torch python3-numpy python3-matplotlib
 )
