@@ -8,6 +8,7 @@
 #endif
 
 #include "cli.h"
+#include "core/cpu_path.h"
 #include "synthetic/synthetic.h"
 
 namespace rtd::cli {
@@ -107,6 +108,11 @@ void runBench(const BenchOptions& o) {
   nlohmann::json j = {{"method", o.method}, {"width", w}, {"height", h}, {"device", device->name()},
                       {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames},
                       {"sampleMask", o.sampleMask}, {"ftzDaz", o.ftzDaz}};
+  if (device->backend() == Backend::Cpu) {
+    // The SIMD path the CPU passes dispatched to (RTD_CPU_PATH forces one).
+    std::printf("  cpu path: %s\n", describeCpuPath().c_str());
+    j["cpuPath"] = cpuPathName(cpuPath());
+  }
   for (const auto& name : order) {
     const double m = median(passes[name]);
     std::printf("  %-24s %9.3f ms\n", name.c_str(), m);

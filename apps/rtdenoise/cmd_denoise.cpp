@@ -75,6 +75,7 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   uint64_t sanitized = 0;
   BufferCounts sanitizedPerBuffer{};
   std::vector<double> totals;
+  std::vector<std::string> notes;  // distinct FrameStats::notes (parts that did not run), in order
 
   Progress progress("denoise", frames);
   Image output(reader->width(), reader->height(), 3);
@@ -92,6 +93,9 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
     perFrame.push_back({{"number", frame.number}, {"passes", passes}, {"totalMs", st.totalMilliseconds},
                         {"sanitizedValues", st.sanitizedValues}, {"sanitized", sanitizeJson(st.sanitized)}});
     if (frame.cut) perFrame.back()["cut"] = true;
+    if (!st.notes.empty()) perFrame.back()["notes"] = st.notes;
+    for (const auto& n : st.notes)
+      if (std::find(notes.begin(), notes.end(), n) == notes.end()) notes.push_back(n);
     sanitized += st.sanitizedValues;
     accumulate(sanitizedPerBuffer, st.sanitized);
     totals.push_back(st.totalMilliseconds);
@@ -106,11 +110,13 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   timing["sanitizedValues"] = sanitized;
   timing["sanitized"] = sanitizeJson(sanitizedPerBuffer);
+  timing["notes"] = notes;
   writeFileAtomic(out / "timings.json", timing.dump(1));
   progress.finish();
   if (sanitized)
     std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized,
                  sanitizeSummary(sanitizedPerBuffer).c_str());
+  for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.dir.c_str());
 }
 }  // namespace

@@ -14,6 +14,13 @@ namespace rtd::cli {
 
 namespace {
 
+// "cornell, pillars, ...": the built-in scenes for the help text.
+std::string builtinList() {
+  std::string list;
+  for (const auto& n : render::Scene::builtinScenes()) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
 namespace fs = std::filesystem;
 using render::Eye;
 
@@ -165,8 +172,7 @@ void runRender(const RenderOptions& o, const CLI::App& cmd) {
 void addRender(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   auto* cmd = addSubcommand(app, "render", "path-trace a scene into a native sequence (1-spp input, features, references)");
-  cmd->add_option("--scene", o->scene, "REQUIRED (unless --print-scene): built-in scene (cornell, pillars, glossy, dynamic), "
-                                       ".gltf/.glb or .json description");
+  cmd->add_option("--scene", o->scene, "REQUIRED (unless --print-scene): built-in scene (" + builtinList() + "), .gltf/.glb or .json description");
   o->output.add(cmd, "REQUIRED (unless --print-scene): a native sequence; stereo: <dir>/left and <dir>/right", false);
   cmd->add_option("--frames", o->frames, "number of frames (default: the scene's)")->check(atLeast(1));
   cmd->add_option("--size", o->size, "WxH (default: the scene's, 320x180 for built-in scenes)");

@@ -79,10 +79,11 @@ class Denoiser {
     return *static_cast<const S*>(const_cast<Denoiser*>(this)->settingsStorage(S::kMethod));
   }
 
-  /// Denoise one frame. `output` must have the input's size, Float3 or Float4 (alpha is set
-  /// to 1); it receives linear RGB radiance, remodulated, not tone-mapped. A frame whose size
-  /// differs from the previous one resizes the history (and resets it). Throws rtd::Error on a
-  /// missing required buffer or a size mismatch, before touching history.
+  /// Denoise one frame. `output` must have the input's size, Float3, Float4, Half3 or Half4
+  /// (alpha is set to 1); it receives linear RGB radiance, remodulated, not tone-mapped. The
+  /// frame's conventions (FrameConventions) are converted to the native ones after import. A
+  /// frame whose size differs from the previous one resizes the history (and resets it). Throws
+  /// rtd::Error on a missing required buffer or a size mismatch, before touching history.
   virtual void denoise(const FrameInputs& frame, const ImageView& output) = 0;
 
   /// Forget all history (camera cut, scene change).

@@ -16,6 +16,7 @@
 
 #include "core/validate.h"
 #include "io/exr.h"
+#include "io/small_file.h"
 #include "io/temp_files.h"
 #include "rtd/error.h"
 
@@ -75,16 +76,9 @@ static std::array<float, 16> matrixFromJson(const json& j, const std::string& wh
 constexpr std::uintmax_t kMaxJsonBytes = std::uintmax_t(64) << 20;
 
 static json readJson(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error("'" + path.string() + "' is not a regular file");
-  const std::uintmax_t bytes = fs::file_size(path, ec);
-  if (ec || bytes > kMaxJsonBytes)
-    throw Error("'" + path.string() + "' is " + std::to_string(bytes) + " bytes, more than the " +
-                std::to_string(kMaxJsonBytes >> 20) + " MiB a sequence description may have");
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open '" + path.string() + "'");
+  const std::string text = readSmallFile(path, kMaxJsonBytes, "'" + path.string() + "'");
   try {
-    return json::parse(in);
+    return json::parse(text);
   } catch (const std::exception& e) {
     throw Error("'" + path.string() + "' is not valid JSON: " + e.what());
   }
@@ -285,6 +279,19 @@ constexpr BlenderPass kBlenderPasses[] = {
     {Buffer::ObjectId, "IndexOB", "X"},
 };
 
+// Cycles' light passes (use_pass_diffuse_*, use_pass_glossy_*, use_pass_transmission_*,
+// use_pass_emit, use_pass_environment), already demodulated by their colour pass:
+//   Combined = (DiffDir + DiffInd) DiffCol + (GlossDir + GlossInd) GlossCol
+//            + (TransDir + TransInd) TransCol + Emit + Env.
+// With the glossy passes the frame is split into lobes: Specular = (GlossDir + GlossInd)
+// GlossCol with SpecularAlbedo = GlossCol, and Diffuse = Combined - Specular (the diffuse
+// lobe, transmission, emission and environment: Diffuse + Specular = Color exactly), with
+// DiffuseAlbedo = DiffCol; Emission = Emit + Env (the emitters and sky seen directly).
+struct BlenderLightPasses {
+  bool glossy = false, diffuseColor = false, emit = false, env = false;
+  bool any() const { return glossy || diffuseColor || emit || env; }
+};
+
 class BlenderReader final : public SequenceReader {
  public:
   BlenderReader(const fs::path& dir, std::vector<std::pair<int, fs::path>> files, const std::string& layer)
@@ -299,6 +306,23 @@ class BlenderReader final : public SequenceReader {
         passes_.push_back(&p);
       }
     }
+    auto has = [&](const char* pass) {
+      return std::find(h.channels.begin(), h.channels.end(), layer_ + "." + pass + ".R") != h.channels.end();
+    };
+    light_.glossy = has("GlossDir") && has("GlossInd") && has("GlossCol");
+    light_.diffuseColor = has("DiffCol");
+    light_.emit = has("Emit");
+    light_.env = has("Env");
+    auto add = [&](Buffer b) {
+      if (std::find(buffers_.begin(), buffers_.end(), b) == buffers_.end()) buffers_.push_back(b);
+    };
+    if (light_.glossy) {
+      add(Buffer::Diffuse);
+      add(Buffer::Specular);
+      add(Buffer::SpecularAlbedo);
+      if (light_.diffuseColor) add(Buffer::DiffuseAlbedo);
+    }
+    if (light_.emit || light_.env) add(Buffer::Emission);
     const fs::path cameras = dir / "cameras.json";
     if (fs::exists(cameras)) loadCameras(cameras);
   }
@@ -339,6 +363,7 @@ class BlenderReader final : public SequenceReader {
       }
       f[p->buffer] = interleave(planes, width_, height_);
     }
+    readLightPasses(path, context, f);
     auto cam = cameras_.find(number);
     if (cam != cameras_.end()) f.camera = cam->second;
     f.cut = cutAt(index);
@@ -349,6 +374,50 @@ class BlenderReader final : public SequenceReader {
   bool markedCut(int index) const override { return cutFrames_.count(files_[size_t(index)].first) > 0; }
 
  private:
+  // The lobes, their colours and the emission from the light passes (BlenderLightPasses), all
+  // channels read in one pass over the file.
+  void readLightPasses(const fs::path& path, const std::string& context, Frame& f) const {
+    std::vector<std::string> passes;
+    if (light_.glossy) passes.insert(passes.end(), {"GlossDir", "GlossInd", "GlossCol"});
+    if (light_.glossy && light_.diffuseColor) passes.push_back("DiffCol");
+    if (light_.emit) passes.push_back("Emit");
+    if (light_.env) passes.push_back("Env");
+    if (passes.empty()) return;
+    std::vector<std::string> names;
+    for (const auto& p : passes)
+      for (const char* c : {"R", "G", "B"}) names.push_back(layer_ + "." + p + "." + c);
+    const auto planes = exr::readChannels(path, names, context);
+    auto pass = [&](const std::string& name) {
+      const size_t k = size_t(std::find(passes.begin(), passes.end(), name) - passes.begin());
+      return std::vector<std::vector<float>>(planes.begin() + 3 * k, planes.begin() + 3 * k + 3);
+    };
+    const size_t n = size_t(width_) * height_;
+    if (light_.glossy) {
+      const auto dir = pass("GlossDir"), ind = pass("GlossInd"), col = pass("GlossCol");
+      std::vector<std::vector<float>> specular(3, std::vector<float>(n)), diffuse(3, std::vector<float>(n));
+      const Image& combined = f[Buffer::Color];
+      for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < n; ++i) {
+          specular[c][i] = (dir[c][i] + ind[c][i]) * col[c][i];
+          diffuse[c][i] = combined.pixels[i * combined.channels + c] - specular[c][i];
+        }
+      f[Buffer::Specular] = interleave(specular, width_, height_);
+      f[Buffer::Diffuse] = interleave(diffuse, width_, height_);
+      f[Buffer::SpecularAlbedo] = interleave(col, width_, height_);
+      if (light_.diffuseColor) f[Buffer::DiffuseAlbedo] = interleave(pass("DiffCol"), width_, height_);
+    }
+    if (light_.emit || light_.env) {
+      std::vector<std::vector<float>> e(3, std::vector<float>(n, 0.0f));
+      for (const auto& [name, present] : {std::pair{"Emit", light_.emit}, std::pair{"Env", light_.env}}) {
+        if (!present) continue;
+        const auto p = pass(name);
+        for (int c = 0; c < 3; ++c)
+          for (size_t i = 0; i < n; ++i) e[c][i] += p[c][i];
+      }
+      f[Buffer::Emission] = interleave(e, width_, height_);
+    }
+  }
+
   std::string channelName(const BlenderPass& p, size_t c) const {
     return layer_ + "." + p.pass + "." + std::string(1, p.channels[c]);
   }
@@ -399,6 +468,7 @@ class BlenderReader final : public SequenceReader {
   int width_ = 0, height_ = 0;
   std::vector<Buffer> buffers_;
   std::vector<const BlenderPass*> passes_;
+  BlenderLightPasses light_;
   std::map<int, Camera> cameras_;
   std::set<int> cutFrames_;
 };

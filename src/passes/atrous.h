@@ -18,8 +18,9 @@
 namespace rtd {
 
 /// A plane with a zero border of `pad` pixels on every side (and slack after the last row),
-/// rows `stride` floats apart; pad and stride are multiples of 8.
+/// rows `stride` floats apart; pad and stride are multiples of kAlignment (the widest vector).
 struct PaddedPlane {
+  static constexpr int kAlignment = 16;
   int width = 0, height = 0, pad = 0, stride = 0;
   PixelVector<float> data;
 

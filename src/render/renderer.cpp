@@ -182,10 +182,13 @@ struct Renderer::Impl {
       rtcReleaseGeometry(geom);
 
       const Material& m = scene->materials[obj.material];
-      if (m.isEmissive() && g->emissionScale[o] > 0) {  // a switched-off light is not sampled
+      if (m.isEmissive()) {
+        // Lights are selected by their nominal power, whatever their switch (emissionScale): a
+        // switched-off lamp keeps its share of the light samples (they find no radiance), so a
+        // light switch does not reshuffle which light every other pixel's random numbers pick,
+        // and re-shaded gradient samples lit by other lights keep their values.
         g->lightOffset[o] = int(g->lights.size());
-        const V3 e = (m.emissiveTexture >= 0 ? m.emissive * scene->textures[m.emissiveTexture].mean : m.emissive) *
-                     g->emissionScale[o];
+        const V3 e = m.emissiveTexture >= 0 ? m.emissive * scene->textures[m.emissiveTexture].mean : m.emissive;
         for (size_t k = 0; k < tris; ++k) {
           const V3 a = P[mesh.indices[3 * k]], b = P[mesh.indices[3 * k + 1]], c = P[mesh.indices[3 * k + 2]];
           g->lights.push_back({int(o), uint32_t(k), 0.5f * length(cross(b - a, c - a)), e});

@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/api_guard.h"
+#include "core/cpu_path.h"
 #include "core/registry.h"
 #include "rtd/denoiser.h"
 
@@ -30,7 +31,9 @@ class CpuDevice final : public Device {
   explicit CpuDevice(int threads)
       : threads_(threads > 0 ? threads : tbb::info::default_concurrency()), arena_(arenaFor(threads_)) {}
   Backend backend() const override { return Backend::Cpu; }
-  std::string name() const override { return "CPU (" + std::to_string(threads_) + " threads, oneTBB)"; }
+  std::string name() const override {
+    return "CPU (" + std::to_string(threads_) + " threads, oneTBB, " + cpuPathName(cpuPath()) + ")";
+  }
   std::unique_ptr<Denoiser> createDenoiser(std::string_view method) override {
     const MethodEntry* e = findMethod(method);
     if (!e) throw Error("unknown method '" + std::string(method) + "' (see `rtdenoise methods`)");
@@ -52,7 +55,7 @@ std::vector<DeviceInfo> listVulkanDevices();
 std::vector<DeviceInfo> listDevices(std::string* vulkanError) {
   std::vector<DeviceInfo> out;
   const int threads = tbb::info::default_concurrency();
-  out.push_back({Backend::Cpu, 0, "CPU", std::to_string(threads) + " threads, oneTBB"});
+  out.push_back({Backend::Cpu, 0, "CPU", std::to_string(threads) + " threads, oneTBB, SIMD path " + describeCpuPath()});
 #ifdef RTD_HAS_VULKAN
   try {
     for (auto& d : listVulkanDevices()) out.push_back(std::move(d));
@@ -71,7 +74,10 @@ std::unique_ptr<Device> Device::create(const DeviceDesc& desc) {
   if (desc.backend != Backend::Cpu && desc.backend != Backend::Vulkan)
     throw Error("DeviceDesc::backend " + std::to_string(int(desc.backend)) + " is not a backend");
   return guarded("Device::create", [&]() -> std::unique_ptr<Device> {
-    if (desc.backend == Backend::Cpu) return std::make_unique<CpuDevice>(desc.threads);
+    if (desc.backend == Backend::Cpu) {
+      checkCpuPathSetting();  // a bad RTD_CPU_PATH is an error here rather than silently ignored
+      return std::make_unique<CpuDevice>(desc.threads);
+    }
 #ifdef RTD_HAS_VULKAN
     return createVulkanDevice(desc);
 #else

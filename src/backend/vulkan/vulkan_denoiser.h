@@ -10,6 +10,7 @@
 
 #include "backend/vulkan/context.h"
 #include "backend/vulkan/passes.h"
+#include "core/conventions.h"
 #include "core/settings_reflect.h"
 #include "rtd/denoiser.h"
 #include "rtd/vulkan.h"
@@ -61,8 +62,8 @@ class VulkanDenoiserBase : public Denoiser {
   struct Import {
     Buffer which;
     Binding source;
-    uint32_t offsetWords, pixelStrideWords, rowStrideWords;
-    bool isInt;
+    uint32_t offsetWords, pixelStrideWords, rowStrideWords;  // 16-bit units for halves
+    uint32_t type;  // import.comp's: 0 float, 1 int32, 2 half
     const char* imageShader = nullptr;
   };
   struct Export {
@@ -75,9 +76,10 @@ class VulkanDenoiserBase : public Denoiser {
   void denoiseIntoImage(const VulkanFrameInputs& frame, const VulkanImageView& output, VkCommandBuffer cmd);
   void denoiseGpu(const VulkanFrameInputs& frame, const Export& out, VkCommandBuffer cmd);
   void bindBufferView(const VulkanBufferView& v, const std::string& what, uint32_t channels, int w, int h,
-                      Binding& binding, uint32_t& offsetWords, uint32_t& pixelWords, uint32_t& rowWords) const;
+                      Binding& binding, uint32_t& offsetUnits, uint32_t& pixelUnits, uint32_t& rowUnits) const;
   void prepare(int w, int h, bool cameraCut);
-  void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera, const Export& out);
+  void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
+              const ConventionTransform& conventions, const Export& out);
   void submitAndWait();
   /// The sanitize counters of the last frame that ran into `stats` (sanitized, sanitizedValues).
   void readSanitizeCounts(FrameStats& stats) const;

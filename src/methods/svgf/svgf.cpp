@@ -47,6 +47,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     rtd::resize(sum_, w, h);
     rtd::resize(display_, w, h);
+    rtd::resize(lobeMedian_, w, h);
     taa_.resize(w, h);
   }
   void resetHistory() override {
@@ -65,6 +66,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     visitPlanes(visit, "sum", sum_);
     visitPlanes(visit, "display", display_);
+    visitPlanes(visit, "diffuse lobe median", lobeMedian_);
     taa_.forEachPlane(visit);
   }
 
@@ -99,12 +101,26 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
       const svgf::Reflections::StreamInputs in = reflections_.stream(frame, st.plan, reprojection_, guide_, k);
       const AtrousImage& result = filterStream(frame, st, in, suffix, stats);
+      if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse) {
+        // With the lobes split, the median takes the diffuse lobe only, everywhere: it holds
+        // no specular highlights (Voorhuis Sec. 6: "only ... pixels that have a diffuse
+        // primary hit", so that highlights survive), and is taken before any other colour
+        // scales it.
+        {
+          PassTimer t(stats, "median" + suffix);
+          for (int c = 0; c < 3; ++c) result.color[c].copyTo(display_[c]);
+          svgf::median3x3(display_, nullptr, lobeMedian_);
+        }
+        PassTimer t(stats, "sum" + suffix);
+        addStream([&](int c, int y) { return lobeMedian_[c].row(y); }, k == 0, in.albedo, albedo);
+        continue;
+      }
       PassTimer t(stats, "sum" + suffix);
-      addStream(result, k == 0, in.albedo, albedo);
+      addStream([&](int c, int y) { return result.color[c].row(y); }, k == 0, in.albedo, albedo);
     }
     stats.notes = std::move(parts.notes);
     Plane3* shown = &sum_;
-    if (s.fireflyMedian) {
+    if (s.fireflyMedian && !lobes) {
       PassTimer t(stats, "median");
       svgf::median3x3(sum_, frame.has(Buffer::Roughness) ? &frame.plane(Buffer::Roughness) : nullptr, display_);
       shown = &display_;
@@ -165,15 +181,16 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   // sum_ (+)= this stream's filtered illumination, remodulated by the stream's own colour
   // `streamAlbedo` (null: not demodulated) and divided by `albedo`, so that the shared
   // remodulation by `albedo` restores it exactly.
-  void addStream(const AtrousImage& r, bool first, const std::vector<Plane>* streamAlbedo,
-                 const std::vector<Plane>* albedo) {
+  // `rows(c, y)`: row y of channel c of the stream's filtered illumination.
+  template <class Rows>
+  void addStream(Rows&& rows, bool first, const std::vector<Plane>* streamAlbedo, const std::vector<Plane>* albedo) {
     const int w = sum_[0].width;
     const bool same = streamAlbedo == albedo;  // the common case: nothing to convert
     const std::vector<Plane>* times = same ? nullptr : streamAlbedo;
     const std::vector<Plane>* divide = same ? nullptr : albedo;
     parallelRows(sum_[0].height, [&](int y) {
       for (int c = 0; c < 3; ++c) {
-        const float* in = r.color[c].row(y);
+        const float* in = rows(c, y);
         float* o = sum_[c].row(y);
         const float* m = times ? (*times)[c].row(y) : nullptr;
         const float* a = divide ? (*divide)[c].row(y) : nullptr;
@@ -193,7 +210,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   svgf::Filter filter_;
   const Plane* mask_ = nullptr;
   Stream streams_[kMaxStreams];
-  Plane3 sum_, display_;
+  Plane3 sum_, display_, lobeMedian_;
   Taa taa_;
 };
 

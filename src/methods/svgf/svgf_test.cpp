@@ -7,6 +7,7 @@
 #include "methods/svgf/svgf_passes.h"
 #include "passes/atrous.h"
 #include "rtd/rtd.h"
+#include "support/cpu_paths.h"
 #include "synthetic/synthetic.h"
 
 namespace rtd {
@@ -143,10 +144,13 @@ void randomScene(Scene& s, uint32_t seed) {
     }
 }
 
+// On every CPU path this machine runs (sse2: 4 lanes, avx2: 8, avx512: 16), forced in turn.
 TEST(Atrous, MatchesDoublePrecisionReferenceBothKernels) {
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
   for (AtrousKernel k : {AtrousKernel::B3Spline5x5, AtrousKernel::Binomial3x3})
     for (int step : {1, 4}) {
-      Scene s(37, 21, 8);  // width not a multiple of 8: the tail tile is exercised
+      Scene s(37, 21, 8);  // width not a multiple of 8 or 16: the tail tile is exercised
       randomScene(s, 7 + step);
       AtrousLevel lv = level(k, step, &s.inv);
       lv.normalExponent = step == 1 ? 64 : 5;  // the unrolled and the generic power
@@ -156,11 +160,13 @@ TEST(Atrous, MatchesDoublePrecisionReferenceBothKernels) {
         for (int x = 0; x < s.w; ++x) {
           double ref[3], var;
           referencePixel(s, lv, x, y, ref, var);
-          for (int c = 0; c < 3; ++c) ASSERT_NEAR(s.b.color[c].at(x, y), ref[c], 2e-5) << x << "," << y;
-          ASSERT_NEAR(s.b.var.at(x, y), var, 2e-6 + 1e-4 * var) << x << "," << y;
+          for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(s.b.color[c].at(x, y), ref[c], 2e-5) << x << "," << y << " " << cpuPathName(path);
+          ASSERT_NEAR(s.b.var.at(x, y), var, 2e-6 + 1e-4 * var) << x << "," << y << " " << cpuPathName(path);
           ASSERT_NEAR(s.b.lum.at(x, y), luminance(s.b.color[0].at(x, y), s.b.color[1].at(x, y), s.b.color[2].at(x, y)), 1e-6);
         }
     }
+  }
 }
 
 TEST(Atrous, ConstantImageIsAFixedPoint) {

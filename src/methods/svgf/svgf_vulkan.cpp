@@ -70,19 +70,28 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
       const svgf::GpuReflections::StreamInputs in = reflections_.stream(rec, frame, st.plan, reprojection_, primaryGuide, k);
       const vk::Planes* streamAlbedo = in.albedo;
-      const vk::Planes& result = filterStream(rec, frame, st, in, suffix);
+      const vk::Planes* result = &filterStream(rec, frame, st, in, suffix);
+      if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse) {
+        // The diffuse lobe's median, everywhere (as svgf.cpp).
+        rec.pass("median" + suffix);
+        struct PC {
+          uint32_t width, height, hasRoughness;
+        } pc{uint32_t(frame.width), uint32_t(frame.height), 0};
+        rec.dispatch("median3x3", {*result, ctx_.dummy(), display_}, pc, frame.width, frame.height);
+        result = &display_;
+      }
       rec.pass("sum" + suffix);
       const bool same = streamAlbedo == albedo;
       struct PC {
         uint32_t width, height, first, divide, times;
       } pc{uint32_t(frame.width), uint32_t(frame.height), k == 0, !same && albedo, !same && streamAlbedo};
       rec.dispatch("svgf_sum",
-                   {result, albedo ? vk::Binding(*albedo) : vk::Binding(ctx_.dummy()), sum_,
+                   {*result, albedo ? vk::Binding(*albedo) : vk::Binding(ctx_.dummy()), sum_,
                     streamAlbedo ? vk::Binding(*streamAlbedo) : vk::Binding(ctx_.dummy())},
                    pc, frame.width, frame.height);
     }
     const vk::Planes* shown = &sum_;
-    if (s.fireflyMedian) {
+    if (s.fireflyMedian && !lobes) {
       rec.pass("median");
       struct PC {
         uint32_t width, height, hasRoughness;
