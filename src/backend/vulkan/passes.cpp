@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "passes/taa.h"
+
 namespace rtd::vk {
 
 Binding GpuFrame::bindingOf(Buffer b, const Context& ctx) const {
@@ -33,9 +35,9 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
   };
   struct PC {
     uint32_t width, height, flags;
-    float depthTolerance, depthGradientScale, normalTolerance, positionTolerance;
+    float depthTolerance, depthGradientScale, normalTolerance, positionTolerance, positionFootprints;
   } pc{uint32_t(cur.width), uint32_t(cur.height), 0, s.depthTolerance, s.depthGradientScale, s.normalTolerance,
-       s.positionTolerance};
+       s.positionTolerance, s.positionFootprints};
   // Same rules as reproject() on the CPU: a test runs when both frames have its buffer.
   const bool usable = prev && prev->width == cur.width && prev->height == cur.height;
   const GpuFrame& p = usable ? *prev : cur;
@@ -45,7 +47,7 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
     if (s.testDepth && both(Buffer::Depth)) pc.flags |= kDepth;
     if (both(Buffer::Normal)) pc.flags |= kNormal;
     if (s.testObjectId && both(Buffer::ObjectId)) pc.flags |= kId;
-    if (s.positionTolerance > 0 && both(Buffer::Position)) pc.flags |= kPosition;
+    if ((s.positionTolerance > 0 || s.positionFootprints > 0) && both(Buffer::Position)) pc.flags |= kPosition;
     if (cur.has(Buffer::Motion)) pc.flags |= kMotion;
     else if (cur.cameraValue.valid && p.cameraValue.valid && cur.has(Buffer::Position)) pc.flags |= kFromCamera;
     if (cur.has(Buffer::DepthGradient)) pc.flags |= kDepthGradient;
@@ -170,20 +172,25 @@ void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int
 
 void GpuTaa::resize(Context& ctx, int w, int h) {
   for (auto& p : history_) p.allocate(ctx, w, h, 3);
+  linear_.allocate(ctx, w, h, 3);
   valid_ = false;
 }
 
-const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha) {
+const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s) {
   const int prev = cur_;
   cur_ ^= 1;
+  const TaaParams p = TaaParams::of(s);
+  const bool valid = valid_ && display_ == p.display;  // a history in the other domain is no history
   struct PC {
     uint32_t width, height;
     float alpha;
-    uint32_t valid;
-  } pc{uint32_t(color.width), uint32_t(color.height), alpha, valid_};
-  rec.dispatch("taa", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
+    uint32_t valid, display;
+    float crossWeight;
+  } pc{uint32_t(color.width), uint32_t(color.height), p.alpha, valid, p.display, p.crossWeight};
+  rec.dispatch("taa", {rp, color, history_[prev], history_[cur_], linear_}, pc, color.width, color.height);
   valid_ = true;
-  return history_[cur_];
+  display_ = p.display;
+  return p.display ? linear_ : history_[cur_];
 }
 
 }  // namespace rtd::vk

@@ -7,6 +7,7 @@
 #include "backend/vulkan/context.h"
 #include "rtd/frame.h"
 #include "rtd/methods/reprojection.h"
+#include "rtd/methods/taa.h"
 
 namespace rtd::vk {
 
@@ -112,12 +113,15 @@ class GpuTaa {
  public:
   void resize(Context& ctx, int w, int h);
   void reset() { valid_ = false; }
-  const Planes& run(Recorder& rec, const Planes& rp, const Planes& color, float alpha);
+  /// Taa::run (src/passes/taa.h) on the device: the linear output.
+  const Planes& run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s);
 
  private:
-  Planes history_[2];
+  Planes history_[2];  // display-encoded or linear, as the last frame's domain
+  Planes linear_;      // display domain: the decoded output
   int cur_ = 0;
   bool valid_ = false;
+  bool display_ = false;
 };
 
 }  // namespace rtd::vk

@@ -105,7 +105,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     notes_ = std::move(parts.notes);
     rec.pass("taa");
     if (!s.taa.taa) return remodulated_;
-    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_), remodulated_, s.taa.taaAlpha);
+    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_), remodulated_, s.taa);
   }
 
  private:
