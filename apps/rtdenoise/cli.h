@@ -33,6 +33,7 @@ void addDevices(CLI::App& app);
 
 /// Applies "key=value" strings to a denoiser; throws rtd::Error on a malformed one.
 void applySettings(Denoiser& d, const std::vector<std::string>& assignments);
+void applySettings(StereoDenoiser& d, const std::vector<std::string>& assignments);
 
 /// Parses "WxH".
 std::pair<int, int> parseSize(const std::string& s);

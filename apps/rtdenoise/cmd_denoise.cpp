@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
+#include "denoise_stereo.h"
 
 namespace rtd::cli {
 
@@ -12,17 +13,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-struct DenoiseOptions {
-  std::string method = "svgf";
-  std::string input, output;
-  std::vector<std::string> settings;
-  std::string backend = "cpu";
-  std::string vulkanDevice;
-  int threads = 0;
-  int maxFrames = 0;
-};
-
 void runDenoise(const DenoiseOptions& o) {
+  if (isStereoSequence(o.input)) return runDenoiseStereo(o);  // render --stereo output: both eyes
   auto reader = SequenceReader::open(o.input);
   auto device = Device::create({.backend = parseBackend(o.backend), .threads = o.threads, .vulkanDevice = o.vulkanDevice});
   auto denoiser = device->createDenoiser(o.method);
@@ -92,8 +84,10 @@ void addDenoise(CLI::App& app) {
   auto o = std::make_shared<DenoiseOptions>();
   auto* cmd = app.add_subcommand("denoise", "denoise a sequence (native or Blender multilayer EXR)");
   cmd->add_option("--method,-m", o->method, "method name (see `rtdenoise methods`)")->capture_default_str();
-  cmd->add_option("--input,-i", o->input, "sequence directory")->required();
-  cmd->add_option("--output,-o", o->output, "output directory (frame_NNNN.exr + timings.json)")->required();
+  cmd->add_option("--input,-i", o->input, "sequence directory (a stereo one, with left/ and right/, denoises both eyes)")
+      ->required();
+  cmd->add_option("--output,-o", o->output, "output directory (frame_NNNN.exr + timings.json; stereo: left/, right/)")
+      ->required();
   cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable)");
   cmd->add_option("--backend,-b", o->backend, "cpu or vulkan")->capture_default_str();
   cmd->add_option("--device", o->vulkanDevice, "Vulkan device index or name substring");

@@ -7,13 +7,18 @@
 
 namespace rtd::cli {
 
-void applySettings(Denoiser& d, const std::vector<std::string>& assignments) {
+namespace {
+template <class D> void applyAssignments(D& d, const std::vector<std::string>& assignments) {
   for (const auto& a : assignments) {
     const auto eq = a.find('=');
     if (eq == std::string::npos || eq == 0) throw Error("--set '" + a + "': expected key=value");
     d.set(a.substr(0, eq), a.substr(eq + 1));
   }
 }
+}  // namespace
+
+void applySettings(Denoiser& d, const std::vector<std::string>& assignments) { applyAssignments(d, assignments); }
+void applySettings(StereoDenoiser& d, const std::vector<std::string>& assignments) { applyAssignments(d, assignments); }
 
 std::pair<int, int> parseSize(const std::string& s) {
   int w = 0, h = 0;

@@ -17,6 +17,9 @@
 
 namespace rtd {
 
+class StereoDenoiser;  // rtd/stereo.h
+namespace detail { struct DenoiserAccess; }
+
 enum class Backend { Cpu, Vulkan };
 std::string_view backendName(Backend b);
 
@@ -26,12 +29,24 @@ struct PassTiming {
   double milliseconds = 0;
 };
 
+/// Memory a denoiser holds for one purpose (the categories of Gersthofer's Table 5.4).
+struct MemoryUse {
+  /// "frames": the imported inputs (this frame's and the previous frame's buffers, the
+  /// G-buffer's counterpart); "history": what carries over to the next frame; "intermediate":
+  /// per-frame working planes.
+  std::string category;
+  uint64_t bytes = 0;
+};
+
 /// What the last denoise() call did.
 struct FrameStats {
   std::vector<PassTiming> passes;
   double totalMilliseconds = 0;
   uint64_t sanitizedValues = 0;  ///< NaN, Inf or negative radiance values replaced by 0
   uint64_t pixels = 0;
+  /// Memory held after the call, by category; filled by the methods that account for it
+  /// (svgf with components = composite), empty otherwise.
+  std::vector<MemoryUse> memory;
 };
 
 /// A denoiser owns the history of one image stream. Not thread-safe; use one per stream.
@@ -73,6 +88,7 @@ class Denoiser {
  protected:
   virtual void* settingsStorage(std::string_view method) = 0;
   virtual void settingsChanged() {}
+  friend struct detail::DenoiserAccess;  // two-view denoisers made of two Denoisers reach these
 };
 
 struct DeviceDesc {
@@ -100,6 +116,13 @@ class Device {
     d->setSettings(settings);
     return d;
   }
+
+  /// A two-view denoiser (rtd/stereo.h) of any method, default settings: the method's stereo
+  /// pipeline where it has one (svgf: Gersthofer's eye reprojection), else one history per eye.
+  virtual std::unique_ptr<StereoDenoiser> createStereoDenoiser(std::string_view method) = 0;
+  template <class S>
+    requires requires { S::kMethod; }
+  std::unique_ptr<StereoDenoiser> createStereoDenoiser(const S& settings);
 };
 
 /// A device `rtdenoise devices` lists.

@@ -6,6 +6,7 @@
 #include "rtd/image.h"
 #include "rtd/sequence.h"
 #include "rtd/settings.h"
+#include "rtd/stereo.h"
 #include "rtd/version.h"
 #include "rtd/methods/accumulate.h"
 #include "rtd/methods/svgf.h"

@@ -16,7 +16,7 @@ namespace rtd {
 bool isRadianceBuffer(Buffer b) {
   switch (b) {
     case Buffer::Color: case Buffer::Direct: case Buffer::Indirect:
-    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: return true;
+    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: case Buffer::IndirectDiffuse: return true;
     default: return false;
   }
 }
@@ -26,7 +26,7 @@ static std::string describe(Buffer b) { return "buffer '" + std::string(bufferNa
 std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const std::vector<Buffer>& extra,
                                     const ReprojectionSettings& reprojection) {
   std::vector<Buffer> shared = {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Position, Buffer::Motion,
-                                Buffer::Emission};
+                                Buffer::Emission, Buffer::HiddenArea};
   if (reprojection.testDepth) {
     shared.push_back(Buffer::Depth);
     shared.push_back(Buffer::DepthGradient);
@@ -199,7 +199,25 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
     }, 16);
   }
   separateEmission(out);
+  applyHiddenArea(out);
   return replaced;
+}
+
+void applyHiddenArea(FrameData& f) {
+  if (!f.has(Buffer::HiddenArea)) return;
+  const Plane& hidden = f.plane(Buffer::HiddenArea);
+  for (int i = 0; i < kBufferCount; ++i) {
+    const Buffer b = Buffer(i);
+    if (!f.has(b) || !(isRadianceBuffer(b) || b == Buffer::Normal)) continue;
+    parallelRows(f.height, [&](int y) {
+      const float* m = hidden.row(y);
+      for (auto& plane : f.buffers[i]) {
+        float* v = plane.row(y);
+        for (int x = 0; x < f.width; ++x)
+          if (m[x] > 0.5f) v[x] = 0.0f;
+      }
+    });
+  }
 }
 
 void separateEmission(FrameData& f) {

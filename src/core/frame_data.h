@@ -36,14 +36,19 @@ std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const s
 /// (all of them if null), so a frame carrying many buffers costs only what the method reads.
 /// Checks that every required buffer is present and that all buffers share one size and have
 /// enough channels; throws rtd::Error naming the buffer otherwise. Non-finite feature values
-/// also become 0. Emission is then separated (separateEmission). Returns the number of values
-/// replaced.
+/// also become 0. Emission is then separated (separateEmission) and the hidden area cleared
+/// (applyHiddenArea). Returns the number of values replaced.
 uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out,
                      const std::vector<Buffer>* used = nullptr);
 
 /// Subtracts Buffer::Emission (if present) from Color, Direct and Diffuse, clamped at 0, so
 /// methods filter only the noisy part; importFrame() calls it.
 void separateEmission(FrameData& frame);
+
+/// Buffer::HiddenArea (if present): the pixels the lens hides carry nothing. Their radiance
+/// buffers and normals become 0, so every method treats them as background (a zero normal
+/// weighs 0 in the spatial filters) and they neither take nor give light; importFrame() calls it.
+void applyHiddenArea(FrameData& frame);
 
 /// Whether a pass writing `bytes` of pixels that the next passes will not read right away
 /// writes them around the caches (non-temporal stores): when they exceed what a last-level

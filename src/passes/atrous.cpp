@@ -110,7 +110,7 @@ struct Tap {
   float h;
 };
 
-template <bool kPropagate, bool kLogNormal, bool kMasked>
+template <bool kPropagate, bool kLogNormal, bool kMasked, bool kGlossy>
 void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
                 const std::vector<Tap>& taps, float h0) {
   const PaddedPlane& z = g.depth;
@@ -132,6 +132,9 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
   const bool cie = lv.luminance == MomentLuminance::CieLightness;
   const float* pvalid = kMasked ? lv.validIn->data.data() : nullptr;
   float* qvalid = kMasked ? lv.validOut->data.data() : nullptr;
+  const float* pzi = kGlossy ? lv.indirectDistance->data.data() : nullptr;
+  const float* pziScale = kGlossy ? lv.indirectDistanceScale->data.data() : nullptr;
+  const float* pcentre = lv.centreScale ? lv.centreScale->data.data() : nullptr;
 
   stridedRows(z.height, lv.step, [&](int y) {
     for (int x = 0; x < w; x += kLanes) {
@@ -139,7 +142,7 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
       const vf lc = load(pl + c);
-      vf inv;
+      vf inv, ziInv, zic;
       {
         // w_l bandwidth from the (3x3-Gaussian-prefiltered) variance at the centre.
         vf v = load(pv + c);
@@ -150,14 +153,21 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
         const vf sd = useVar ? v : vsqrt(v);
         const vf k = pscale ? load(pscale + c) : splat(1.0f);
         inv = k > 0.0f ? 1.0f / (sigmaL * k * sd + epsL) : splat(0.0f);
+        if constexpr (kGlossy) {
+          // Eq. 3.2: (1 - roughness(p)) / (sqrt(g3x3(Var)) + eps), folded into one factor.
+          ziInv = load(pziScale + c) / ((useVar ? vsqrt(v) : sd) + epsL);
+          zic = load(pzi + c);
+        }
       }
-      const vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
+      vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
+      if (pcentre) w0 *= load(pcentre + c);  // w_r on every neighbour = 1/w_r on the centre
       vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
       vf sv = kPropagate ? w0 * w0 * load(pv + c) : splat(0.0f);
       auto tap = [&](const Tap& t, vf depthScale) {
         const size_t q = c + t.offset;
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
         vf expo = vabs(zc - load(pz + q)) * depthScale + vabs(lc - load(pl + q)) * inv;
+        if constexpr (kGlossy) expo += vabs(zic - load(pzi + q)) * ziInv;
         vf wt;
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
@@ -293,19 +303,26 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   // ones use the exact power.
   const bool series = lv.normalExponent >= 16;
   const bool p = lv.propagateVariance;
-  if (lv.validIn && lv.validOut) {
-    if (series) p ? atrousRows<true, true, true>(g, lv, in, out, taps, h0) : atrousRows<false, true, true>(g, lv, in, out, taps, h0);
-    else p ? atrousRows<true, false, true>(g, lv, in, out, taps, h0) : atrousRows<false, false, true>(g, lv, in, out, taps, h0);
+  if (lv.indirectDistance && lv.indirectDistanceScale) {
+    // Gersthofer's glossy weights: dense input only (his masked pixels are black samples).
+    assert(!lv.validIn);
+    if (series) p ? atrousRows<true, true, false, true>(g, lv, in, out, taps, h0) : atrousRows<false, true, false, true>(g, lv, in, out, taps, h0);
+    else p ? atrousRows<true, false, false, true>(g, lv, in, out, taps, h0) : atrousRows<false, false, false, true>(g, lv, in, out, taps, h0);
+  } else if (lv.validIn && lv.validOut) {
+    if (series) p ? atrousRows<true, true, true, false>(g, lv, in, out, taps, h0) : atrousRows<false, true, true, false>(g, lv, in, out, taps, h0);
+    else p ? atrousRows<true, false, true, false>(g, lv, in, out, taps, h0) : atrousRows<false, false, true, false>(g, lv, in, out, taps, h0);
   } else {
-    if (series) p ? atrousRows<true, true, false>(g, lv, in, out, taps, h0) : atrousRows<false, true, false>(g, lv, in, out, taps, h0);
-    else p ? atrousRows<true, false, false>(g, lv, in, out, taps, h0) : atrousRows<false, false, false>(g, lv, in, out, taps, h0);
+    if (series) p ? atrousRows<true, true, false, false>(g, lv, in, out, taps, h0) : atrousRows<false, true, false, false>(g, lv, in, out, taps, h0);
+    else p ? atrousRows<true, false, false, false>(g, lv, in, out, taps, h0) : atrousRows<false, false, false, false>(g, lv, in, out, taps, h0);
   }
 }
 
 namespace {
 template <bool kLogNormal>
 void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const PaddedPlane& pb, const Plane& len,
-                         float shortHistory, int R, float sigmaZ, float epsZ, int e, PaddedPlane& var) {
+                         float shortHistory, int R, float sigmaZ, float epsZ, int e, PaddedPlane& var,
+                         const PaddedPlane* objectId) {
+  const float* pid = objectId ? objectId->data.data() : nullptr;
   const PaddedPlane& z = g.depth;
   const int w = z.width;
   const ptrdiff_t S = z.stride;
@@ -326,6 +343,7 @@ void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const Padd
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
       vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
+      const vf idc = pid ? load(pid + c) : splat(0.0f);
       for (int dy = -R; dy <= R; ++dy)
         for (int dx = -R; dx <= R; ++dx) {
           if (!dx && !dy) continue;
@@ -340,6 +358,7 @@ void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const Padd
           } else {
             wt = ipow<-1>(vmax(d, splat(0.0f)), e) * expNeg(expo);
           }
+          if (pid) wt = load(pid + q) == idc ? wt : splat(0.0f);  // the mesh-id term
           sw += wt;
           s1 += wt * load(A + q);
           s2 += wt * load(B + q);
@@ -355,11 +374,11 @@ void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const Padd
 
 void spatialVariance(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,
                      float shortHistory, int radius, float sigmaDepth, float depthEpsilon, int normalExponent,
-                     PaddedPlane& var) {
+                     PaddedPlane& var, const PaddedPlane* objectId) {
   const int R = std::min(radius, a.pad);
   const int e = std::max(1, normalExponent);
-  if (e >= 16) spatialVarianceRows<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var);
-  else spatialVarianceRows<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var);
+  if (e >= 16) spatialVarianceRows<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var, objectId);
+  else spatialVarianceRows<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var, objectId);
 }
 
 void gaussian3x3(const PaddedPlane& in, PaddedPlane& out) {

@@ -27,6 +27,13 @@ class Taa {
   void begin(int width, int height);
   void runRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBegin, int rowEnd);
   const Plane3& result() const { return history_[cur_]; }
+  /// Bytes of the history planes.
+  uint64_t bytes() const {
+    uint64_t n = 0;
+    for (const auto& h : history_)
+      for (const auto& p : h) n += p.data.size();
+    return n * sizeof(float);
+  }
 
  private:
   /// Per-thread rows: the 3x3 box is built from a rolling window of three rows' YCoCg and

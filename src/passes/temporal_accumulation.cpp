@@ -108,10 +108,14 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
     // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
     const bool none = rp.kind[i] == Reprojection::None;
     const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
-    const float a = newSampleWeight(n, alpha);
+    // Fixed weights (Gersthofer): alpha wherever there is history, 1 where there is none
+    // (reprojection failed, or the taps hold no data yet: n = 1).
+    const bool fixed = !options.cumulativeColor;
+    const float a = fixed ? (n <= 1.0f ? 1.0f : alpha) : newSampleWeight(n, alpha);
     // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
     // wherever there is history (Schied et al. 2017).
-    const float am = options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
+    const float am = fixed ? (n <= 1.0f ? 1.0f : momentsAlpha)
+                           : options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
     if (mask && mask[i] == 0.0f) {
       // No sample this frame (Dundr Sec. 5): the history carries over unchanged; without
       // history the pixel stays missing (length 0).
@@ -131,7 +135,7 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
     }
   };
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-  const bool vectorized = !mask && options.luminance != MomentLuminance::CieLightness;
+  const bool vectorized = !mask && options.luminance != MomentLuminance::CieLightness && options.cumulativeColor;
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef __AVX2__

@@ -47,6 +47,11 @@ struct AccumulationOptions {
   /// histories, Voorhuis Sec. 6); false: w = momentsAlpha wherever there is history (plain
   /// EMA, Schied et al. 2017).
   bool cumulativeMoments = true;
+  /// false: colour and moments blend with exactly alpha (momentsAlpha) wherever the pixel has
+  /// history, the current sample alone where it has none (Gersthofer Sec. 3.4.1: "a fixed
+  /// aggregation factor of alpha = 0.2" if reprojection succeeded); true: the colour weight is
+  /// max(1/n, alpha).
+  bool cumulativeColor = true;
   /// Progressive rendering with fewer than one sample per pixel (Dundr Sec. 5): where this
   /// plane (Buffer::SampleMask) is 0 the pixel got no sample, so colour, moments and history
   /// length are the reprojected history unchanged (0 where there is none: still missing).
@@ -90,6 +95,15 @@ class TemporalAccumulator {
   const Plane& moment1() const { return m1_[cur_]; }
   const Plane& moment2() const { return m2_[cur_]; }
   const Plane& historyLength() const { return length_[cur_]; }
+  /// Bytes of the history planes (both buffers).
+  uint64_t bytes() const {
+    uint64_t n = 0;
+    for (int k = 0; k < 2; ++k) {
+      for (const auto& p : color_[k]) n += p.data.size();
+      n += m1_[k].data.size() + m2_[k].data.size() + length_[k].data.size();
+    }
+    return n * sizeof(float);
+  }
   /// Variance of luminance from the moments, max(0, mu2 - mu1^2) (SVGF Sec. 4.2).
   float temporalVariance(size_t i) const {
     const float m1 = m1_[cur_].data[i];

@@ -67,12 +67,17 @@ struct Surface {
 /// Contributions of one sample, split as the native buffers want them.
 struct Radiance {
   V3 total{0}, direct{0}, indirect{0}, diffuse{0}, specular{0};
+  V3 indirectDiffuse{0};  // indirect and diffuse: Gersthofer's separately processed component
   V3 emission{0};  // emitted by the primary hit (or the sky seen directly), also in total
   float secondaryDistance = 0;
   void add(V3 c, bool direct_, bool specular_) {
     total += c;
     (direct_ ? direct : indirect) += c;
     (specular_ ? specular : diffuse) += c;
+    if (!direct_ && !specular_) indirectDiffuse += c;
+  }
+  void scale(float k) {
+    total *= k, direct *= k, indirect *= k, diffuse *= k, specular *= k, indirectDiffuse *= k, emission *= k;
   }
 };
 
@@ -531,13 +536,17 @@ struct Renderer::Impl {
     return h & (kSeedLimit - 1);
   }
 
-  bool masked(int index, int x, int y) const {
+  bool masked(int index, int x, int y, Eye eye) const {
     if (settings.sampleFraction >= 1.0f) return true;
     constexpr int N = kBlueNoiseSize * kBlueNoiseSize;
     const int count = std::max(1, int(std::lround(double(settings.sampleFraction) * N)));
     // Rotate through the rank map: frame k traces ranks [k*count, (k+1)*count) modulo N, so with
-    // sampleFraction = 1/m every pixel is traced exactly once every m frames.
-    const int offset = int((int64_t(index) * count) % N);
+    // sampleFraction = 1/m every pixel is traced exactly once every m frames (Gersthofer Sec.
+    // 3.3.1: the thresholded masks, cycled). The right eye runs half the rank range (N/2) ahead,
+    // so for sampleFraction <= 1/2 the two eyes' masks of a frame are disjoint (with 1/m, m even,
+    // the right eye traces mask k + m/2 while the left traces mask k).
+    const int64_t eyeShift = eye == Eye::Right ? N / 2 : 0;
+    const int offset = int((int64_t(index) * count + eyeShift) % N);
     const int rank = blueNoiseRanks()[(y % kBlueNoiseSize) * kBlueNoiseSize + (x % kBlueNoiseSize)];
     return (rank - offset + N) % N < count;
   }
@@ -569,8 +578,7 @@ struct Renderer::Impl {
       if (settings.clampLuminance > 0) {
         const float l = luminance(r.total);
         if (l > settings.clampLuminance) {
-          const float c = settings.clampLuminance / l;
-          r.total *= c, r.direct *= c, r.indirect *= c, r.diffuse *= c, r.specular *= c, r.emission *= c;
+          r.scale(settings.clampLuminance / l);
         }
       }
       sum.total += r.total;
@@ -578,12 +586,11 @@ struct Renderer::Impl {
       sum.indirect += r.indirect;
       sum.diffuse += r.diffuse;
       sum.specular += r.specular;
+      sum.indirectDiffuse += r.indirectDiffuse;
       sum.emission += r.emission;
       if (k == 0) sum.secondaryDistance = r.secondaryDistance;
     }
-    const float inv = 1.0f / float(spp);
-    sum.total *= inv, sum.direct *= inv, sum.indirect *= inv, sum.diffuse *= inv, sum.specular *= inv,
-        sum.emission *= inv;
+    sum.scale(1.0f / float(spp));
     return sum;
   }
 
@@ -620,7 +627,7 @@ struct Renderer::Impl {
     if (settings.allBuffers)
       for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::ReflectedPosition,
                        Buffer::ReflectedNormal, Buffer::ReflectedAlbedo, Buffer::SecondaryDistance,
-                       Buffer::MirrorDirection, Buffer::Seed, Buffer::SampleMask})
+                       Buffer::MirrorDirection, Buffer::Seed, Buffer::SampleMask, Buffer::IndirectDiffuse})
         list.push_back(b);
     for (Buffer b : list) f[b] = Image(w, h, bufferChannelCount(b));
     const bool all = settings.allBuffers;
@@ -641,7 +648,7 @@ struct Renderer::Impl {
           const bool hit = intersect(g, v.eye, d, 1e30f, rh);
           if (hit) s = surface(g, rh, d);
           const uint32_t seed = pixelSeed(index, x, y, eye, 0);
-          const bool traced = masked(index, x, y);
+          const bool traced = masked(index, x, y, eye);
           Radiance r;
           if (traced) r = shade(g, v, x, y, seed, settings.spp, 0, &s, rays);
           put3(Buffer::Color, x, y, r.total);
@@ -651,6 +658,7 @@ struct Renderer::Impl {
             put3(Buffer::Indirect, x, y, r.indirect);
             put3(Buffer::Diffuse, x, y, r.diffuse);
             put3(Buffer::Specular, x, y, r.specular);
+            put3(Buffer::IndirectDiffuse, x, y, r.indirectDiffuse);
             f[Buffer::Seed].at(x, y) = float(seed);
             f[Buffer::SampleMask].at(x, y) = traced ? 1.0f : 0.0f;
             f[Buffer::SecondaryDistance].at(x, y) = r.secondaryDistance;
@@ -837,7 +845,7 @@ Image Renderer::renderReference(int index, int spp, double secondsBudget, Eye ey
   return impl_->renderReference(index, spp, secondsBudget, eye);
 }
 uint32_t Renderer::pixelSeed(int index, int x, int y, Eye eye) const { return impl_->pixelSeed(index, x, y, eye, 0); }
-bool Renderer::sampleMask(int index, int x, int y) const { return impl_->masked(index, x, y); }
+bool Renderer::sampleMask(int index, int x, int y, Eye eye) const { return impl_->masked(index, x, y, eye); }
 
 std::array<float, 3> Renderer::shadePixel(int index, int x, int y, uint32_t seed, Eye eye) {
   const auto& s = impl_->settings;

@@ -4,7 +4,10 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <tbb/task_arena.h>
 
@@ -37,6 +40,19 @@ inline std::filesystem::path tempDir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+/// Runs the `rtdenoise` CLI with `args`; its stdout and stderr go to `output`. Returns the
+/// exit status as std::system gives it.
+inline int runCli(const std::string& args, std::string& output) {
+  const auto log = std::filesystem::temp_directory_path() / ("rtd_render_cli_" + std::to_string(::getpid()) + ".log");
+  const int rc = std::system((std::string(RTD_CLI) + " " + args + " > " + log.string() + " 2>&1").c_str());
+  std::ifstream in(log);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  output = ss.str();
+  std::filesystem::remove(log);
+  return rc;
 }
 
 }  // namespace rtd::render::test

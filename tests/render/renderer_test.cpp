@@ -241,17 +241,6 @@ TEST(RenderErrors, BadScenesAndSettingsNameTheFileAndField) {
   fs::remove_all(dir);
 }
 
-int runCli(const std::string& args, std::string& output) {
-  const fs::path log = fs::temp_directory_path() / ("rtd_render_cli_" + std::to_string(::getpid()) + ".log");
-  const int rc = std::system((std::string(RTD_CLI) + " " + args + " > " + log.string() + " 2>&1").c_str());
-  std::ifstream in(log);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  output = ss.str();
-  fs::remove(log);
-  return rc;
-}
-
 TEST(RenderCli, WritesSequenceAndCachedReferences) {
   const fs::path dir = tempDir("cli");
   const std::string common = "render --scene dynamic --frames 2 --size 16x8 --reference-spp 8 --reference-cache " +

@@ -115,8 +115,9 @@ class Renderer {
   /// The per-pixel seed render() uses for pixel (x, y) of frame `index` (< kSeedLimit).
   uint32_t pixelSeed(int index, int x, int y, Eye eye = Eye::Center) const;
 
-  /// Whether pixel (x, y) is traced in frame `index` under settings().sampleFraction.
-  bool sampleMask(int index, int x, int y) const;
+  /// Whether pixel (x, y) is traced in frame `index` by `eye` under settings().sampleFraction
+  /// (the right eye's masks are disjoint from the left eye's for fractions <= 1/2).
+  bool sampleMask(int index, int x, int y, Eye eye = Eye::Center) const;
 
   const RenderStats& stats() const;
 

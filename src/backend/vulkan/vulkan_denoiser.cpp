@@ -161,21 +161,35 @@ void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& 
         rec.dispatch("separate_emission", {f.planes[int(b)], f.planes[int(Buffer::Emission)]}, pc, width_, height_);
   }
 
+  if (f.present[int(Buffer::HiddenArea)]) {
+    // The hidden area carries nothing (applyHiddenArea on the CPU): radiance and normals 0.
+    struct PC {
+      uint32_t width, height, channels;
+    } pc{uint32_t(width_), uint32_t(height_), 0};
+    for (int b = 0; b < kBufferCount; ++b)
+      if (f.present[b] && (isRadianceBuffer(Buffer(b)) || Buffer(b) == Buffer::Normal)) {
+        pc.channels = uint32_t(bufferChannelCount(Buffer(b)));
+        rec.dispatch("hidden_area", {f.planes[b], f.planes[int(Buffer::HiddenArea)]}, pc, width_, height_);
+      }
+  }
+
+  resultHasEmission_ = false;
   const Planes& result = process(rec, f, hasPrevious_ ? &frames_[cur_ ^ 1] : nullptr);
+  const bool addEmission = emission && !resultHasEmission_;
 
   rec.pass("export");
   if (out.imageShader) {
     struct PC {
       uint32_t width, height, addEmission;
-    } pc{uint32_t(width_), uint32_t(height_), emission};
-    rec.dispatch(out.imageShader, {result, out.target, emission ? f.planes[int(Buffer::Emission)] : result}, pc, width_,
-                 height_);
+    } pc{uint32_t(width_), uint32_t(height_), addEmission};
+    rec.dispatch(out.imageShader, {result, out.target, addEmission ? f.planes[int(Buffer::Emission)] : result}, pc,
+                 width_, height_);
   } else {
     struct PC {
       uint32_t width, height, dstOffset, pixelStride, rowStride, channels, addEmission;
     } pc{uint32_t(width_), uint32_t(height_), out.offsetWords, out.pixelStrideWords, out.rowStrideWords, out.channels,
-         emission};
-    rec.dispatch("export", {result, out.target, emission ? f.planes[int(Buffer::Emission)] : result}, pc, width_,
+         addEmission};
+    rec.dispatch("export", {result, out.target, addEmission ? f.planes[int(Buffer::Emission)] : result}, pc, width_,
                  height_);
   }
   rec.endPasses();

@@ -52,6 +52,9 @@ class VulkanDenoiserBase : public Denoiser {
   std::shared_ptr<Context> keepAlive_;
   Context& ctx_;
   int width_ = 0, height_ = 0;
+  /// Set by a process() whose result already holds the separated emission (a tone map must
+  /// see it), so that the export does not add it again (as CpuDenoiser).
+  bool resultHasEmission_ = false;
 
  private:
   /// Where the pixels come from and go to: a buffer with strides, or an image (`shader` then

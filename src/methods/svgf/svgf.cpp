@@ -7,6 +7,7 @@
 
 #include "backend/cpu/cpu_denoiser.h"
 #include "core/parallel.h"
+#include "methods/svgf/gersthofer.h"
 #include "methods/svgf/svgf_filter.h"
 #include "methods/svgf/svgf_passes.h"
 #include "passes/demodulation.h"
@@ -50,6 +51,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   void resetHistory() override {
     for (auto& s : streams_) s.accumulator.reset();
     taa_.reset();
+    if (gersthofer_) gersthofer_->reset();
   }
 
   const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& /*out*/, FrameStats& stats) override {
@@ -59,6 +61,8 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       resetHistory();
       previous = nullptr;
     }
+    resultHasEmission_ = false;
+    if (s.components == SvgfComponents::composite) return gersthofer(frame, previous, stats);
     const int nStreams = chooseStreams(frame);
     mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame.plane(Buffer::SampleMask) : nullptr;
     const auto* albedo = frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
@@ -95,6 +99,16 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
 
  private:
   int requiredPad() const { return svgf::filterParams(settings_, false).requiredPad(); }
+
+  // Gersthofer's pipeline (gersthofer.h) for one view; a StereoDenoiser runs two of them.
+  const Plane3& gersthofer(const FrameData& frame, const FrameData* previous, FrameStats& stats) {
+    if (!gersthofer_) gersthofer_ = std::make_unique<svgf::GersthoferEye>();
+    gersthofer_->front(frame, previous, settings_, stats);
+    const Plane3& result = gersthofer_->back(frame, settings_, stats, resultHasEmission_);
+    stats.memory = gersthofer_->memory();
+    stats.memory.push_back({"frames", svgf::frameBytes(current_) + svgf::frameBytes(previous_)});
+    return result;
+  }
 
   // Which streams this frame has, per the `components` setting.
   int chooseStreams(const FrameData& f) {
@@ -154,6 +168,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   Stream streams_[kMaxStreams];
   Plane3 sum_, display_;
   Taa taa_;
+  std::unique_ptr<svgf::GersthoferEye> gersthofer_;  // components = composite
 };
 
 }  // namespace

@@ -100,11 +100,23 @@ void Filter::resize(int w, int h, int pad) {
   for (auto& v : scratch_) v.resize(w, h, pad);
 }
 
+uint64_t Filter::bytes() const {
+  uint64_t n = sigmaScale_.data.size();
+  for (const auto& im : levels_) {
+    for (const auto& c : im.color) n += c.data.size();
+    n += im.lum.data.size() + im.var.data.size();
+  }
+  for (int k = 0; k < 2; ++k) n += valid_[k].data.size() + scratch_[k].data.size();
+  return n * sizeof(float);
+}
+
 const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& acc, const Plane3& current,
-                               const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix) {
+                               const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix,
+                               const FilterExtras& extras) {
+  const Plane3& input = extras.input ? *extras.input : acc.color();
   {
     PassTimer t(stats, "variance" + suffix);
-    VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &acc.color()};
+    VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &input, extras.objectId};
     estimateVariance(guide, in, p.variance, levels_[0], scratch_);
     luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);
     if (mask) markValid(acc.historyLength(), valid_[0]);
@@ -135,6 +147,9 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     // The last level's variance is not used any more.
     lv.propagateVariance = p.propagateVariance && i + 1 < n;
     lv.luminance = p.variance.luminance;
+    lv.indirectDistance = extras.indirectDistance;
+    lv.indirectDistanceScale = extras.indirectDistanceScale;
+    lv.centreScale = extras.centreScale;
     if (mask) {
       lv.validIn = &valid_[cur];
       lv.validOut = &valid_[cur ^ 1];
@@ -151,7 +166,7 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
   }
   // Without levels the result is the accumulation itself.
   if (n == 0)
-    for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyFrom(acc.color()[c]);
+    for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyFrom(input[c]);
   return levels_[cur];
 }
 

@@ -3,6 +3,7 @@
 // setting of SvgfSettings is honoured, variants and the progressive sub-1-spp mode included.
 #if defined(RTD_HAS_VULKAN) && __has_include("rtd/methods/svgf.h")
 #include "backend/vulkan/vulkan_denoiser.h"
+#include "methods/svgf/gersthofer_vulkan.h"
 #include "methods/svgf/svgf_filter_vulkan.h"
 #include "methods/svgf/svgf_passes.h"
 #include "rtd/methods/svgf.h"
@@ -40,14 +41,26 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     display_.allocate(ctx_, w, h, 3);
     remodulated_.allocate(ctx_, w, h, 3);
     taa_.resize(ctx_, w, h);
+    if (gersthofer_) gersthofer_->resize(ctx_, w, h);
   }
   void resetHistory() override {
     for (auto& s : streams_) s.accumulator.reset();
     taa_.reset();
+    if (gersthofer_) gersthofer_->reset();
   }
 
   const vk::Planes& process(vk::Recorder& rec, const vk::GpuFrame& frame, const vk::GpuFrame* previous) override {
     const SvgfSettings& s = settings_;
+    resultHasEmission_ = false;
+    if (s.components == SvgfComponents::composite) {
+      // Gersthofer's pipeline for one view (gersthofer_vulkan.h).
+      if (!gersthofer_) {
+        gersthofer_ = std::make_unique<svgf::GpuGersthoferEye>();
+        gersthofer_->resize(ctx_, frame.width, frame.height);
+      }
+      gersthofer_->front(rec, frame, previous, s);
+      return gersthofer_->back(rec, frame, s, resultHasEmission_);
+    }
     const int nStreams = chooseStreams(frame);
     mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame[Buffer::SampleMask] : nullptr;
     const vk::Planes* albedo = frame.has(Buffer::Albedo) ? &frame[Buffer::Albedo] : nullptr;
@@ -70,10 +83,10 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     if (s.fireflyMedian) {
       rec.pass("median");
       struct PC {
-        uint32_t width, height, hasRoughness;
-      } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::Roughness)};
-      rec.dispatch("median3x3", {sum_, frame.bindingOf(Buffer::Roughness, ctx_), display_}, pc, frame.width,
-                   frame.height);
+        uint32_t width, height, hasRoughness, skipWhenMasked;
+      } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::Roughness), 0};
+      rec.dispatch("median3x3", {sum_, frame.bindingOf(Buffer::Roughness, ctx_), display_, vk::Binding(ctx_.dummy())}, pc,
+                   frame.width, frame.height);
       shown = &display_;
     }
     rec.pass("remodulate");
@@ -115,6 +128,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   const vk::Planes* mask_ = nullptr;     // this frame's sample mask, or null (dense)
   GpuStream streams_[kMaxStreams];
   vk::GpuTaa taa_;
+  std::unique_ptr<svgf::GpuGersthoferEye> gersthofer_;  // components = composite
 };
 
 }  // namespace

@@ -27,6 +27,7 @@ layout(push_constant) uniform PC {
   float maxHistoryLength;
   uint luminanceMode;      // MomentLuminance: 0 Rec709, 1 Rec601, 2 CIE L*
   uint cumulativeMoments;  // 1: moments w = max(1/n, alpha); 0: plain EMA (Schied)
+  uint cumulativeColor;    // 0: fixed weights, alpha where there is history (Gersthofer Sec. 3.4.1)
 } pc;
 
 void main() {
@@ -52,8 +53,10 @@ void main() {
 
   const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
   const float l = momentLuminance(pc.luminanceMode, c);
-  const float a = max(1.0 / n, pc.alpha);
-  const float am = pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
+  const bool fixedWeights = pc.cumulativeColor == 0u;
+  const float a = fixedWeights ? (n <= 1.0 ? 1.0 : pc.alpha) : max(1.0 / n, pc.alpha);
+  const float am = fixedWeights ? (n <= 1.0 ? 1.0 : pc.momentsAlpha)
+                                : pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
   for (uint k = 0; k < 3; ++k) {
     const float hist = none ? 0.0 : gatherPlane(i, k * plane, w, plane);
     precise float v = a * c[k] + (1.0 - a) * hist;

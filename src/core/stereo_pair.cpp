@@ -1,0 +1,72 @@
+#include "core/stereo_pair.h"
+
+#include <algorithm>
+
+namespace rtd {
+
+FrameStats combineEyeStats(const FrameStats& l, const FrameStats& r) {
+  FrameStats out;
+  out.passes = l.passes;
+  for (const auto& p : r.passes) {
+    auto it = std::find_if(out.passes.begin(), out.passes.end(), [&](const PassTiming& q) { return q.name == p.name; });
+    if (it != out.passes.end()) it->milliseconds += p.milliseconds;
+    else out.passes.push_back(p);
+  }
+  out.totalMilliseconds = l.totalMilliseconds + r.totalMilliseconds;
+  out.sanitizedValues = l.sanitizedValues + r.sanitizedValues;
+  out.pixels = l.pixels + r.pixels;
+  out.memory = l.memory;
+  for (const auto& m : r.memory) {
+    auto it = std::find_if(out.memory.begin(), out.memory.end(), [&](const MemoryUse& q) { return q.category == m.category; });
+    if (it != out.memory.end()) it->bytes += m.bytes;
+    else out.memory.push_back(m);
+  }
+  return out;
+}
+
+StereoPair::StereoPair(std::unique_ptr<Denoiser> left, std::unique_ptr<Denoiser> right) {
+  eyes_[0] = std::move(left);
+  eyes_[1] = std::move(right);
+}
+
+void StereoPair::set(std::string_view name, std::string_view value) {
+  eyes_[0]->set(name, value);  // a rejected value throws here, before the right eye changes
+  eyes_[1]->set(name, value);
+  settingsChanged();
+}
+
+void StereoPair::settingsChanged() {
+  for (auto& e : eyes_) detail::DenoiserAccess::settingsChanged(*e);
+}
+
+void StereoPair::validate(const StereoFrameInputs& in, const ImageView& left, const ImageView& right) const {
+  const char* names[2] = {"left", "right"};
+  const ImageView* outs[2] = {&left, &right};
+  for (int e = 0; e < 2; ++e) {
+    const ImageView& c = in.eye[e][Buffer::Color];
+    if (c.empty()) throw Error(std::string(names[e]) + " eye: missing required buffer 'color'");
+    for (Buffer b : requiredBuffers())
+      if (!in.eye[e].has(b)) throw Error(std::string(names[e]) + " eye: missing required buffer '" + std::string(bufferName(b)) + "'");
+    if (outs[e]->empty() || outs[e]->width != c.width || outs[e]->height != c.height)
+      throw Error(std::string(names[e]) + " eye: output view must be non-empty and the size of buffer 'color'");
+  }
+  const ImageView &a = in.eye[0][Buffer::Color], &b = in.eye[1][Buffer::Color];
+  if (a.width != b.width || a.height != b.height)
+    throw Error("stereo: the left eye is " + std::to_string(a.width) + "x" + std::to_string(a.height) +
+                ", the right eye " + std::to_string(b.width) + "x" + std::to_string(b.height));
+}
+
+void StereoPair::denoise(const StereoFrameInputs& in, const ImageView& left, const ImageView& right) {
+  validate(in, left, right);
+  if (in.eye[0].cameraCut || in.eye[1].cameraCut) reset();
+  eyes_[0]->denoise(in.eye[0], left);
+  eyes_[1]->denoise(in.eye[1], right);
+  for (int e = 0; e < 2; ++e) eyeStats_[e] = eyes_[e]->stats();
+  stats_ = combineEyeStats(eyeStats_[0], eyeStats_[1]);
+}
+
+void StereoPair::reset() {
+  for (auto& e : eyes_) e->reset();
+}
+
+}  // namespace rtd
