@@ -9,6 +9,8 @@ packages=(
   libembree-dev libtinygltf-dev libstb-dev
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
   chromium
+  # Training of the learned methods and its tests only (python/rtdenoise_train, /usr/bin/python3).
+  python3-torch python3-numpy python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

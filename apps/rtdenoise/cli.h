@@ -29,6 +29,8 @@ void addDemo(CLI::App& app);
 #endif
 /// `render` (only when built with the renderer, HAVE_RTDENOISE_RENDER).
 void addRender(CLI::App& app);
+/// `dataset` (with the renderer): the learned methods' training/test data set (cmd_dataset.cpp).
+void addDataset(CLI::App& app);
 void addDevices(CLI::App& app);
 
 /// Applies "key=value" strings to a denoiser; throws rtd::Error on a malformed one.

@@ -1,7 +1,11 @@
 // rtdenoise bench: per-pass timings of one method on the analytic synthetic scene.
 #include <algorithm>
+#include <ctime>
 #include <map>
 #include <nlohmann/json.hpp>
+#if defined(__x86_64__) || defined(__i386__)
+#include <xmmintrin.h>
+#endif
 
 #include "cli.h"
 #include "synthetic/synthetic.h"
@@ -20,7 +24,28 @@ struct BenchOptions {
   int threads = 0;
   std::string json;
   bool sampleMask = false;
+  bool ftzDaz = false;
+  bool stereo = false;
 };
+
+// CPU time of the whole process (all threads), milliseconds.
+double processCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+// --ftz-daz: flush-to-zero and denormals-are-zero in this benchmark process's MXCSR, set
+// before the device's thread arena starts (oneTBB workers take the floating-point settings of
+// the thread that initializes the arena). Only to compare: the library never sets them, and
+// the figures it is measured by are without.
+void setFlushToZero() {
+#if defined(__x86_64__) || defined(__i386__)
+  _mm_setcsr(_mm_getcsr() | 0x8040);  // FTZ (bit 15) | DAZ (bit 6)
+#else
+  throw Error("--ftz-daz is only implemented on x86");
+#endif
+}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -31,17 +56,32 @@ double median(std::vector<double> v) {
 
 void runBench(const BenchOptions& o) {
   const auto [w, h] = parseSize(o.size);
+  if (o.ftzDaz) setFlushToZero();
   auto device = Device::create({.backend = parseBackend(o.backend), .threads = o.threads, .vulkanDevice = o.vulkanDevice});
-  auto denoiser = device->createDenoiser(o.method);
-  applySettings(*denoiser, o.settings);
+  // --stereo: both eyes through the two-view denoiser (rtd/stereo.h); timings summed over the eyes.
+  std::unique_ptr<Denoiser> denoiser;
+  std::unique_ptr<StereoDenoiser> stereo;
+  if (o.stereo) {
+    stereo = device->createStereoDenoiser(o.method);
+    applySettings(*stereo, o.settings);
+  } else {
+    denoiser = device->createDenoiser(o.method);
+    applySettings(*denoiser, o.settings);
+  }
 
   // A few distinct frames of a moving camera, cycled, so reprojection does real work.
   synthetic::Scene scene;
   scene.width = w;
   scene.height = h;
-  std::vector<Frame> inputs;
+  std::vector<Frame> inputs, rightInputs;
   for (int i = 0; i < 4; ++i) inputs.push_back(synthetic::makeFrame(scene, i));
-  Image output(w, h, 3);
+  // The right eye (--stereo): the same view with its own noise (the synthetic scene has one
+  // camera; every pixel then reprojects into the other eye, the exchange's most work).
+  synthetic::Scene right = scene;
+  right.seed = scene.seed + 1;
+  if (o.stereo)
+    for (int i = 0; i < 4; ++i) rightInputs.push_back(synthetic::makeFrame(right, i));
+  Image output(w, h, 3), rightOutput(o.stereo ? w : 0, o.stereo ? h : 0, 3);
   // --sample-mask: a quarter of the pixels per frame (position in a 2x2 block, rotating over four
   // frames) as the frames' sampleMask, to time a progressive mode (svgf's useSampleMask). Only
   // the mask changes: the colour is left dense, which costs the same.
@@ -56,29 +96,43 @@ void runBench(const BenchOptions& o) {
 
   std::map<std::string, std::vector<double>> passes;
   std::vector<std::string> order;
-  std::vector<double> totals;
+  std::vector<double> totals, cpuTimes;
   Progress progress("bench " + o.method, o.warmup + o.frames);
   for (int i = 0; i < o.warmup + o.frames; ++i) {
     // Cycle 0,1,2,3,2,1,0,... so consecutive frames are always one camera step apart.
     const int k = i % 6, idx = k < 4 ? k : 6 - k;
     FrameInputs in = inputs[idx].inputs();
     if (o.sampleMask) in[Buffer::SampleMask] = masks[size_t(i % 4)].view();
-    denoiser->denoise(in, output.view());
+    const double cpuStart = processCpuMs();
+    if (stereo) {
+      StereoFrameInputs pair;
+      pair.eye[0] = in;
+      pair.eye[1] = rightInputs[idx].inputs();
+      if (o.sampleMask) pair.eye[1][Buffer::SampleMask] = masks[size_t((i + 2) % 4)].view();
+      stereo->denoise(pair, output.view(), rightOutput.view());
+    } else {
+      denoiser->denoise(in, output.view());
+    }
+    const double cpu = processCpuMs() - cpuStart;
+    const FrameStats& st = stereo ? stereo->stats() : denoiser->stats();
     progress.update(i + 1);
     if (i < o.warmup) continue;
-    for (const auto& p : denoiser->stats().passes) {
+    for (const auto& p : st.passes) {
       if (!passes.count(p.name)) order.push_back(p.name);
       passes[p.name].push_back(p.milliseconds);
     }
-    totals.push_back(denoiser->stats().totalMilliseconds);
+    totals.push_back(st.totalMilliseconds);
+    cpuTimes.push_back(cpu);
   }
   progress.finish();
+  const FrameStats& last = stereo ? stereo->stats() : denoiser->stats();
 
-  std::printf("method %s, %dx%d, %s, %d frames after %d warm-up (medians)%s\n", o.method.c_str(), w, h,
-              device->name().c_str(), o.frames, o.warmup, o.sampleMask ? ", 1/4 sample mask" : "");
+  std::printf("method %s, %s%dx%d, %s, %d frames after %d warm-up (medians)%s%s\n", o.method.c_str(),
+              o.stereo ? "both eyes of " : "", w, h, device->name().c_str(), o.frames, o.warmup,
+              o.sampleMask ? ", 1/4 sample mask" : "", o.ftzDaz ? ", FTZ/DAZ set in this process" : "");
   nlohmann::json j = {{"method", o.method}, {"width", w}, {"height", h}, {"device", device->name()},
                       {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames},
-                      {"sampleMask", o.sampleMask}};
+                      {"sampleMask", o.sampleMask}, {"ftzDaz", o.ftzDaz}, {"stereo", o.stereo}};
   for (const auto& name : order) {
     const double m = median(passes[name]);
     std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
@@ -87,6 +141,15 @@ void runBench(const BenchOptions& o) {
   const double total = median(totals);
   std::printf("  %-24s %9.3f ms\n", "total", total);
   j["totalMedianMs"] = total;
+  // Process CPU time per frame (every thread): less sensitive than wall time to other
+  // processes sharing the cores; / threads is the wall time of a perfectly parallel frame.
+  const double cpu = median(cpuTimes);
+  std::printf("  %-24s %9.3f ms\n", "cpu time (all threads)", cpu);
+  j["cpuMedianMs"] = cpu;
+  for (const auto& m : last.memory) {  // where the method reports it (Gersthofer's Table 5.4)
+    std::printf("  memory %-17s %9.2f MiB\n", m.category.c_str(), double(m.bytes) / (1 << 20));
+    j["memoryBytes"][m.category] = m.bytes;
+  }
   if (!o.json.empty()) writeFileAtomic(o.json, j.dump(1));
 }
 }  // namespace
@@ -104,6 +167,10 @@ void addBench(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
   cmd->add_option("--json", o->json, "also write the medians to this JSON file");
   cmd->add_flag("--sample-mask", o->sampleMask, "frames carry a rotating 1/4 sampleMask (progressive modes)");
+  cmd->add_flag("--stereo", o->stereo, "both eyes through the two-view denoiser (the right eye: other noise)");
+  cmd->add_flag("--ftz-daz", o->ftzDaz,
+                "set flush-to-zero and denormals-are-zero in this process first (for comparison only; "
+                "the library never changes the caller's floating-point mode)");
   cmd->callback([o] { runBench(*o); });
 }
 

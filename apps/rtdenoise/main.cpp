@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
 #endif
 #ifdef HAVE_RTDENOISE_RENDER
   rtd::cli::addRender(app);
+  rtd::cli::addDataset(app);
 #endif
   rtd::cli::addDevices(app);
   try {

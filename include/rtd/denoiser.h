@@ -5,6 +5,7 @@
 //   for each frame: fill rtd::FrameInputs, then denoiser->denoise(frame, output);
 //   on a camera cut: denoiser->reset();
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -29,6 +30,20 @@ struct PassTiming {
   double milliseconds = 0;
 };
 
+/// What import did to the values of one buffer of a frame (both backends alike; the ranges are
+/// in docs/input-validation.md). Nothing non-finite and nothing outside these ranges reaches
+/// a method, so every weight and every history stays finite.
+struct SanitizeCounts {
+  uint64_t nonFinite = 0;     ///< NaN and +-Inf values, replaced by 0
+  /// Finite values clamped into the buffer's range: negative radiance to 0, radiance above
+  /// kMaxRadiance (a firefly no filter should spread) to it, guides beyond their bounds.
+  uint64_t outOfRange = 0;
+  /// Pixels of a unit-vector buffer (normal, reflectedNormal, mirrorDirection) whose length was
+  /// not 1, renormalized (a (0, 0, 0) vector means "no surface" and is kept).
+  uint64_t renormalized = 0;
+  uint64_t total() const { return nonFinite + outOfRange + renormalized; }
+};
+
 /// Memory a denoiser holds for one purpose (the categories of Gersthofer's Table 5.4).
 struct MemoryUse {
   /// "frames": the imported inputs (this frame's and the previous frame's buffers, the
@@ -42,7 +57,10 @@ struct MemoryUse {
 struct FrameStats {
   std::vector<PassTiming> passes;
   double totalMilliseconds = 0;
-  uint64_t sanitizedValues = 0;  ///< NaN, Inf or negative radiance values replaced by 0
+  /// Every value import replaced, all buffers together: the sum of sanitized[b].total().
+  uint64_t sanitizedValues = 0;
+  /// The same per buffer, indexed by int(Buffer).
+  std::array<SanitizeCounts, kBufferCount> sanitized{};
   uint64_t pixels = 0;
   /// Memory held after the call, by category; filled by the methods that account for it
   /// (svgf with components = composite), empty otherwise.
@@ -63,12 +81,11 @@ class Denoiser {
   virtual std::vector<SettingInfo> settings() const = 0;
   virtual void set(std::string_view name, std::string_view value) = 0;
 
-  /// Typed settings: `denoiser->setSettings(rtd::SvgfSettings{...})`. Throws rtd::Error if the
-  /// settings type belongs to another method.
-  template <class S> void setSettings(const S& s) {
-    *static_cast<S*>(settingsStorage(S::kMethod)) = s;
-    settingsChanged();
-  }
+  /// Typed settings: `denoiser->setSettings(rtd::SvgfSettings{...})`. Checked like settings
+  /// given by name (every field finite, within the range and choices its visit() documents):
+  /// throws rtd::Error naming the first bad field, or if the settings type belongs to another
+  /// method, and then leaves settings and history as they were.
+  template <class S> void setSettings(const S& s) { assignSettings(S::kMethod, &s); }
   template <class S> S getSettings() const {
     return *static_cast<const S*>(const_cast<Denoiser*>(this)->settingsStorage(S::kMethod));
   }
@@ -87,6 +104,8 @@ class Denoiser {
 
  protected:
   virtual void* settingsStorage(std::string_view method) = 0;
+  /// Validates `settings` (a settings struct of `method`) and makes them current.
+  virtual void assignSettings(std::string_view method, const void* settings) = 0;
   virtual void settingsChanged() {}
   friend struct detail::DenoiserAccess;  // two-view denoisers made of two Denoisers reach these
 };

@@ -16,6 +16,19 @@ namespace rtd {
 ///  - depth is linear view depth: distance along the camera axis (= -z in camera space);
 ///  - motion is in pixels: the previous-frame position of the centre of pixel (x, y) is
 ///    (x + 0.5 + motion.X, y + 0.5 + motion.Y), rows counted from the top (y down).
+/// Import sanitizes every buffer the same way on every backend (FrameStats::sanitized counts
+/// it; docs/input-validation.md has the table): NaN and Inf become 0; finite values are clamped
+/// into the buffer's range (radiance [0, kMaxRadiance], depth [0, kMaxGuideMagnitude], ...);
+/// unit vectors (normals, directions) that are not of unit length are renormalized.
+/// Radiance above this is clamped to it on import (and counted): the largest half float, which
+/// any real 1-spp sample stays below, while a pixel of 1e30 would otherwise live in an
+/// exponential history for hundreds of frames and overflow the squares SVGF and BMFR compute.
+constexpr float kMaxRadiance = 65504.0f;
+/// Bound of the magnitude of depths, positions, distances and depth gradients on import: far
+/// beyond any scene (Blender writes a sky depth of 1e10), small enough that the squares and
+/// products of two such values (distances, least-squares features) stay finite in float.
+constexpr float kMaxGuideMagnitude = 1e18f;
+
 enum class Buffer : int {
   Color,              ///< noisy radiance, RGB (required by every method)
   Albedo,             ///< albedo of the primary hit, RGB, used for demodulation
@@ -44,6 +57,16 @@ enum class Buffer : int {
   /// centres, so denoisers subtract it before filtering and add it back to their output:
   /// bright emitters then cannot bleed into their neighbours.
   Emission,
+  /// A-SVGF gradient samples (Schied et al. 2018; docs/sequence-format.md "Gradient samples"):
+  /// 1 at the one pixel of a 3x3 stratum (strata at multiples of 3 from the top-left corner)
+  /// that holds the stratum's gradient sample, 0 elsewhere, V.
+  GradientSample,
+  /// Rec. 709 luminance of the gradient sample's radiance in the previous frame, at the pixel
+  /// holding it (0 elsewhere), V.
+  GradientPrevious,
+  /// Rec. 709 luminance of the same sample re-shaded in this frame: the previous frame's
+  /// surface point moved with its object, traced with the previous frame's random numbers, V.
+  GradientCurrent,
   /// Indirect diffuse part of Color, RGB: light reaching the primary hit through a diffuse
   /// first bounce (Gersthofer Sec. 3.3: the component shared between the eyes). Color minus it
   /// is "direct + indirect specular"; the two are composited before filtering.

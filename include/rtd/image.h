@@ -7,6 +7,12 @@
 
 namespace rtd {
 
+/// Largest image the library accepts, in views and in files: each side at most kMaxImageSide
+/// pixels and at most kMaxImagePixels pixels in all (8192 x 8192, or 16384 x 4096). A view or
+/// a file header claiming more is refused with rtd::Error before anything is allocated.
+constexpr int kMaxImageSide = 16384;
+constexpr int64_t kMaxImagePixels = int64_t(1) << 26;
+
 /// Pixel formats a view may have. Floats are 32-bit IEEE; Int32 is for ids.
 enum class Format : uint8_t { Undefined, Float, Float2, Float3, Float4, Int32 };
 
@@ -22,7 +28,10 @@ constexpr int channelCount(Format f) {
 }
 
 /// A strided view of pixels owned by the caller, as in Open Image Denoise's shared buffers.
-/// `pixelStride` and `rowStride` are in bytes; 0 means tightly packed.
+/// `pixelStride` and `rowStride` are in bytes; 0 means tightly packed. Both backends check every
+/// view the same way before touching history: `data` 4-byte aligned, strides multiples of 4,
+/// `pixelStride` at least the format's size and `rowStride` at least width * pixelStride, the
+/// size positive and within kMaxImageSide / kMaxImagePixels.
 /// Rows run from the top of the image (row 0 is the top), x to the right.
 struct ImageView {
   void* data = nullptr;

@@ -9,7 +9,7 @@ namespace rtd {
 /// Description of one setting of a method, as `rtdenoise methods` prints it.
 struct SettingInfo {
   std::string name;                  ///< e.g. "sigmaLuminance"
-  std::string type;                  ///< "float", "int", "bool" or "enum"
+  std::string type;                  ///< "float", "int", "bool", "enum" or "string" (a file path)
   std::string value;                 ///< current value, as text
   std::string doc;                   ///< meaning and source of the default
   std::vector<std::string> choices;  ///< allowed values of an enum

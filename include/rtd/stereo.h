@@ -41,15 +41,12 @@ class StereoDenoiser {
   /// Buffers this method needs in each eye's frame (as Denoiser::requiredBuffers()).
   virtual std::vector<Buffer> requiredBuffers() const = 0;
 
-  /// Settings by name and by type, as on a Denoiser (both eyes share them).
+  /// Settings by name and by type, checked as on a Denoiser (both eyes share them).
   virtual std::vector<SettingInfo> settings() const = 0;
   virtual void set(std::string_view name, std::string_view value) = 0;
-  template <class S> void setSettings(const S& s) {
-    for (int e = 0; e < 2; ++e) *static_cast<S*>(settingsStorage(S::kMethod, e)) = s;
-    settingsChanged();
-  }
+  template <class S> void setSettings(const S& s) { assignSettings(S::kMethod, &s); }
   template <class S> S getSettings() const {
-    return *static_cast<const S*>(const_cast<StereoDenoiser*>(this)->settingsStorage(S::kMethod, 0));
+    return *static_cast<const S*>(const_cast<StereoDenoiser*>(this)->settingsStorage(S::kMethod));
   }
 
   /// Denoises both eyes of one frame into `left` and `right` (each the size of its eye's
@@ -68,9 +65,10 @@ class StereoDenoiser {
   virtual const FrameStats& eyeStats(int eye) const = 0;
 
  protected:
-  /// The settings struct of `method` eye `eye` runs with; throws rtd::Error for another method.
-  virtual void* settingsStorage(std::string_view method, int eye) = 0;
-  virtual void settingsChanged() {}
+  /// The current settings struct of `method`; throws rtd::Error for another method.
+  virtual void* settingsStorage(std::string_view method) = 0;
+  /// Validates `settings` (a settings struct of `method`) and makes them both eyes' settings.
+  virtual void assignSettings(std::string_view method, const void* settings) = 0;
 };
 
 template <class S>

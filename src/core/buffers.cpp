@@ -19,7 +19,8 @@ constexpr BufferDesc kBuffers[kBufferCount] = {
     {"indirect", "RGB"},      {"diffuse", "RGB"},         {"specular", "RGB"},
     {"reflectedPosition", "XYZ"}, {"reflectedNormal", "XYZ"}, {"reflectedAlbedo", "RGB"},
     {"secondaryDistance", "Z"}, {"mirrorDirection", "XYZ"}, {"seed", "I"},
-    {"sampleMask", "V"},      {"emission", "RGB"},        {"indirectDiffuse", "RGB"},
+    {"sampleMask", "V"},      {"emission", "RGB"},        {"gradientSample", "V"},
+    {"gradientPrevious", "V"}, {"gradientCurrent", "V"},  {"indirectDiffuse", "RGB"},
     {"hiddenArea", "V"},
 };
 }  // namespace

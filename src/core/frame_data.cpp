@@ -1,14 +1,19 @@
 #include "core/frame_data.h"
 
 #include <algorithm>
+#include <bit>
 #include <atomic>
+#include <cfloat>
 #include <cmath>
 #include <string>
 #ifdef __AVX2__
 #include <immintrin.h>
 #endif
 
+#include "core/flush.h"
 #include "core/parallel.h"
+#include "core/sanitize.h"
+#include "core/validate.h"
 #include "rtd/error.h"
 
 namespace rtd {
@@ -16,12 +21,11 @@ namespace rtd {
 bool isRadianceBuffer(Buffer b) {
   switch (b) {
     case Buffer::Color: case Buffer::Direct: case Buffer::Indirect:
-    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: case Buffer::IndirectDiffuse: return true;
+    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: case Buffer::IndirectDiffuse:
+    case Buffer::GradientPrevious: case Buffer::GradientCurrent: return true;
     default: return false;
   }
 }
-
-static std::string describe(Buffer b) { return "buffer '" + std::string(bufferName(b)) + "'"; }
 
 std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const std::vector<Buffer>& extra,
                                     const ReprojectionSettings& reprojection) {
@@ -46,25 +50,42 @@ bool streamsPastCache(size_t bytes) { return bytes >= (size_t(8) << 20); }
 
 namespace {
 
-// The sanitization bounds of a value: radiance must be finite and non-negative before it can
-// reach history (a NaN would stay in the exponential average for ever); features only need
-// to be finite. The comparisons are false for NaN.
+// The sanitization of a value (core/sanitize.h): non-finite values become 0, finite ones are
+// clamped into the buffer's range [lo, hi]; both counted. Magnitudes below kTiny become 0 (not
+// counted: the hot loops never see a subnormal, core/flush.h). Non-finite and tiny values are
+// recognized on the bits, so a subnormal input is never the operand of a floating-point
+// instruction.
 struct Bounds {
   float lo, hi;
-  /// v within the bounds, 0 otherwise (counted in `bad`): the reference for sanitize8.
-  float sanitize(float v, uint64_t& bad) const {
-    if (v >= lo && v <= hi) return v;
-    ++bad;
-    return 0.0f;
+  static constexpr uint32_t kMaxBits = std::bit_cast<uint32_t>(FLT_MAX), kTinyBits = std::bit_cast<uint32_t>(kTiny);
+  /// The reference for sanitize8.
+  float sanitize(float v, SanitizeCounts& bad) const {
+    const uint32_t magnitude = std::bit_cast<uint32_t>(v) & 0x7fffffffu;
+    if (magnitude > kMaxBits) {  // NaN and infinities
+      ++bad.nonFinite;
+      return 0.0f;
+    }
+    if (magnitude < kTinyBits) v = 0.0f;
+    if (v < lo || v > hi) {
+      ++bad.outOfRange;
+      return v < lo ? lo : hi;
+    }
+    return v;
   }
 };
 
 #ifdef __AVX2__
-inline __m256 sanitize8(__m256 v, Bounds b, uint64_t& bad) {
-  const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(v, _mm256_set1_ps(b.lo), _CMP_GE_OQ),
-                                  _mm256_cmp_ps(v, _mm256_set1_ps(b.hi), _CMP_LE_OQ));
-  bad += 8 - unsigned(__builtin_popcount(unsigned(_mm256_movemask_ps(ok))));
-  return _mm256_and_ps(v, ok);
+inline __m256 sanitize8(__m256 v, Bounds b, SanitizeCounts& bad) {
+  const __m256i magnitude = _mm256_and_si256(_mm256_castps_si256(v), _mm256_set1_epi32(0x7fffffff));
+  const __m256i finite = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(Bounds::kMaxBits) + 1), magnitude);
+  const __m256i keep = _mm256_and_si256(finite, _mm256_cmpgt_epi32(magnitude, _mm256_set1_epi32(int(Bounds::kTinyBits) - 1)));
+  v = _mm256_and_ps(v, _mm256_castsi256_ps(keep));  // non-finite and tiny values 0
+  const __m256 clamped = _mm256_min_ps(_mm256_max_ps(v, _mm256_set1_ps(b.lo)), _mm256_set1_ps(b.hi));
+  const unsigned ok = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(finite)));
+  const unsigned changed = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(clamped, v, _CMP_NEQ_UQ)));
+  bad.nonFinite += 8 - unsigned(__builtin_popcount(ok));
+  bad.outOfRange += unsigned(__builtin_popcount(ok & changed));
+  return clamped;
 }
 
 // The channels of eight pixels of `stride` (2, 3 or 4) floats each into out[0..stride).
@@ -102,13 +123,13 @@ inline void deinterleave8(const float* src, int stride, __m256 out[4]) {
 #endif
 
 // One row of tightly packed float pixels (`stride` floats each) into the nc planes' rows,
-// sanitized; returns the number of values replaced. All channels in one pass over the row.
+// sanitized (counted in `bad`). All channels in one pass over the row.
 // `stream`: write around the caches (non-temporal stores, where the rows are 32-byte aligned),
 // for frames too large to stay in cache until the next pass reads them: it saves reading
 // each destination line before overwriting it (measured on the CI-class VM at 1280x720,
 // 2 threads: import 4.1 -> 3.0 ms).
-uint64_t importFloatRow(const float* src, int stride, int nc, float* const* dst, int w, Bounds b, bool stream) {
-  uint64_t bad = 0;
+void importFloatRow(const float* src, int stride, int nc, float* const* dst, int w, Bounds b, bool stream,
+                    SanitizeCounts& bad) {
   int x = 0;
 #ifdef __AVX2__
   for (int c = 0; c < nc; ++c) stream = stream && reinterpret_cast<uintptr_t>(dst[c]) % 32 == 0;
@@ -129,34 +150,20 @@ uint64_t importFloatRow(const float* src, int stride, int nc, float* const* dst,
 #endif
   for (; x < w; ++x)
     for (int c = 0; c < nc; ++c) dst[c][x] = b.sanitize(src[size_t(x) * stride + c], bad);
-  return bad;
 }
 
 }  // namespace
 
 uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out,
-                     const std::vector<Buffer>* used) {
-  for (Buffer b : required)
-    if (!in.has(b)) throw Error("missing required " + describe(b));
+                     const std::vector<Buffer>* used, SanitizeStats* counts) {
+  checkInputViews(in, required);
   const ImageView& color = in[Buffer::Color];
   const int w = color.width, h = color.height;
-  if (w <= 0 || h <= 0) throw Error("buffer 'color' has an empty size");
-  for (int i = 0; i < kBufferCount; ++i) {
-    const ImageView& v = in.buffers[i];
-    if (v.empty()) continue;
-    Buffer b = Buffer(i);
-    if (v.width != w || v.height != h)
-      throw Error(describe(b) + " is " + std::to_string(v.width) + "x" + std::to_string(v.height) +
-                  " but color is " + std::to_string(w) + "x" + std::to_string(h));
-    if (v.channels() < bufferChannelCount(b))
-      throw Error(describe(b) + " needs " + std::to_string(bufferChannelCount(b)) + " channels, the view has " +
-                  std::to_string(v.channels()));
-  }
 
   out.width = w;
   out.height = h;
   out.camera = in.camera;
-  std::atomic<uint64_t> replaced{0};
+  SanitizeStats stats{};
   auto wanted = [&](int i) {
     return !in.buffers[i].empty() && (!used || std::find(used->begin(), used->end(), Buffer(i)) != used->end());
   };
@@ -176,31 +183,36 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
     planes.resize(nc);
     for (auto& p : planes)
       if (p.width != w || p.height != h) p.resize(w, h);
-    const bool radiance = isRadianceBuffer(b);
     const bool ints = v.format == Format::Int32;
-    const size_t pixelStride = v.bytesPerPixel(), rowStride = v.bytesPerRow();
-    const Bounds bounds = radiance ? Bounds{0.0f, 3.0e38f} : Bounds{-3.0e38f, 3.0e38f};
-    const bool packedFloats = !ints && pixelStride % 4 == 0;
+    const size_t pixelFloats = v.bytesPerPixel() / 4, rowStride = v.bytesPerRow();  // multiples of 4 (checked)
+    const ValueRange range = importRange(b);
+    const Bounds bounds{range.lo, range.hi};
+    std::atomic<uint64_t> nonFinite{0}, outOfRange{0};
     parallelRows(h, [&](int y) {
       const char* src = static_cast<const char*>(v.data) + size_t(y) * rowStride;
       float* dst[4];
       for (int c = 0; c < nc; ++c) dst[c] = planes[c].row(y);
-      uint64_t bad = 0;
-      if (packedFloats) {
-        bad = importFloatRow(reinterpret_cast<const float*>(src), int(pixelStride / 4), nc, dst, w, bounds, stream);
+      SanitizeCounts bad;
+      if (!ints) {
+        importFloatRow(reinterpret_cast<const float*>(src), int(pixelFloats), nc, dst, w, bounds, stream, bad);
       } else {
+        const int32_t* ids = reinterpret_cast<const int32_t*>(src);
         for (int x = 0; x < w; ++x)
-          for (int c = 0; c < nc; ++c) {
-            const char* p = src + x * pixelStride + c * 4;
-            dst[c][x] = bounds.sanitize(ints ? float(*reinterpret_cast<const int32_t*>(p)) : *reinterpret_cast<const float*>(p), bad);
-          }
+          for (int c = 0; c < nc; ++c) dst[c][x] = bounds.sanitize(float(ids[size_t(x) * pixelFloats + c]), bad);
       }
-      if (bad) replaced += bad;
+      if (bad.nonFinite) nonFinite += bad.nonFinite;
+      if (bad.outOfRange) outOfRange += bad.outOfRange;
     }, 16);
+    stats[size_t(i)].nonFinite = nonFinite;
+    stats[size_t(i)].outOfRange = outOfRange;
   }
+  sanitizeUnitVectors(out, stats);
   separateEmission(out);
   applyHiddenArea(out);
-  return replaced;
+  uint64_t total = 0;
+  for (const SanitizeCounts& c : stats) total += c.total();
+  if (counts) *counts = stats;
+  return total;
 }
 
 void applyHiddenArea(FrameData& f) {

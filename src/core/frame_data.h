@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/plane.h"
+#include "core/sanitize.h"
 #include "rtd/frame.h"
 #include "rtd/methods/reprojection.h"
 
@@ -23,7 +24,7 @@ struct FrameData {
   const std::vector<Plane>& planes(Buffer b) const { return buffers[int(b)]; }
 };
 
-/// True for buffers holding radiance (sanitized on import: NaN, Inf and negatives become 0).
+/// True for buffers holding radiance.
 bool isRadianceBuffer(Buffer b);
 
 /// The buffers a method imports when the frame has them, on either backend: its required and
@@ -34,12 +35,14 @@ std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const s
 
 /// Copies the views of `in` into `out` (reusing its allocations): only the buffers in `used`
 /// (all of them if null), so a frame carrying many buffers costs only what the method reads.
-/// Checks that every required buffer is present and that all buffers share one size and have
-/// enough channels; throws rtd::Error naming the buffer otherwise. Non-finite feature values
-/// also become 0. Emission is then separated (separateEmission) and the hidden area cleared
-/// (applyHiddenArea). Returns the number of values replaced.
+/// Checks the views first (checkInputViews: required buffers present, one size, formats,
+/// alignment, strides); throws rtd::Error naming the buffer otherwise. Every value is
+/// sanitized on the way (core/sanitize.h: non-finite to 0, clamped into its buffer's range),
+/// then unit vectors are renormalized (sanitizeUnitVectors), emission is separated
+/// (separateEmission) and the hidden area cleared (applyHiddenArea). Returns the number of
+/// values replaced; `counts`, if given, receives them per buffer.
 uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out,
-                     const std::vector<Buffer>* used = nullptr);
+                     const std::vector<Buffer>* used = nullptr, SanitizeStats* counts = nullptr);
 
 /// Subtracts Buffer::Emission (if present) from Color, Direct and Diffuse, clamped at 0, so
 /// methods filter only the noisy part; importFrame() calls it.

@@ -10,6 +10,8 @@
 #include <sys/mman.h>
 #endif
 #include <cstddef>
+#include <functional>
+#include <string_view>
 #include <vector>
 
 namespace rtd {
@@ -106,6 +108,17 @@ using Plane3 = std::array<Plane, 3>;
 
 inline void resize(Plane3& p, int w, int h, float fill = 0.0f) {
   for (auto& c : p) c.resize(w, h, fill);
+}
+
+/// Receives every float array an object keeps (name, data, count): tests check invariants on
+/// intermediate results with it (no subnormal anywhere, core/flush.h).
+using PlaneVisitor = std::function<void(std::string_view name, const float* data, size_t count)>;
+
+inline void visitPlane(const PlaneVisitor& visit, std::string_view name, const Plane& p) {
+  if (!p.empty()) visit(name, p.ptr(), p.size());
+}
+inline void visitPlanes(const PlaneVisitor& visit, std::string_view name, const Plane3& p) {
+  for (const Plane& c : p) visitPlane(visit, name, c);
 }
 
 /// Rec. 709 / sRGB-primaries luminance of linear RGB.

@@ -3,14 +3,18 @@
 
 #include "core/settings_reflect.h"
 #include "rtd/methods/accumulate.h"
+#include "rtd/methods/asvgf.h"
 #include "rtd/methods/svgf.h"
 #include "rtd/methods/bmfr.h"
+#include "rtd/methods/tnnd.h"
 
 namespace rtd {
 
 std::unique_ptr<Denoiser> createAccumulateCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createSvgfCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena&);
+std::unique_ptr<Denoiser> createTnndCpu(tbb::task_arena&);
+std::unique_ptr<Denoiser> createAsvgfCpu(tbb::task_arena&);
 std::unique_ptr<StereoDenoiser> createSvgfStereoCpu(tbb::task_arena&);
 
 // Vulkan factories (src/methods/<name>/<name>_vulkan.cpp); null where the build has no Vulkan.
@@ -19,6 +23,8 @@ std::unique_ptr<StereoDenoiser> createSvgfStereoCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createAccumulateVulkan(vk::Context&);
 std::unique_ptr<Denoiser> createSvgfVulkan(vk::Context&);
 std::unique_ptr<Denoiser> createBmfrVulkan(vk::Context&);
+std::unique_ptr<Denoiser> createTnndVulkan(vk::Context&);
+std::unique_ptr<Denoiser> createAsvgfVulkan(vk::Context&);
 std::unique_ptr<StereoDenoiser> createSvgfStereoVulkan(vk::Context&);
 #else
 #define RTD_VULKAN_FACTORY(f) nullptr
@@ -35,6 +41,10 @@ const std::vector<MethodEntry>& methodRegistry() {
        RTD_VULKAN_FACTORY(createSvgfStereoVulkan)},
       {"bmfr", "blockwise multi-order feature regression (Koskela et al. 2019)", &defaultsOf<BmfrSettings>,
        &createBmfrCpu, RTD_VULKAN_FACTORY(createBmfrVulkan)},
+      {"tnnd", "tiny neural network denoiser, a 360-parameter neural cellular automaton (Higginson 2023)",
+       &defaultsOf<TnndSettings>, &createTnndCpu, RTD_VULKAN_FACTORY(createTnndVulkan)},
+      {"asvgf", "adaptive SVGF: history dropped where re-shaded gradient samples changed (Schied 2018; Higginson)",
+       &defaultsOf<AsvgfSettings>, &createAsvgfCpu, RTD_VULKAN_FACTORY(createAsvgfVulkan)},
   };
   return entries;
 }

@@ -25,6 +25,7 @@ struct SettingLister {
   void operator()(const char* n, float& v, const char* doc, Range = {}) { out.push_back({n, "float", formatFloat(v), doc, {}}); }
   void operator()(const char* n, int& v, const char* doc, Range = {}) { out.push_back({n, "int", std::to_string(v), doc, {}}); }
   void operator()(const char* n, bool& v, const char* doc) { out.push_back({n, "bool", v ? "true" : "false", doc, {}}); }
+  void operator()(const char* n, std::string& v, const char* doc) { out.push_back({n, "string", v, doc, {}}); }
   template <class E, class = std::enable_if_t<std::is_enum_v<E>>>
   void operator()(const char* n, E& v, const char* doc, Choices choices) {
     SettingInfo info{n, "enum", "", doc, {}};
@@ -35,7 +36,10 @@ struct SettingLister {
   }
 };
 
-/// Sets the field named `key` from text; throws rtd::Error on a bad value.
+/// Sets the field named `key` from text, checking only that the text is a value of the field's
+/// type (a finite number, an integer, a bool, one of an enum's names); ranges are checked for
+/// the whole struct afterwards by SettingValidator, the same check typed settings get.
+/// Throws rtd::Error on a malformed value.
 struct SettingSetter {
   std::string_view key, value;
   bool found = false;
@@ -43,30 +47,21 @@ struct SettingSetter {
   [[noreturn]] void fail(const char* expected) const {
     throw Error("setting '" + std::string(key) + "': cannot use '" + std::string(value) + "' (expected " + expected + ")");
   }
-  void checkRange(double v, Range r) const {
-    if (!(v >= r.lo && v <= r.hi)) {
-      std::ostringstream s;
-      s << "setting '" << key << "': " << value << " is outside [" << r.lo << ", " << r.hi << "]";
-      throw Error(s.str());
-    }
-  }
-  void operator()(const char* n, float& v, const char*, Range r = {-INFINITY, INFINITY}) {
+  void operator()(const char* n, float& v, const char*, Range = {}) {
     if (key != n) return;
     found = true;
     std::string s(value);
     char* end = nullptr;
     float parsed = std::strtof(s.c_str(), &end);
     if (s.empty() || *end != '\0' || !std::isfinite(parsed)) fail("a finite number");
-    checkRange(parsed, r);
     v = parsed;
   }
-  void operator()(const char* n, int& v, const char*, Range r = {-2147483648.0, 2147483647.0}) {
+  void operator()(const char* n, int& v, const char*, Range = {}) {
     if (key != n) return;
     found = true;
     int parsed = 0;
     auto [p, ec] = std::from_chars(value.data(), value.data() + value.size(), parsed);
     if (ec != std::errc() || p != value.data() + value.size()) fail("an integer");
-    checkRange(parsed, r);
     v = parsed;
   }
   void operator()(const char* n, bool& v, const char*) {
@@ -75,6 +70,11 @@ struct SettingSetter {
     if (value == "true" || value == "1" || value == "on") v = true;
     else if (value == "false" || value == "0" || value == "off") v = false;
     else fail("true or false");
+  }
+  void operator()(const char* n, std::string& v, const char*) {
+    if (key != n) return;
+    found = true;
+    v = std::string(value);
   }
   template <class E, class = std::enable_if_t<std::is_enum_v<E>>>
   void operator()(const char* n, E& v, const char*, Choices choices) {
@@ -91,6 +91,42 @@ struct SettingSetter {
   }
 };
 
+/// Checks every field of a settings struct against what its visit() declares: floats finite,
+/// numbers within their Range, enums one of their choices. Settings given by name and typed
+/// settings (Denoiser::setSettings) both pass through it before they replace the current ones.
+struct SettingValidator {
+  std::string_view method;
+
+  [[noreturn]] void fail(const char* n, const std::string& what) const {
+    throw Error("setting '" + std::string(n) + "' of method '" + std::string(method) + "': " + what);
+  }
+  void checkRange(const char* n, double v, const std::string& text, Range r) const {
+    if (!(v >= r.lo && v <= r.hi)) {
+      std::ostringstream s;
+      s << text << " is outside [" << r.lo << ", " << r.hi << "]";
+      fail(n, s.str());
+    }
+  }
+  void operator()(const char* n, float& v, const char*, Range r = {-INFINITY, INFINITY}) {
+    if (!std::isfinite(v)) fail(n, formatFloat(v) + " is not a finite number");
+    checkRange(n, v, formatFloat(v), r);
+  }
+  void operator()(const char* n, int& v, const char*, Range r = {-2147483648.0, 2147483647.0}) {
+    checkRange(n, v, std::to_string(v), r);
+  }
+  void operator()(const char*, bool&, const char*) {}
+  void operator()(const char*, std::string&, const char*) {}  // any text (a file is checked where it is read)
+  template <class E, class = std::enable_if_t<std::is_enum_v<E>>>
+  void operator()(const char* n, E& v, const char*, Choices choices) {
+    const auto i = static_cast<long long>(v);
+    if (i < 0 || i >= static_cast<long long>(choices.size())) {
+      std::string names;
+      for (const char* c : choices) names += (names.empty() ? "" : ", ") + std::string(c);
+      fail(n, "enum value " + std::to_string(i) + " is not one of " + names);
+    }
+  }
+};
+
 template <class S> std::vector<SettingInfo> listSettings(S s) {
   SettingLister l;
   s.visit(l);
@@ -101,6 +137,12 @@ template <class S> void setSetting(S& s, std::string_view method, std::string_vi
   SettingSetter setter{key, value};
   s.visit(setter);
   if (!setter.found) throw Error("method '" + std::string(method) + "' has no setting '" + std::string(key) + "' (see `rtdenoise methods`)");
+}
+
+/// Throws rtd::Error naming the first field of `s` that its visit() declaration refuses.
+template <class S> void validateSettings(S s, std::string_view method) {
+  SettingValidator v{method};
+  s.visit(v);
 }
 
 }  // namespace rtd::detail
@@ -119,17 +161,32 @@ template <class S, class Base> class TypedSettings : public Base {
     detail::setSetting(copy, S::kMethod, name, value);
     // A settings struct may react to a field set by name (SVGF's "variant" is a preset).
     if constexpr (requires { copy.settingSet(name); }) copy.settingSet(name);
-    settings_ = copy;
-    this->settingsChanged();
+    replaceSettings(copy);
   }
 
  protected:
   void* settingsStorage(std::string_view m) override {
-    if (m != S::kMethod)
-      throw Error("settings of method '" + std::string(m) + "' given to a '" + std::string(S::kMethod) + "' denoiser");
+    checkMethod(m);
     return &settings_;
   }
+  void assignSettings(std::string_view m, const void* s) override {
+    checkMethod(m);
+    replaceSettings(*static_cast<const S*>(s));
+  }
   S settings_;
+
+ private:
+  // The one way settings change, by name or typed: the whole struct is validated before it
+  // replaces the current settings, so a refused value touches neither settings nor history.
+  void replaceSettings(const S& s) {
+    detail::validateSettings(s, S::kMethod);
+    settings_ = s;
+    this->settingsChanged();
+  }
+  static void checkMethod(std::string_view m) {
+    if (m != S::kMethod)
+      throw Error("settings of method '" + std::string(m) + "' given to a '" + std::string(S::kMethod) + "' denoiser");
+  }
 };
 
 }  // namespace rtd

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/validate.h"
+
 namespace rtd {
 
 FrameStats combineEyeStats(const FrameStats& l, const FrameStats& r) {
@@ -32,23 +34,19 @@ StereoPair::StereoPair(std::unique_ptr<Denoiser> left, std::unique_ptr<Denoiser>
 void StereoPair::set(std::string_view name, std::string_view value) {
   eyes_[0]->set(name, value);  // a rejected value throws here, before the right eye changes
   eyes_[1]->set(name, value);
-  settingsChanged();
-}
-
-void StereoPair::settingsChanged() {
-  for (auto& e : eyes_) detail::DenoiserAccess::settingsChanged(*e);
 }
 
 void StereoPair::validate(const StereoFrameInputs& in, const ImageView& left, const ImageView& right) const {
   const char* names[2] = {"left", "right"};
   const ImageView* outs[2] = {&left, &right};
   for (int e = 0; e < 2; ++e) {
-    const ImageView& c = in.eye[e][Buffer::Color];
-    if (c.empty()) throw Error(std::string(names[e]) + " eye: missing required buffer 'color'");
-    for (Buffer b : requiredBuffers())
-      if (!in.eye[e].has(b)) throw Error(std::string(names[e]) + " eye: missing required buffer '" + std::string(bufferName(b)) + "'");
-    if (outs[e]->empty() || outs[e]->width != c.width || outs[e]->height != c.height)
-      throw Error(std::string(names[e]) + " eye: output view must be non-empty and the size of buffer 'color'");
+    // The single-view checks (core/validate.h), the eye named in the message.
+    try {
+      checkInputViews(in.eye[e], requiredBuffers());
+      checkOutputView(*outs[e], in.eye[e][Buffer::Color].width, in.eye[e][Buffer::Color].height);
+    } catch (const Error& err) {
+      throw Error(std::string(names[e]) + " eye: " + err.what());
+    }
   }
   const ImageView &a = in.eye[0][Buffer::Color], &b = in.eye[1][Buffer::Color];
   if (a.width != b.width || a.height != b.height)

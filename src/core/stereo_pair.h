@@ -13,7 +13,7 @@ namespace detail {
 /// Reaches a Denoiser's typed settings storage (Denoiser befriends it).
 struct DenoiserAccess {
   static void* settingsStorage(Denoiser& d, std::string_view method) { return d.settingsStorage(method); }
-  static void settingsChanged(Denoiser& d) { d.settingsChanged(); }
+  static void assignSettings(Denoiser& d, std::string_view method, const void* s) { d.assignSettings(method, s); }
 };
 }  // namespace detail
 
@@ -37,10 +37,14 @@ class StereoPair : public StereoDenoiser {
   const FrameStats& eyeStats(int eye) const override { return eyeStats_[eye & 1]; }
 
  protected:
-  void* settingsStorage(std::string_view method, int eye) override {
-    return detail::DenoiserAccess::settingsStorage(*eyes_[eye & 1], method);
+  void* settingsStorage(std::string_view method) override {
+    return detail::DenoiserAccess::settingsStorage(*eyes_[0], method);
   }
-  void settingsChanged() override;
+  /// The left eye validates (and refuses before anything changes), then the right takes the same.
+  void assignSettings(std::string_view method, const void* settings) override {
+    detail::DenoiserAccess::assignSettings(*eyes_[0], method, settings);
+    detail::DenoiserAccess::assignSettings(*eyes_[1], method, settings);
+  }
   /// Throws rtd::Error unless both eyes' frames and outputs have one size and the required buffers.
   void validate(const StereoFrameInputs& frame, const ImageView& left, const ImageView& right) const;
 

@@ -29,6 +29,7 @@ inline vf vabs(vf x) {
   return x;
 }
 inline vf vmax(vf a, vf b) { return a > b ? a : b; }
+inline vf vmin(vf a, vf b) { return a < b ? a : b; }
 // 1/x to ~23 bits: hardware estimate plus one Newton step (cheaper than a division).
 inline vf vrcp(vf x) {
 #ifdef __AVX__
@@ -47,23 +48,45 @@ inline vf vsqrt(vf x) {
 #endif
 }
 
-// exp(-x) for x >= 0 (x = +inf gives 0; below e^-87 the result is clamped there), one exp
-// shared by the depth, normal and luminance weights: exp(-x) = 2^u, u = -x log2(e) = n + f
-// with n = round(u), |f| <= 1/2, and 2^f = e^(f ln 2) by its degree-5 Taylor polynomial in
-// Estrin's form. Relative error <= 5e-6. The pass is bound by the latency of this chain (a tap's
-// weight is ~20 dependent operations), so its depth matters more than its operation count.
-inline vf expNeg(vf x, vf factor = vf{} + 1.0f) {
-  const vf u = vmax(x * -1.44269504088896341f, splat(-125.5f));  // e^-87
+// Magnitudes below kTiny to 0 (core/flush.h), for every stored value.
+inline vf flush(vf x) {
+  const vi keep = vabs(x) >= kTiny;
+  vi bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  bits &= keep;
+  std::memcpy(&x, &bits, sizeof x);
+  return x;
+}
+inline vf squareOrZero(vf x) { return vabs(x) >= kTinyRoot ? x * x : splat(0.0f); }
+
+// factor * exp(-x) from xs = x + kExpShift, x >= 0: one exp shared by the depth, normal and
+// luminance weights. The weights' exponents are sums of products (|z_p - z_q| / denominator,
+// |l_p - l_q| / bandwidth, the normal series); accumulating them onto kExpShift with fused
+// multiply-adds means no product is ever rounded on its own, so none can underflow, however
+// small (with FMA; core/flush.h). Then exp(-x) = 2^(v + 1/2) with v = -xs log2(e) <= -1/2,
+// v = n + g, n = round(v), |g| <= 1/2, and 2^(g + 1/2) = sqrt(2) e^(g ln 2) by its degree-5
+// Taylor polynomial in Estrin's form (relative error <= 5e-6). As |v| >= 1/2, g is 0 or at
+// least 2^-25 in magnitude, so the polynomial's powers of g do not underflow either. Where 2^u
+// is below 2^kMinWeightExp2 the result is exactly 0 (x = +inf and NaN too): the exponent's bits
+// are masked to zero. The mask and 2^n are off the critical path. The pass is bound by the
+// latency of this chain (a tap's weight is ~20 dependent operations), so its depth matters
+// more than its operation count.
+constexpr float kExpShift = 0.5f * 0.693147180559945f;
+inline vf expNegShifted(vf xs, vf factor = vf{} + 1.0f) {
+  constexpr float kBound = float(kMinWeightExp2) - 1.5f;
+  const vf v = vmax(xs * -1.44269504088896341f, splat(kBound));  // NaN: the bound
+  const vi keep = v >= float(kMinWeightExp2) - 0.5f;
 #ifdef __AVX__
-  const vf n = __builtin_ia32_roundps256(u, 0x8);  // to nearest, no exceptions
+  const vf n = __builtin_ia32_roundps256(v, 0x8);  // to nearest, no exceptions
 #else
-  const vf n = (u + 12582912.0f) - 12582912.0f;
+  const vf n = (v + 12582912.0f) - 12582912.0f;
 #endif
-  const vf f = u - n;
-  constexpr float l1 = 0.693147180559945f, l2 = l1 * l1 / 2, l3 = l2 * l1 / 3, l4 = l3 * l1 / 4, l5 = l4 * l1 / 5;
-  const vf f2 = f * f;
-  const vf p = ((1.0f + f * l1) + f2 * (l2 + f * l3)) + (f2 * f2) * (l4 + f * l5);
-  vi bits = (__builtin_convertvector(n, vi) + 127) << 23;
+  const vf g = v - n;
+  constexpr float r2 = 1.41421356237309505f, l1 = 0.693147180559945f, l2 = l1 * l1 / 2, l3 = l2 * l1 / 3,
+                  l4 = l3 * l1 / 4, l5 = l4 * l1 / 5;
+  const vf g2 = g * g;
+  const vf p = (r2 + g * (r2 * l1)) + g2 * ((r2 * l2 + g * (r2 * l3)) + g2 * (r2 * l4 + g * (r2 * l5)));
+  vi bits = ((__builtin_convertvector(n, vi) + 127) << 23) & keep;
   vf scale;
   std::memcpy(&scale, &bits, sizeof scale);
   return p * (scale * factor);  // factor * exp(-x): the product with the factor off the chain
@@ -118,6 +141,7 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
   const float sigmaZ = lv.sigmaDepth, epsZ = lv.depthEpsilon;
   const int e = std::max(1, lv.normalExponent);
   const float sigmaN = float(e);
+  const float minCosine = std::exp2(float(kMinWeightExp2) / float(e)), kMinWeight = std::exp2(float(kMinWeightExp2));
   const float* pz = z.data.data();
   const float *pnx = g.normal[0].data.data(), *pny = g.normal[1].data.data(), *pnz = g.normal[2].data.data();
   const float *pgx = g.gradX.data.data(), *pgy = g.gradY.data.data();
@@ -166,7 +190,8 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
       auto tap = [&](const Tap& t, vf depthScale) {
         const size_t q = c + t.offset;
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-        vf expo = vabs(zc - load(pz + q)) * depthScale + vabs(lc - load(pl + q)) * inv;
+        vf expo = kExpShift + vabs(zc - load(pz + q)) * depthScale;  // fused: expNegShifted
+        expo = expo + vabs(lc - load(pl + q)) * inv;
         if constexpr (kGlossy) expo += vabs(zic - load(pzi + q)) * ziInv;
         vf wt;
         if constexpr (kLogNormal) {
@@ -176,9 +201,12 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
           // Evaluated as expo + sigma_n x + x^2 (sigma_n/2 + sigma_n x/3): three steps deep.
           const vf x = 1.0f - d;
           expo = (expo + sigmaN * x) + (x * x) * (0.5f * sigmaN + x * (sigmaN / 3.0f));
-          wt = expNeg(expo, splat(t.h));
+          wt = expNegShifted(expo, splat(t.h));
         } else {
-          wt = (t.h * ipow<-1>(vmax(d, splat(0.0f)), e)) * expNeg(expo);
+          // d below 2^(kMinWeightExp2 / e) gives w_n < 2^kMinWeightExp2: 0, so the powers
+          // stay normal; the product with w_z w_l is cut at the same bound.
+          const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * expNegShifted(expo);
+          wt = t.h * (wn >= kMinWeight ? wn : splat(0.0f));
         }
         if constexpr (kMasked) wt *= load(pvalid + q);
         sw += wt;
@@ -191,33 +219,33 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
       // + eps are equal: one reciprocal serves both (atrousLevel orders the list that way).
       for (size_t k = 0, n = taps.size(); k < n / 2; ++k) {
         const Tap& a = taps[k];
-        const vf depthScale = vrcp(vabs(gx * a.ox + gy * a.oy) + epsZ);
+        const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(kMaxDepthDenominator)) + epsZ);
         tap(a, depthScale);
         tap(taps[n - 1 - k], depthScale);
       }
       vf rcp;
       if constexpr (kMasked) {
-        // Total weights this small are the exp clamp's e^-87 floor, not data: 1/sw would be inf.
-        const vi any = sw > 1e-20f;
+        // Any weight that is not 0 is >= 2^-32 (core/flush.h).
+        const vi any = sw > 0.0f;
         const vf safe = any ? sw : splat(1.0f);
         rcp = any ? 1.0f / safe : splat(0.0f);
         store(qvalid + c, any ? splat(1.0f) : splat(0.0f));
       } else {
         rcp = 1.0f / sw;
       }
-      const vf r = sr * rcp, gg = sg * rcp, b = sb * rcp;
+      const vf r = flush(sr * rcp), gg = flush(sg * rcp), b = flush(sb * rcp);
       store(qr + c, r);
       store(qg + c, gg);
       store(qb + c, b);
-      if constexpr (kPropagate) store(qv + c, sv * rcp * rcp);
+      if constexpr (kPropagate) store(qv + c, flush(sv * rcp * rcp));
       if (!cie) {
-        store(ql + c, lumVector(lv.luminance, r, gg, b));
+        store(ql + c, flush(lumVector(lv.luminance, r, gg, b)));
       } else {
         float lr[kLanes], lgg[kLanes], lb[kLanes], lo[kLanes];
         store(lr, r);
         store(lgg, gg);
         store(lb, b);
-        for (int k = 0; k < kLanes; ++k) lo[k] = momentLuminance(MomentLuminance::CieLightness, lr[k], lgg[k], lb[k]);
+        for (int k = 0; k < kLanes; ++k) lo[k] = flushTiny(momentLuminance(MomentLuminance::CieLightness, lr[k], lgg[k], lb[k]));
         std::memcpy(ql + c, lo, sizeof lo);
       }
     }
@@ -273,9 +301,11 @@ void AtrousGuide::build(const Plane& z, const std::vector<Plane>& n, const std::
     if (maxDepthSlope > 0.0f)
       for (int x = 0; x < w; ++x)
         if (std::max(std::abs(gx[x]), std::abs(gy[x])) > maxDepthSlope * std::abs(zr[x])) {
-          // |gx ox + gy oy| >= 0.5e30 for any non-zero integer offset: w_z = 1.
-          gx[x] = 1e30f;
-          gy[x] = 0.5e30f;
+          // |gx ox + gy oy| >= 2^32 |ox + (sqrt 2 - 1) oy| > 5e7 for any non-zero integer offset
+          // within 64 pixels (the ratio is irrational, the closest approach is 12 - 29 (sqrt 2 - 1)):
+          // w_z = 1 to float precision for any depth difference below ~1e3.
+          gx[x] = 0x1p32f;
+          gy[x] = 0x1p32f * 0.41421356f;
         }
   });
 }
@@ -327,6 +357,7 @@ void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const Padd
   const int w = z.width;
   const ptrdiff_t S = z.stride;
   const float sigmaN = float(e);
+  const float minCosine = std::exp2(float(kMinWeightExp2) / float(e)), kMinWeight = std::exp2(float(kMinWeightExp2));
   const float* pz = z.data.data();
   const float *pnx = g.normal[0].data.data(), *pny = g.normal[1].data.data(), *pnz = g.normal[2].data.data();
   const float *pgx = g.gradX.data.data(), *pgy = g.gradY.data.data();
@@ -349,14 +380,16 @@ void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const Padd
           if (!dx && !dy) continue;
           const size_t q = c + ptrdiff_t(dy) * S + dx;
           const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-          vf expo = vabs(zc - load(pz + q)) * vrcp(vabs(gx * float(dx) + gy * float(dy)) + epsZ);
+          vf expo = kExpShift + vabs(zc - load(pz + q)) *
+                                    vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(kMaxDepthDenominator)) + epsZ);
           vf wt;
           if constexpr (kLogNormal) {
             const vf xx = 1.0f - d;
             expo = (expo + sigmaN * xx) + (xx * xx) * (0.5f * sigmaN + xx * (sigmaN / 3.0f));
-            wt = expNeg(expo);
+            wt = expNegShifted(expo);
           } else {
-            wt = ipow<-1>(vmax(d, splat(0.0f)), e) * expNeg(expo);
+            const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * expNegShifted(expo);
+            wt = wn >= kMinWeight ? wn : splat(0.0f);
           }
           if (pid) wt = load(pid + q) == idc ? wt : splat(0.0f);  // the mesh-id term
           sw += wt;
@@ -364,7 +397,7 @@ void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& pa, const Padd
           s2 += wt * load(B + q);
         }
       const vf m1 = s1 / sw, m2 = s2 / sw;
-      const vf v = vmax(m2 - m1 * m1, splat(0.0f));
+      const vf v = flush(vmax(m2 - squareOrZero(m1), splat(0.0f)));
       for (int k = 0; k < lanes; ++k)
         if (n[x + k] < shortHistory) out[x + k] = v[k];
     }
@@ -395,14 +428,14 @@ void gaussian3x3(const PaddedPlane& in, PaddedPlane& out) {
              0.125f * (at(a, x) + at(c, x) + at(b, x - 1) + at(b, x + 1)) + 0.25f * b[x];
     };
     if (w < 3) {
-      for (int x = 0; x < w; ++x) o[x] = px(x);
+      for (int x = 0; x < w; ++x) o[x] = flushTiny(px(x));
       return;
     }
-    o[0] = px(0);
+    o[0] = flushTiny(px(0));
     for (int x = 1; x < w - 1; ++x)
-      o[x] = 0.0625f * (a[x - 1] + a[x + 1] + c[x - 1] + c[x + 1]) + 0.125f * (a[x] + c[x] + b[x - 1] + b[x + 1]) +
-             0.25f * b[x];
-    o[w - 1] = px(w - 1);
+      o[x] = flushTiny(0.0625f * (a[x - 1] + a[x + 1] + c[x - 1] + c[x + 1]) +
+                       0.125f * (a[x] + c[x] + b[x - 1] + b[x + 1]) + 0.25f * b[x]);
+    o[w - 1] = flushTiny(px(w - 1));
   });
 }
 

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/flush.h"
 #include "core/plane.h"
 #include "passes/temporal_accumulation.h"
 
@@ -35,22 +36,26 @@ struct PaddedPlane {
   }
   void copyFrom(const Plane& p);
   void copyTo(Plane& p) const;
+  void visit(const PlaneVisitor& v, std::string_view name) const { v(name, data.data(), data.size()); }
 };
 
 // ---- Edge-stopping weights (Schied et al. 2017 Eq. 3), reference scalar forms ----
+// Each is exactly 0 where it would fall below 2^kMinWeightExp2 (core/flush.h: never a
+// subnormal), as the vectorized filter's weights are.
 
 /// w_z = exp(-|z(p) - z(q)| / (sigma_z |grad z(p) . (p - q)| + eps)).
 inline float depthWeight(float zp, float zq, float gradDotOffset, float sigmaDepth, float eps) {
-  return std::exp(-std::abs(zp - zq) / (sigmaDepth * std::abs(gradDotOffset) + eps));
+  return weightExp(std::abs(zp - zq) / (std::min(sigmaDepth * std::abs(gradDotOffset), kMaxDepthDenominator) + eps));
 }
 /// w_n = max(0, n(p) . n(q))^sigma_n.
 inline float normalWeight(float cosine, int exponent) {
-  return std::pow(std::max(0.0f, cosine), float(exponent));
+  if (!(cosine > 0.0f)) return 0.0f;
+  return std::log2(cosine) * float(exponent) < float(kMinWeightExp2) ? 0.0f : std::pow(cosine, float(exponent));
 }
 /// w_l = exp(-|l(p) - l(q)| / (sigma_l * scale + eps)), scale = sqrt(g3x3(Var)) in SVGF
 /// (Dundr Sec. 4.4.3 uses the variance itself).
 inline float luminanceWeight(float lp, float lq, float sigmaLuminance, float scale, float eps) {
-  return std::exp(-std::abs(lp - lq) / (sigmaLuminance * scale + eps));
+  return weightExp(std::abs(lp - lq) / (sigmaLuminance * scale + eps));
 }
 /// Voorhuis Eq. 8: multiplier of sigma_l for h successful reprojections, 8 - min(7, h).
 inline float shortHistoryBandwidthScale(int h) { return float(8 - std::min(7, std::max(0, h))); }
@@ -77,12 +82,18 @@ struct AtrousGuide {
   /// the depth weight off there (Dundr Sec. 4.4.2).
   void build(const Plane& depthPlane, const std::vector<Plane>& normalPlanes, const std::vector<Plane>* depthGradient,
              float maxDepthSlope);
+  void forEachPlane(const PlaneVisitor& v) const {
+    for (const PaddedPlane* p : {&depth, &normal[0], &normal[1], &normal[2], &gradX, &gradY}) p->visit(v, "guide");
+  }
 };
 
 /// The filtered signal: colour, the luminance used by w_l, and the luminance variance.
 struct AtrousImage {
   PaddedPlane color[3], lum, var;
   void resize(int w, int h, int pad);
+  void forEachPlane(const PlaneVisitor& v) const {
+    for (const PaddedPlane* p : {&color[0], &color[1], &color[2], &lum, &var}) p->visit(v, "a-trous image");
+  }
 };
 
 /// Parameters of one a-trous level.

@@ -59,6 +59,13 @@ struct Reprojection {
     return wt[0] * h[b] + wt[1] * h[b + 1] + wt[2] * h[b + width] + wt[3] * h[b + width + 1];
   }
 
+  /// The float arrays: bilinear weights and previous positions (PlaneVisitor).
+  void forEachPlane(const PlaneVisitor& visit) const {
+    visit("reprojection weights", weights.empty() ? nullptr : weights[0].data(), 4 * weights.size());
+    visitPlane(visit, "previous x", prevX);
+    visitPlane(visit, "previous y", prevY);
+  }
+
   /// Number of pixels of each kind (for tests and statistics).
   std::array<size_t, 3> counts() const;
 

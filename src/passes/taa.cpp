@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/flush.h"
+
 namespace rtd {
 
 void Taa::resize(int w, int h) {
@@ -141,7 +143,7 @@ void Taa::runRows(const Reprojection& rp, const Plane3& color, float alpha, int 
       const float bco = alpha * c[w + x] + (1 - alpha) * hco;
       const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hcg;
       const float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
-      for (int k = 0; k < 3; ++k) n[k][x] = rgb[k];
+      for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);  // history: never subnormal (core/flush.h)
     }
   }
 }

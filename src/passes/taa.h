@@ -27,12 +27,10 @@ class Taa {
   void begin(int width, int height);
   void runRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBegin, int rowEnd);
   const Plane3& result() const { return history_[cur_]; }
-  /// Bytes of the history planes.
-  uint64_t bytes() const {
-    uint64_t n = 0;
-    for (const auto& h : history_)
-      for (const auto& p : h) n += p.data.size();
-    return n * sizeof(float);
+  /// Both histories and this thread's window rows (PlaneVisitor).
+  void forEachPlane(const PlaneVisitor& visit) const {
+    for (const Plane3& h : history_) visitPlanes(visit, "taa history", h);
+    for (const Window& w : windows_) visit("taa window", w.rows.data(), w.rows.size());
   }
 
  private:

@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "passes/demodulation.h"
@@ -16,11 +17,11 @@ void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, con
   auto pixel = [&](int x) {
     const size_t i = row + x;
     if (rp.kind[i] == Reprojection::None) {
-      for (int k = 0; k < 3; ++k) out[k].data[i] = current[k][x];
+      for (int k = 0; k < 3; ++k) out[k].data[i] = flushTiny(current[k][x]);
       return;
     }
     const float a = newSampleWeight(length.data[i], alpha);
-    for (int k = 0; k < 3; ++k) out[k].data[i] = a * current[k][x] + (1.0f - a) * rp.gather(history[k], i);
+    for (int k = 0; k < 3; ++k) out[k].data[i] = flushTiny(a * current[k][x] + (1.0f - a) * rp.gather(history[k], i));
   };
   int x = 0;
 #ifdef __AVX2__
@@ -36,8 +37,8 @@ void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, con
     }
     const __m256 a = _mm256_max_ps(_mm256_div_ps(one, _mm256_loadu_ps(length.ptr() + i)), vAlpha);
     for (int k = 0; k < 3; ++k)
-      _mm256_storeu_ps(out[k].ptr() + i, _mm256_fmadd_ps(a, _mm256_loadu_ps(current[k] + x),
-                                                         _mm256_mul_ps(_mm256_sub_ps(one, a), taps8.gather(hPrev[k]))));
+      _mm256_storeu_ps(out[k].ptr() + i, flushTiny8(_mm256_fmadd_ps(a, _mm256_loadu_ps(current[k] + x),
+                                                                    _mm256_mul_ps(_mm256_sub_ps(one, a), taps8.gather(hPrev[k])))));
   }
 #endif
   for (; x < w; ++x) pixel(x);
@@ -93,6 +94,8 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
   const float maxLength = float(maxHistoryLength);
   const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
   const Plane* albedo = options.albedo ? options.albedo->data() : nullptr;
+  const Plane* gradient = options.temporalGradient;
+  const int gradientStride = std::max(1, options.temporalGradientStride);
   // One fused pass per pixel: history length, colour and both moments from the same taps.
   auto pixel = [&](size_t i) {
     float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
@@ -107,6 +110,21 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
     for (int k = 0; k < 3; ++k) hist[k] = rp.gather(color_[prev][k], i);
     // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
     const bool none = rp.kind[i] == Reprojection::None;
+    if (gradient) {
+      // A-SVGF: the history shrinks where the shading changed, N' = min(N (1-G)^e + 1, cap),
+      // and the new sample weighs mix(max(1/N', floor), 1, G).
+      const int x = int(i % size_t(w)), y = int(i / size_t(w));
+      const float g = std::clamp((*gradient)(x / gradientStride, y / gradientStride), 0.0f, 1.0f);
+      const float n = adaptiveHistoryLength(none ? 0.0f : histLength, g, options.historyExponent, maxLength);
+      const float a = adaptiveAlpha(n, g, alpha), am = adaptiveAlpha(n, g, momentsAlpha);
+      length_[cur_].data[i] = n;
+      for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
+      if (moments) {
+        m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;
+        m2_[cur_].data[i] = am * l * l + (1.0f - am) * hist2;
+      }
+      return;
+    }
     const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
     // Fixed weights (Gersthofer): alpha wherever there is history, 1 where there is none
     // (reprojection failed, or the taps hold no data yet: n = 1).
@@ -120,22 +138,22 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
       // No sample this frame (Dundr Sec. 5): the history carries over unchanged; without
       // history the pixel stays missing (length 0).
       length_[cur_].data[i] = none ? 0.0f : std::round(histLength);
-      for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = hist[k];
+      for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = flushTiny(hist[k]);
       if (moments) {
-        m1_[cur_].data[i] = hist1;
-        m2_[cur_].data[i] = hist2;
+        m1_[cur_].data[i] = flushTiny(hist1);
+        m2_[cur_].data[i] = flushTiny(hist2);
       }
       return;
     }
     length_[cur_].data[i] = n;
-    for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
+    for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = flushTiny(a * c[k] + (1.0f - a) * hist[k]);
     if (moments) {
-      m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;
-      m2_[cur_].data[i] = am * l * l + (1.0f - am) * hist2;
+      m1_[cur_].data[i] = flushTiny(am * l + (1.0f - am) * hist1);
+      m2_[cur_].data[i] = flushTiny(am * squareOrZero(l) + (1.0f - am) * hist2);
     }
   };
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-  const bool vectorized = !mask && options.luminance != MomentLuminance::CieLightness && options.cumulativeColor;
+  const bool vectorized = !mask && !gradient && options.luminance != MomentLuminance::CieLightness && options.cumulativeColor;
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef __AVX2__
@@ -171,13 +189,15 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
             c[k] = _mm256_div_ps(c[k], _mm256_blendv_ps(one, a, _mm256_cmp_ps(a, _mm256_set1_ps(kAlbedoEpsilon), _CMP_GT_OQ)));
           }
           const __m256 hist = taps8.gather(cPrev[k]);
-          _mm256_storeu_ps(color_[cur_][k].ptr() + i, _mm256_fmadd_ps(a, c[k], _mm256_mul_ps(_mm256_sub_ps(one, a), hist)));
+          _mm256_storeu_ps(color_[cur_][k].ptr() + i,
+                           flushTiny8(_mm256_fmadd_ps(a, c[k], _mm256_mul_ps(_mm256_sub_ps(one, a), hist))));
         }
         if (!moments) continue;
         const __m256 l = _mm256_fmadd_ps(lb, c[2], _mm256_fmadd_ps(lg, c[1], _mm256_mul_ps(lr, c[0])));
         const __m256 bm = _mm256_sub_ps(one, am);
-        _mm256_storeu_ps(m1_[cur_].ptr() + i, _mm256_fmadd_ps(am, l, _mm256_mul_ps(bm, taps8.gather(m1Prev))));
-        _mm256_storeu_ps(m2_[cur_].ptr() + i, _mm256_fmadd_ps(_mm256_mul_ps(am, l), l, _mm256_mul_ps(bm, taps8.gather(m2Prev))));
+        _mm256_storeu_ps(m1_[cur_].ptr() + i, flushTiny8(_mm256_fmadd_ps(am, l, _mm256_mul_ps(bm, taps8.gather(m1Prev)))));
+        _mm256_storeu_ps(m2_[cur_].ptr() + i,
+                         flushTiny8(_mm256_fmadd_ps(am, squareOrZero8(l), _mm256_mul_ps(bm, taps8.gather(m2Prev)))));
       }
     }
 #endif

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/flush.h"
 #include "core/frame_data.h"
 #include "passes/reprojection.h"
 
@@ -40,6 +41,32 @@ inline float momentLuminance(MomentLuminance m, float r, float g, float b) {
   }
 }
 
+/// (1 - G)^e, the history shrink of A-SVGF (Higginson Sec. 2.3.1); integral exponents up to 64
+/// by repeated squaring (the GPU's temporal_accumulation_gradient computes it the same way).
+inline float historyShrink(float g, float e) {
+  const float b = 1.0f - g;
+  if (e == std::floor(e) && e >= 0.0f && e <= 64.0f) {
+    float r = 1.0f, d = b;
+    for (int k = int(e); k; k >>= 1) {
+      if (k & 1) r *= d;
+      d *= d;
+    }
+    return r;
+  }
+  return std::pow(b, e);
+}
+/// A-SVGF's adaptive history length N' = min(N (1 - G)^e + 1, cap) (Higginson Sec. 2.3.1;
+/// Schied et al. 2018), N the reprojected history length (0 without history).
+inline float adaptiveHistoryLength(float n, float g, float e, float cap) {
+  return std::min(n * historyShrink(g, e) + 1.0f, cap);
+}
+/// A-SVGF's new-sample weight alpha = mix(max(1/N', minAlpha), 1, G) (the thesis's
+/// mix(1/N', 1, G) with Q2RTX's floor; minAlpha = 0 gives the thesis's formula).
+inline float adaptiveAlpha(float nPrime, float g, float minAlpha) {
+  const float a = std::max(1.0f / nPrime, minAlpha);
+  return a + (1.0f - a) * g;
+}
+
 /// Options of TemporalAccumulator::run beyond the blend weights.
 struct AccumulationOptions {
   MomentLuminance luminance = MomentLuminance::Rec709;
@@ -63,6 +90,15 @@ struct AccumulationOptions {
   /// false: the luminance moments are neither read nor written (moment1() and moment2() are
   /// then stale); for methods that do not use them (BMFR).
   bool moments = true;
+  /// A-SVGF's adaptive history (Schied et al. 2018; Higginson Sec. 2.3.1): per-stratum temporal
+  /// gradient G, a plane of ceil(w / s) x ceil(h / s) texels (s = temporalGradientStride), each
+  /// covering s x s pixels, clamped to [0, 1] on use. Where set, the history length is
+  /// N' = adaptiveHistoryLength(N, G, historyExponent, maxHistoryLength) (not rounded) and both
+  /// weights are adaptiveAlpha(N', G, floor) with run()'s alpha and momentsAlpha as the floors
+  /// (cumulativeMoments is then ignored). Not combined with sampleMask.
+  const Plane* temporalGradient = nullptr;
+  int temporalGradientStride = 3;
+  float historyExponent = 10.0f;
 };
 
 /// Owns the history of one radiance stream: accumulated colour (three planes), the first and
@@ -95,19 +131,18 @@ class TemporalAccumulator {
   const Plane& moment1() const { return m1_[cur_]; }
   const Plane& moment2() const { return m2_[cur_]; }
   const Plane& historyLength() const { return length_[cur_]; }
-  /// Bytes of the history planes (both buffers).
-  uint64_t bytes() const {
-    uint64_t n = 0;
+  /// Both halves of the double-buffered history (PlaneVisitor).
+  void forEachPlane(const PlaneVisitor& visit) const {
     for (int k = 0; k < 2; ++k) {
-      for (const auto& p : color_[k]) n += p.data.size();
-      n += m1_[k].data.size() + m2_[k].data.size() + length_[k].data.size();
+      visitPlanes(visit, "accumulated colour", color_[k]);
+      visitPlane(visit, "moment 1", m1_[k]);
+      visitPlane(visit, "moment 2", m2_[k]);
+      visitPlane(visit, "history length", length_[k]);
     }
-    return n * sizeof(float);
   }
   /// Variance of luminance from the moments, max(0, mu2 - mu1^2) (SVGF Sec. 4.2).
   float temporalVariance(size_t i) const {
-    const float m1 = m1_[cur_].data[i];
-    return std::max(0.0f, m2_[cur_].data[i] - m1 * m1);
+    return flushTiny(std::max(0.0f, m2_[cur_].data[i] - squareOrZero(m1_[cur_].data[i])));
   }
 
  private:

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <mutex>
 
@@ -34,6 +35,7 @@ struct FrameGeometry {
   RTCScene rtc = nullptr;
   std::vector<std::vector<V3>> positions, normals;  // per object, world space
   std::vector<M4> world, worldInverse;
+  std::vector<float> emissionScale;  // per object: Object::emissionAt (light switches)
   // Emissive triangles (area lights): per light, its object and primitive; lightOffset[object]
   // is the index of the object's first triangle light (-1: not emissive).
   struct Light {
@@ -120,6 +122,7 @@ struct Renderer::Impl {
     g->normals.resize(n);
     g->world.resize(n);
     g->worldInverse.resize(n);
+    g->emissionScale.resize(n);
     g->lightOffset.assign(n, -1);
     V3 lo(1e30f), hi(-1e30f);
     for (size_t o = 0; o < n; ++o) {
@@ -127,6 +130,7 @@ struct Renderer::Impl {
       const Mesh& mesh = scene->meshes[obj.mesh];
       g->world[o] = obj.worldAt(t);
       g->worldInverse[o] = inverse(g->world[o]);
+      g->emissionScale[o] = obj.emissionAt(t);
       auto& P = g->positions[o];
       P.resize(mesh.positions.size());
       for (size_t i = 0; i < P.size(); ++i) {
@@ -158,9 +162,10 @@ struct Renderer::Impl {
       rtcReleaseGeometry(geom);
 
       const Material& m = scene->materials[obj.material];
-      if (m.isEmissive()) {
+      if (m.isEmissive() && g->emissionScale[o] > 0) {  // a switched-off light is not sampled
         g->lightOffset[o] = int(g->lights.size());
-        const V3 e = m.emissiveTexture >= 0 ? m.emissive * scene->textures[m.emissiveTexture].mean : m.emissive;
+        const V3 e = (m.emissiveTexture >= 0 ? m.emissive * scene->textures[m.emissiveTexture].mean : m.emissive) *
+                     g->emissionScale[o];
         for (size_t k = 0; k < tris; ++k) {
           const V3 a = P[mesh.indices[3 * k]], b = P[mesh.indices[3 * k + 1]], c = P[mesh.indices[3 * k + 2]];
           g->lights.push_back({int(o), uint32_t(k), 0.5f * length(cross(b - a, c - a)), e});
@@ -313,7 +318,7 @@ struct Renderer::Impl {
       s.metallic *= mr.z;
     }
     s.specular = m.specular;
-    s.emission = s.frontFacing ? m.emissive : V3(0);
+    s.emission = s.frontFacing ? m.emissive * g.emissionScale[s.object] : V3(0);
     if (s.frontFacing && hasUv && m.emissiveTexture >= 0) s.emission = s.emission * scene->textures[m.emissiveTexture].sample(tu, tv);
     return s;
   }
@@ -353,7 +358,7 @@ struct Renderer::Impl {
       if (cosL <= 1e-6f || L.area <= 0) return false;
       ls.pdf = g.pTriangles * g.lightProb[i] * dist2 / (cosL * L.area);
       const Material& m = scene->materials[scene->objects[L.object].material];
-      ls.radiance = m.emissive;
+      ls.radiance = m.emissive * g.emissionScale[L.object];
       if (m.emissiveTexture >= 0 && !mesh.uvs.empty()) {
         const uint32_t i0 = mesh.indices[3 * L.prim], i1 = mesh.indices[3 * L.prim + 1], i2 = mesh.indices[3 * L.prim + 2];
         const float tu = mesh.uvs[2 * i0] * b0 + mesh.uvs[2 * i1] * b1 + mesh.uvs[2 * i2] * (1 - b0 - b1);
@@ -552,8 +557,10 @@ struct Renderer::Impl {
   }
 
   /// Samples of pixel (x, y) for `seed` averaged (what render() writes to `color`).
+  /// `primaryDir`: the primary ray's direction when it is not the pixel centre's (a gradient
+  /// sample forward-projected to a point between pixel centres); its hit is `centreHit`.
   Radiance shade(const FrameGeometry& g, const View& v, int x, int y, uint32_t seed, int spp, int sampleBase,
-                 const Surface* centreHit, uint64_t& rays) const {
+                 const Surface* centreHit, uint64_t& rays, const V3* primaryDir = nullptr) const {
     Radiance sum;
     for (int k = 0; k < spp; ++k) {
       Sampler sampler(seed, uint32_t(sampleBase + k));
@@ -572,7 +579,8 @@ struct Renderer::Impl {
           r = tracePath(g, v.eye, d, nullptr, sampler, rays);
         }
       } else {
-        const V3 d = pixelDirection(v, float(x) + 0.5f, float(y) + 0.5f, settings.width, settings.height);
+        const V3 d = primaryDir ? *primaryDir : pixelDirection(v, float(x) + 0.5f, float(y) + 0.5f, settings.width,
+                                                                settings.height);
         r = tracePath(g, v.eye, d, centreHit->object >= 0 ? centreHit : nullptr, sampler, rays);
       }
       if (settings.clampLuminance > 0) {
@@ -605,10 +613,161 @@ struct Renderer::Impl {
     return true;
   }
 
-  Frame render(int index, Eye eye) {
+  // -------------------------------------------------------------------------------------------
+  // A-SVGF gradient samples (Schied et al. 2018; docs/renderer.md "Gradient samples")
+
+  /// What forward projection needs of one pixel's sample: its seed, luminance and primary hit.
+  struct PrimarySample {
+    uint32_t seed = 0;
+    float luminance = 0;
+    int object = -1;  // -1: no primary hit (sky)
+    uint32_t prim = 0;
+    float u = 0, v = 0, t = 0;
+    bool traced = false;  // false: skipped by the sparse mask (no sample to re-shade)
+  };
+  /// A frame's gradient-sample candidates: per 3x3 stratum the traced pixel of maximum luminance
+  /// (with a primary hit), and the frame's view and object transforms.
+  struct GradientSource {
+    int index = -1;
+    struct Candidate {
+      int x, y;
+      PrimarySample sample;
+    };
+    std::vector<Candidate> candidates;
+    View view;
+    std::vector<M4> world;
+  };
+  std::map<Eye, GradientSource> gradientSources;  // of the last frame rendered, per eye
+
+  static constexpr int kStratum = 3;
+
+  GradientSource selectCandidates(int index, const View& v, const FrameGeometry& g,
+                                  const std::vector<PrimarySample>& samples) const {
+    const int w = settings.width, h = settings.height;
+    GradientSource src;
+    src.index = index;
+    src.view = v;
+    src.world = g.world;
+    const int sw = (w + kStratum - 1) / kStratum, sh = (h + kStratum - 1) / kStratum;
+    for (int sy = 0; sy < sh; ++sy)
+      for (int sx = 0; sx < sw; ++sx) {
+        int usable[kStratum * kStratum], count = 0, best = -1;
+        for (int y = sy * kStratum; y < std::min(h, (sy + 1) * kStratum); ++y)
+          for (int x = sx * kStratum; x < std::min(w, (sx + 1) * kStratum); ++x) {
+            const int i = y * w + x;
+            if (samples[i].object < 0 || !samples[i].traced) continue;
+            usable[count++] = i;
+            if (best < 0 || samples[i].luminance > samples[best].luminance) best = i;
+          }
+        if (best < 0) continue;
+        // All black: any pixel tells whether light arrives now (Q2RTX picks one at random).
+        if (!(samples[best].luminance > 0))
+          best = usable[hashCombine(hashCombine(settings.seed, uint32_t(index)), uint32_t(sy * sw + sx)) % uint32_t(count)];
+        src.candidates.push_back({best % w, best / w, samples[best]});
+      }
+    return src;
+  }
+
+  /// Forward-projects the candidates of frame index - 1 into frame `index`, re-shades the one
+  /// that wins each current stratum with its old seed at its moved surface point, and writes
+  /// the gradient-sample buffers.
+  void writeGradientSamples(const GradientSource& src, const FrameGeometry& g, const View& v,
+                            const std::vector<PrimarySample>& current, Frame& f, uint64_t& rayTotal) const {
+    const int w = settings.width, h = settings.height;
+    const int sw = (w + kStratum - 1) / kStratum;
+    const bool sameView = std::memcmp(&v, &src.view, sizeof(View)) == 0;
+    struct Projected {
+      int stratum = -1, x = 0, y = 0;
+      V3 dir;
+      RTCRayHit hit;
+    };
+    std::vector<Projected> proj(src.candidates.size());
+    std::atomic<uint64_t> rayCount{0};
+    tbb::parallel_for(size_t(0), src.candidates.size(), [&](size_t k) {
+      const auto& c = src.candidates[k];
+      const PrimarySample& ps = c.sample;
+      const int o = ps.object;
+      if (o >= int(g.world.size())) return;
+      Projected p{};
+      RTCRayHit& rh = p.hit;
+      rh.hit.geomID = unsigned(o);
+      rh.hit.primID = ps.prim;
+      rh.hit.u = ps.u;
+      rh.hit.v = ps.v;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      if (sameView && std::memcmp(&src.world[o], &g.world[o], sizeof(M4)) == 0) {
+        // Neither the camera nor the object moved: the projection is the identity, computed
+        // exactly (the same ray and hit as the previous frame's sample).
+        p.x = c.x;
+        p.y = c.y;
+        p.dir = pixelDirection(v, float(c.x) + 0.5f, float(c.y) + 0.5f, w, h);
+        rh.ray.tfar = ps.t;
+      } else {
+        // The same triangle and barycentrics under this frame's object transform.
+        const Mesh& mesh = scene->meshes[scene->objects[o].mesh];
+        const auto& P = g.positions[o];
+        const V3 q = P[mesh.indices[3 * ps.prim]] * (1.0f - ps.u - ps.v) + P[mesh.indices[3 * ps.prim + 1]] * ps.u +
+                     P[mesh.indices[3 * ps.prim + 2]] * ps.v;
+        float px, py;
+        if (!project(v, q, px, py, w, h) || !(px >= 0 && py >= 0 && px < float(w) && py < float(h))) return;
+        p.x = std::min(w - 1, int(px));
+        p.y = std::min(h - 1, int(py));
+        const V3 d = q - v.eye;
+        const float t = length(d);
+        p.dir = d / t;
+        // Visible from the new viewpoint? (A disoccluded or newly hidden point has no sample.)
+        RTCRayHit first;
+        rayCount += 1;
+        if (!intersect(g, v.eye, p.dir, 1e30f, first) || first.ray.tfar < t * (1.0f - 1e-3f)) return;
+        rh.ray.tfar = t;
+      }
+      // The pixel it lands on must see the same object, so its features describe the sample.
+      if (current[size_t(p.y) * w + p.x].object != o) return;
+      p.stratum = (p.y / kStratum) * sw + p.x / kStratum;
+      proj[k] = p;
+    });
+    // One sample per current stratum: the brightest previous sample landing there (then the
+    // first in scan order), deterministic whatever the scheduling.
+    std::vector<int> winner(size_t(sw) * ((h + kStratum - 1) / kStratum), -1);
+    for (size_t k = 0; k < proj.size(); ++k) {
+      const int st = proj[k].stratum;
+      if (st < 0) continue;
+      const int cur = winner[st];
+      if (cur < 0 || src.candidates[k].sample.luminance > src.candidates[cur].sample.luminance) winner[st] = int(k);
+    }
+    tbb::parallel_for(size_t(0), winner.size(), [&](size_t st) {
+      const int k = winner[st];
+      if (k < 0) return;
+      const Projected& p = proj[k];
+      uint64_t rays = 0;
+      const Surface s = surface(g, p.hit, p.dir);
+      const Radiance r = shade(g, v, p.x, p.y, src.candidates[k].sample.seed, settings.spp, 0, &s, rays, &p.dir);
+      f[Buffer::GradientSample].at(p.x, p.y) = 1.0f;
+      f[Buffer::GradientPrevious].at(p.x, p.y) = src.candidates[k].sample.luminance;
+      f[Buffer::GradientCurrent].at(p.x, p.y) = luminance(r.total);
+      rayCount += rays;
+    });
+    rayTotal += rayCount;
+  }
+
+  /// The gradient source of frame `index`: the cached one, or rendered again (random access).
+  const GradientSource& gradientSource(int index, Eye eye) {
+    auto it = gradientSources.find(eye);
+    if (it == gradientSources.end() || it->second.index != index) {
+      render(index, eye, false);
+      it = gradientSources.find(eye);
+    }
+    return it->second;
+  }
+
+  Frame render(int index, Eye eye, bool withGradients = true) {
     const auto start = std::chrono::steady_clock::now();
     if (index < 0) throw Error("render: frame index " + std::to_string(index) + " is negative");
     const int w = settings.width, h = settings.height;
+    const bool gradients = settings.allBuffers && settings.gradientSamples && !settings.pixelJitter;
+    // The previous frame's candidates first (it may render that frame: it must not overwrite
+    // this frame's statistics or geometry).
+    const GradientSource* source = gradients && withGradients && index > 0 ? &gradientSource(index - 1, eye) : nullptr;
     const auto geomPtr = geometry(index);
     const FrameGeometry& g = *geomPtr;
     const int prevIndex = std::max(0, index - 1);
@@ -629,12 +788,15 @@ struct Renderer::Impl {
                        Buffer::ReflectedNormal, Buffer::ReflectedAlbedo, Buffer::SecondaryDistance,
                        Buffer::MirrorDirection, Buffer::Seed, Buffer::SampleMask, Buffer::IndirectDiffuse})
         list.push_back(b);
+    if (gradients)
+      for (Buffer b : {Buffer::GradientSample, Buffer::GradientPrevious, Buffer::GradientCurrent}) list.push_back(b);
     for (Buffer b : list) f[b] = Image(w, h, bufferChannelCount(b));
     const bool all = settings.allBuffers;
     auto put3 = [&](Buffer b, int x, int y, V3 c) {
       float* p = f[b].pixel(x, y);
       p[0] = c.x, p[1] = c.y, p[2] = c.z;
     };
+    std::vector<PrimarySample> samples(gradients ? size_t(w) * h : 0);
 
     std::atomic<uint64_t> rayCount{0};
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& range) {
@@ -663,16 +825,25 @@ struct Renderer::Impl {
             f[Buffer::SampleMask].at(x, y) = traced ? 1.0f : 0.0f;
             f[Buffer::SecondaryDistance].at(x, y) = r.secondaryDistance;
           }
+          if (gradients && hit) {
+            // Untraced pixels (sparse sampling) have no sample to re-shade; their hit still
+            // tells whether a projected sample lands on the same object.
+            samples[size_t(y) * w + x] = {seed,     luminance(r.total), int(rh.hit.geomID), rh.hit.primID,
+                                          rh.hit.u, rh.hit.v,           rh.ray.tfar,         traced};
+          }
           writeFeatures(g, v, pv, prevWorld, f, x, y, d, hit ? &s : nullptr, all, rays);
         }
       rayCount += rays;
     });
+    uint64_t rays = rayCount;
+    if (source) writeGradientSamples(*source, g, v, samples, f, rays);
+    if (gradients) gradientSources[eye] = selectCandidates(index, v, g, samples);  // for the next frame
 
     f.camera.worldToCamera = v.worldToCamera().m;
     f.camera.projection = v.projection().m;
     f.camera.valid = true;
     stats = RenderStats{};
-    stats.rays = rayCount;
+    stats.rays = rays;
     stats.samplesPerPixel = settings.spp;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return f;

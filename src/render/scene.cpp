@@ -9,7 +9,9 @@
 #include <set>
 #include <sstream>
 
+#include "render/patterns.h"
 #include "rtd/error.h"
+#include "rtd/render/procedural.h"
 
 namespace rtd::render {
 
@@ -232,6 +234,17 @@ M4 Object::worldAt(float t) const {
   return k.matrix() * base;
 }
 
+float Object::emissionAt(float t) const {
+  if (keys.empty()) return 1.0f;
+  if (keys.size() == 1 || t <= keys.front().frame) return keys.front().emission;
+  if (t >= keys.back().frame) return keys.back().emission;
+  size_t i = 1;
+  while (keys[i].frame < t) ++i;
+  const TransformKey &a = keys[i - 1], &b = keys[i];
+  const float u = (t - a.frame) / std::max(1e-6f, b.frame - a.frame);
+  return a.emission + (b.emission - a.emission) * u;
+}
+
 static V3 catmullRomSpline(V3 p0, V3 p1, V3 p2, V3 p3, float t) {
   const float t2 = t * t, t3 = t2 * t;
   return (p1 * 2.0f + (p2 - p0) * t + (p0 * 2.0f - p1 * 5.0f + p2 * 4.0f - p3) * t2 + (p1 * 3.0f - p0 - p2 * 3.0f + p3) * t3) * 0.5f;
@@ -402,7 +415,7 @@ int checkerTexture(SceneData& s, V3 a, V3 b, int cells) {
 }
 
 Material parseMaterial(const Reader& r, const json& j, const std::string& path, SceneData& s) {
-  r.allowOnly(j, path, {"name", "baseColor", "metallic", "roughness", "specular", "emissive", "checker", "mirror"});
+  r.allowOnly(j, path, {"name", "baseColor", "metallic", "roughness", "specular", "emissive", "checker", "pattern", "mirror"});
   Material m;
   m.name = r.getString(j, path, "name", "");
   m.baseColor = r.getColor(j, path, "baseColor", m.baseColor);
@@ -421,6 +434,19 @@ Material parseMaterial(const Reader& r, const json& j, const std::string& path, 
     const V3 other = r.getColor(c, cp, "color", V3(0.2f));
     const int cells = r.getInt(c, cp, "cells", 8, 1, 128);
     m.baseColorTexture = checkerTexture(s, m.baseColor, other, cells);
+  }
+  if (j.contains("pattern")) {  // procedural patterns (src/render/procedural.cpp)
+    const std::string pp = path + ".pattern";
+    const json& c = j["pattern"];
+    r.allowOnly(c, pp, {"kind", "color", "cells", "seed"});
+    const std::string kind = r.getString(c, pp, "kind", "");
+    const auto pattern = patternFromName(kind);
+    if (!pattern) r.fail(pp + ".kind", "unknown pattern '" + kind + "' (expected " + patternNames() + ")");
+    const V3 other = r.getColor(c, pp, "color", V3(0.2f));
+    const int cells = r.getInt(c, pp, "cells", 8, 1, 128);
+    const int seed = r.getInt(c, pp, "seed", 0, 0, 2147483647);
+    s.textures.push_back(makePatternTexture(*pattern, m.baseColor, other, cells, uint32_t(seed)));
+    m.baseColorTexture = int(s.textures.size()) - 1;
   }
   return m;
 }
@@ -444,6 +470,7 @@ TransformKey parseTransform(const Reader& r, const json& j, const std::string& p
   k.translation = r.getV3(j, path, "translation", def.translation);
   if (j.contains("rotation")) k.rotation = parseRotation(r, j["rotation"], path + ".rotation");
   k.scale = r.getV3(j, path, "scale", def.scale);
+  k.emission = r.getFloat(j, path, "emission", def.emission, 0);
   return k;
 }
 
@@ -453,7 +480,7 @@ std::vector<TransformKey> parseKeys(const Reader& r, const json& j, const std::s
   TransformKey prev = start;
   for (size_t i = 0; i < j.size(); ++i) {
     const std::string p = path + "[" + std::to_string(i) + "]";
-    r.allowOnly(j[i], p, {"frame", "translation", "rotation", "scale"});
+    r.allowOnly(j[i], p, {"frame", "translation", "rotation", "scale", "emission"});
     if (!j[i].contains("frame")) r.fail(p + ".frame", "missing (every keyframe needs its frame index)");
     prev = parseTransform(r, j[i], p, prev);  // unspecified fields carry over from the previous key
     if (!keys.empty() && prev.frame <= keys.back().frame) r.fail(p + ".frame", "keyframes must have increasing frames");
@@ -650,6 +677,17 @@ std::shared_ptr<Scene> Scene::fromJson(const std::string& text, const fs::path& 
 
 std::shared_ptr<Scene> Scene::load(const std::string& nameOrPath) {
   if (auto builtin = builtinSceneJson(nameOrPath)) return fromJson(*builtin, fs::current_path(), nameOrPath);
+  if (nameOrPath.rfind(kProceduralPrefix, 0) == 0) {  // "procedural:<seed>[:<frames>]"
+    const std::string rest = nameOrPath.substr(std::string(kProceduralPrefix).size());
+    unsigned long seed = 0, frames = ProceduralOptions{}.frames;
+    char tail = 0;
+    const int n = std::sscanf(rest.c_str(), "%lu:%lu%c", &seed, &frames, &tail);
+    if (n < 1 || n > 2 || seed > 0xFFFFFFFFul || frames < 1 || frames > 100000 || rest.find_first_not_of("0123456789:") != std::string::npos)
+      throw Error("scene '" + nameOrPath + "': expected procedural:<seed> or procedural:<seed>:<frames>");
+    ProceduralOptions opt;
+    opt.frames = int(frames);
+    return fromJson(proceduralSceneJson(uint32_t(seed), opt), fs::current_path(), nameOrPath);
+  }
   const fs::path p(nameOrPath);
   std::string ext = p.extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));

@@ -47,6 +47,9 @@ struct TransformKey {
   V3 translation{0};
   std::array<float, 4> rotation{0, 0, 0, 1};
   V3 scale{1};
+  /// Multiplier of the object's emitted radiance (JSON "emission"; a light switch), linear
+  /// between keys like the transform.
+  float emission = 1.0f;
   M4 matrix() const { return render::translation(translation) * render::rotation(rotation) * render::scaling(scale); }
 };
 
@@ -58,6 +61,8 @@ struct Object {
   std::vector<TransformKey> keys;   ///< animation applied after `base`; empty: static
   /// World matrix at (fractional) frame index `t` (0-based): keys interpolated, clamped at the ends.
   M4 worldAt(float t) const;
+  /// Emission multiplier at frame `t` (1 without keys).
+  float emissionAt(float t) const;
   bool animated() const { return keys.size() > 1; }
 };
 

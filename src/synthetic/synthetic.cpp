@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace rtd::synthetic {
 
@@ -76,6 +77,80 @@ Camera cameraOf(const Scene& s, int index) {
   return c;
 }
 
+V3 rayDirection(const Scene& s, float px, float py) {
+  const float tanHalf = std::tan(s.verticalFov * 0.5f), aspect = float(s.width) / float(s.height);
+  const float sx = (2.0f * px / s.width - 1.0f) * tanHalf * aspect;
+  const float sy = (1.0f - 2.0f * py / s.height) * tanHalf;
+  return normalize({sx, sy, -1.0f});
+}
+
+const V3 kLight = normalize({0.4f, 1.0f, 0.6f});
+
+// Noise-free radiance leaving the surface point p (hit `hit`) in frame `index`: the sun with
+// the sphere's shadow plus an ambient term, view-independent.
+V3 radianceAt(const Scene& s, int index, const Hit& hit, V3 p) {
+  if (!hit.id) return {0.1f, 0.12f, 0.15f};  // sky
+  const V3 a = albedoAt(hit, p);
+  const bool sunOn = s.sunOffFrame < 0 || index < s.sunOffFrame;
+  float sun = sunOn ? std::max(0.0f, dot(hit.n, kLight)) : 0.0f;
+  if (sun > 0 && intersect(p + hit.n * 1e-3f, kLight).id == 3) sun = 0;
+  return a * (0.25f + 1.5f * sun);
+}
+
+// The exponential variate of pixel (x, y) in frame `index`: the synthetic sample's "seed".
+float noiseAt(const Scene& s, int x, int y, int index) {
+  return s.noise > 0 ? 1.0f + s.noise * (-std::log(uniform(uint32_t(x), uint32_t(y), s.seed * 7919u + uint32_t(index))) - 1.0f)
+                     : 1.0f;
+}
+
+float luminance(V3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+// Gradient samples of frame `index` >= 1 (docs/sequence-format.md): the brightest sample of each
+// stratum of frame index - 1, its surface point projected with this frame's camera (the scene
+// is static), kept where it is still visible and lands on the same object, re-shaded with its
+// noise variate; the brightest wins a stratum two land in.
+void writeGradientSamples(const Scene& s, int index, Frame& f) {
+  const int w = s.width, h = s.height, sw = (w + 2) / 3, sh = (h + 2) / 3;
+  const V3 eye = cameraPosition(s, index), prevEye = cameraPosition(s, index - 1);
+  const float tanHalf = std::tan(s.verticalFov * 0.5f), aspect = float(w) / float(h);
+  std::vector<float> best(size_t(sw) * sh, -1.0f);
+  for (int gy = 0; gy < sh; ++gy)
+    for (int gx = 0; gx < sw; ++gx) {
+      float lum = -1.0f;
+      int bx = 0, by = 0;
+      Hit bh;
+      V3 bp{0, 0, 0};
+      for (int y = 3 * gy; y < std::min(h, 3 * gy + 3); ++y)
+        for (int x = 3 * gx; x < std::min(w, 3 * gx + 3); ++x) {
+          const V3 d = rayDirection(s, x + 0.5f, y + 0.5f);
+          const Hit hit = intersect(prevEye, d);
+          if (!hit.id) continue;
+          const V3 p = prevEye + d * hit.t;
+          const float l = luminance(radianceAt(s, index - 1, hit, p) * noiseAt(s, x, y, index - 1));
+          if (l > lum) lum = l, bx = x, by = y, bh = hit, bp = p;
+        }
+      if (lum < 0) continue;
+      const V3 q = bp - eye;
+      if (q.z >= 0) continue;
+      const float px = (q.x / -q.z / (tanHalf * aspect) * 0.5f + 0.5f) * w;
+      const float py = (0.5f - q.y / -q.z / tanHalf * 0.5f) * h;
+      if (!(px >= 0 && py >= 0 && px < w && py < h)) continue;
+      const int lx = std::min(w - 1, int(px)), ly = std::min(h - 1, int(py));
+      const float t = std::sqrt(dot(q, q));
+      if (intersect(eye, q * (1.0f / t)).t < t * (1.0f - 1e-3f)) continue;  // hidden now
+      if (f[Buffer::ObjectId].at(lx, ly) != float(bh.id)) continue;
+      const size_t k = size_t(ly / 3) * sw + lx / 3;
+      if (lum <= best[k]) continue;
+      if (best[k] >= 0)  // a dimmer sample landed here first
+        for (int y = ly / 3 * 3; y < std::min(h, ly / 3 * 3 + 3); ++y)
+          for (int x = lx / 3 * 3; x < std::min(w, lx / 3 * 3 + 3); ++x) f[Buffer::GradientSample].at(x, y) = 0;
+      best[k] = lum;
+      f[Buffer::GradientSample].at(lx, ly) = 1;
+      f[Buffer::GradientPrevious].at(lx, ly) = lum;
+      f[Buffer::GradientCurrent].at(lx, ly) = luminance(radianceAt(s, index, bh, bp) * noiseAt(s, bx, by, index - 1));
+    }
+}
+
 }  // namespace
 
 Frame makeFrame(const Scene& s, int index, Image* reference) {
@@ -92,21 +167,14 @@ Frame makeFrame(const Scene& s, int index, Image* reference) {
 
   const V3 eye = cameraPosition(s, index), prevEye = cameraPosition(s, index - 1);
   const float tanHalf = std::tan(s.verticalFov * 0.5f), aspect = float(w) / float(h);
-  const V3 light = normalize({0.4f, 1.0f, 0.6f});
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const float sx = (2.0f * (x + 0.5f) / w - 1.0f) * tanHalf * aspect;
-      const float sy = (1.0f - 2.0f * (y + 0.5f) / h) * tanHalf;
-      const V3 d = normalize({sx, sy, -1.0f});
+      const V3 d = rayDirection(s, x + 0.5f, y + 0.5f);
       const Hit hit = intersect(eye, d);
-      V3 radiance{0.1f, 0.12f, 0.15f};  // sky
+      const V3 p = eye + d * hit.t;
+      const V3 radiance = radianceAt(s, index, hit, p);
       if (hit.id) {
-        const V3 p = eye + d * hit.t;
         const V3 a = albedoAt(hit, p);
-        // Sun with the sphere's shadow, plus a constant ambient term.
-        float sun = std::max(0.0f, dot(hit.n, light));
-        if (sun > 0 && intersect(p + hit.n * 1e-3f, light).id == 3) sun = 0;
-        radiance = a * (0.25f + 1.5f * sun);
         f[Buffer::Albedo].at(x, y, 0) = a.x;
         f[Buffer::Albedo].at(x, y, 1) = a.y;
         f[Buffer::Albedo].at(x, y, 2) = a.z;
@@ -128,7 +196,7 @@ Frame makeFrame(const Scene& s, int index, Image* reference) {
       } else {
         f[Buffer::Depth].at(x, y) = 1e4f;
       }
-      const float noise = s.noise > 0 ? 1.0f + s.noise * (-std::log(uniform(uint32_t(x), uint32_t(y), s.seed * 7919u + uint32_t(index))) - 1.0f) : 1.0f;
+      const float noise = noiseAt(s, x, y, index);
       f[Buffer::Color].at(x, y, 0) = radiance.x * noise;
       f[Buffer::Color].at(x, y, 1) = radiance.y * noise;
       f[Buffer::Color].at(x, y, 2) = radiance.z * noise;
@@ -138,6 +206,12 @@ Frame makeFrame(const Scene& s, int index, Image* reference) {
         reference->at(x, y, 2) = radiance.z;
       }
     }
+  if (s.gradientSamples) {
+    // Every frame has the buffers (a sequence's frames all hold the same ones); frame 0 has no
+    // previous frame, hence no samples.
+    for (Buffer b : {Buffer::GradientSample, Buffer::GradientPrevious, Buffer::GradientCurrent}) f[b] = Image(w, h, 1);
+    if (index > 0) writeGradientSamples(s, index, f);
+  }
   return f;
 }
 

@@ -16,11 +16,18 @@ struct Scene {
   float verticalFov = 1.0472f;   ///< radians (60 degrees)
   float noise = 1.0f;            ///< 0: noise-free; 1: exponential noise of mean 1
   uint32_t seed = 1;
+  /// The sun is off from this frame index on (a light switch); -1: always on.
+  int sunOffFrame = -1;
+  /// Write A-SVGF's gradient samples (docs/sequence-format.md): per 3x3 stratum the previous
+  /// frame's brightest sample, forward-projected to this frame's camera and re-shaded with its
+  /// noise variate (the synthetic "seed"), as `rtdenoise render` does.
+  bool gradientSamples = true;
 };
 
 /// Frame `index` (0-based; its number is index + 1). Buffers: color, albedo, normal, depth,
-/// position, motion, objectId, roughness; camera matrices valid. `reference`, if not null,
-/// receives the noise-free radiance (RGB).
+/// position, motion, objectId, roughness and, with gradientSamples, gradientSample,
+/// gradientPrevious, gradientCurrent (all 0 in frame 0); camera matrices valid. `reference`, if
+/// not null, receives the noise-free radiance (RGB).
 Frame makeFrame(const Scene& scene, int index, Image* reference = nullptr);
 
 }  // namespace rtd::synthetic

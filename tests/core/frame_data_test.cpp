@@ -1,12 +1,15 @@
 // Frame import and export. Import: every layout the API accepts (1-4 packed float channels, a
-// wider pixel stride, integer ids) de-interleaves into planes with non-finite values replaced,
-// and radiance also with negatives replaced. Export: planes (plus emission) interleave into
+// wider pixel stride, integer ids) de-interleaves into planes with non-finite values replaced
+// by 0, finite ones clamped into their buffer's range and normals renormalized, counted per
+// buffer. Export: planes (plus emission) interleave into
 // Float3 / Float4 views, packed or with a wider pixel stride. Checked value by value against
 // the definitions, on widths that are not a multiple of the eight-pixel vector path and on a
 // frame large enough to be written with streaming stores.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -22,14 +25,27 @@ float drawValue(std::mt19937& rng) {
   switch (rng() % 10) {
     case 0: return std::numeric_limits<float>::quiet_NaN();
     case 1: return (rng() & 1) ? INFINITY : -INFINITY;
-    case 2: return (rng() & 1) ? 3.4e38f : -3.4e38f;  // finite, but beyond the accepted range
+    case 2: return (rng() & 1) ? 3.4e38f : -3.4e38f;  // finite, but beyond every buffer's range
+    case 3: return (rng() & 1) ? 1e30f : 7e4f;        // beyond the radiance bound only
     default: return u(rng);
   }
 }
 
-float expected(float v, bool radiance) {
-  const bool ok = std::isfinite(v) && std::abs(v) <= 3.0e38f && (!radiance || v >= 0.0f);
-  return ok ? v : 0.0f;
+// The documented range of each buffer tested here (docs/input-validation.md).
+std::pair<float, float> rangeOf(Buffer b) {
+  switch (b) {
+    case Buffer::Color: case Buffer::Albedo: return {0.0f, 65504.0f};
+    case Buffer::Depth: return {0.0f, 1e18f};
+    case Buffer::Motion: return {-16777216.0f, 16777216.0f};
+    default: return {-1e18f, 1e18f};  // normal, position
+  }
+}
+
+// NaN and Inf become 0, finite values are clamped into the range.
+float expected(float v, Buffer b) {
+  if (!std::isfinite(v)) return 0.0f;
+  const auto [lo, hi] = rangeOf(b);
+  return std::min(std::max(v, lo), hi);
 }
 
 struct Layout {
@@ -37,11 +53,23 @@ struct Layout {
   int floatsPerPixel;  // the view's pixel stride in floats (>= the buffer's channel count)
 };
 
+// Normals after import: the sanitized vector, divided by its length (computed in double) unless
+// it is (0, 0, 0) or within 1e-3 of unit squared length.
+std::array<double, 3> expectedNormal(const float* v) {
+  std::array<double, 3> n;
+  for (int c = 0; c < 3; ++c) n[size_t(c)] = expected(v[c], Buffer::Normal);
+  const double l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  if (l2 == 0.0 || std::abs(l2 - 1.0) <= 1e-3) return n;
+  for (double& c : n) c /= std::sqrt(l2);
+  return n;
+}
+
 TEST(FrameImport, DeinterleavesAndSanitizesEveryPackedLayout) {
   std::mt19937 rng(7);
   const Layout layouts[] = {
       {Buffer::Depth, 1},  {Buffer::Motion, 2}, {Buffer::Color, 3},  {Buffer::Normal, 3},
       {Buffer::Color, 4},  {Buffer::Albedo, 4}, {Buffer::Motion, 4}, {Buffer::Position, 5},
+      {Buffer::Normal, 4},
   };
   for (const Layout& layout : layouts)
     for (int w : {1, 7, 8, 29}) {
@@ -54,18 +82,36 @@ TEST(FrameImport, DeinterleavesAndSanitizesEveryPackedLayout) {
       const Format format = n == 1 ? Format::Float : n == 2 ? Format::Float2 : n == 3 ? Format::Float3 : Format::Float4;
       in[layout.buffer] = ImageView{data.data(), w, h, format, size_t(n) * 4};
       FrameData out;
-      const uint64_t replaced = importFrame(in, {Buffer::Color}, out);
-      const bool radiance = isRadianceBuffer(layout.buffer);
-      uint64_t expectedReplaced = 0;
+      SanitizeStats counts;
+      const uint64_t replaced = importFrame(in, {Buffer::Color}, out, nullptr, &counts);
+      SanitizeCounts expectedCounts;
+      const bool normal = layout.buffer == Buffer::Normal;
       for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
+        for (int x = 0; x < w; ++x) {
+          const float* v = &data[(size_t(y) * w + x) * n];
           for (int c = 0; c < channels; ++c) {
-            const float v = data[(size_t(y) * w + x) * n + c], e = expected(v, radiance);
-            expectedReplaced += !(e == v);
-            ASSERT_EQ(out.plane(layout.buffer, c)(x, y), e)
-                << bufferName(layout.buffer) << " stride " << n << " width " << w << " at " << x << "," << y << " channel " << c;
+            expectedCounts.nonFinite += !std::isfinite(v[c]);
+            expectedCounts.outOfRange += std::isfinite(v[c]) && expected(v[c], layout.buffer) != v[c];
           }
-      EXPECT_EQ(replaced, expectedReplaced) << bufferName(layout.buffer) << " stride " << n << " width " << w;
+          const std::string where = std::string(bufferName(layout.buffer)) + " stride " + std::to_string(n) + " width " +
+                                    std::to_string(w) + " at " + std::to_string(x) + "," + std::to_string(y);
+          if (normal) {
+            const auto e = expectedNormal(v);
+            bool changed = false;
+            for (int c = 0; c < 3; ++c) changed |= e[size_t(c)] != double(expected(v[c], Buffer::Normal));
+            expectedCounts.renormalized += changed;
+            for (int c = 0; c < 3; ++c)
+              ASSERT_NEAR(out.plane(layout.buffer, c)(x, y), e[size_t(c)], 1e-6) << where << " channel " << c;
+          } else {
+            for (int c = 0; c < channels; ++c)
+              ASSERT_EQ(out.plane(layout.buffer, c)(x, y), expected(v[c], layout.buffer)) << where << " channel " << c;
+          }
+        }
+      const SanitizeCounts& got = counts[size_t(layout.buffer)];
+      EXPECT_EQ(got.nonFinite, expectedCounts.nonFinite) << bufferName(layout.buffer) << " width " << w;
+      EXPECT_EQ(got.outOfRange, expectedCounts.outOfRange) << bufferName(layout.buffer) << " width " << w;
+      EXPECT_EQ(got.renormalized, expectedCounts.renormalized) << bufferName(layout.buffer) << " width " << w;
+      EXPECT_EQ(replaced, expectedCounts.total()) << bufferName(layout.buffer) << " stride " << n << " width " << w;
     }
 }
 
@@ -85,8 +131,8 @@ TEST(FrameImport, LargeFramesGiveTheSameValues) {
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < 3; ++c) {
         const size_t i = (size_t(y) * w + x) * 3 + c;
-        ASSERT_EQ(out.plane(Buffer::Color, c)(x, y), expected(color[i], true)) << x << "," << y;
-        ASSERT_EQ(out.plane(Buffer::Normal, c)(x, y), expected(normal[i], false)) << x << "," << y;
+        ASSERT_EQ(out.plane(Buffer::Color, c)(x, y), expected(color[i], Buffer::Color)) << x << "," << y;
+        ASSERT_NEAR(out.plane(Buffer::Normal, c)(x, y), expectedNormal(&normal[i - size_t(c)])[size_t(c)], 1e-6) << x << "," << y;
       }
 }
 

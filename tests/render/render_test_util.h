@@ -42,8 +42,7 @@ inline std::filesystem::path tempDir(const std::string& name) {
   return dir;
 }
 
-/// Runs the `rtdenoise` CLI with `args`; its stdout and stderr go to `output`. Returns the
-/// exit status as std::system gives it.
+/// Runs the `rtdenoise` command with `args`; its stdout and stderr go to `output`.
 inline int runCli(const std::string& args, std::string& output) {
   const auto log = std::filesystem::temp_directory_path() / ("rtd_render_cli_" + std::to_string(::getpid()) + ".log");
   const int rc = std::system((std::string(RTD_CLI) + " " + args + " > " + log.string() + " 2>&1").c_str());

@@ -51,6 +51,10 @@ struct RenderSettings {
   /// Write the split buffers (direct/indirect, diffuse/specular) and the reflection, seed and
   /// mask buffers in addition to color and the standard features.
   bool allBuffers = true;
+  /// With allBuffers and without pixelJitter: A-SVGF's gradient samples (gradientSample,
+  /// gradientPrevious, gradientCurrent; docs/renderer.md), one re-shaded sample of the previous
+  /// frame per 3x3 stratum. Costs about 1/9 more paths.
+  bool gradientSamples = true;
 };
 
 /// A loaded scene with its animation: meshes, materials, lights, camera path, frame count.

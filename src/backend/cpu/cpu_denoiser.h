@@ -9,12 +9,22 @@
 
 #include "core/frame_data.h"
 #include "core/settings_reflect.h"
+#include "core/validate.h"
 #include "core/timer.h"
 #include "rtd/denoiser.h"
 
 namespace rtd {
 
-template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
+/// Every float array a CPU denoiser keeps, within a frame or across frames, for tests of
+/// invariants on intermediate results (no subnormal anywhere, core/flush.h). Reached from a
+/// Denoiser by dynamic_cast; not part of the public API.
+class PlaneInspection {
+ public:
+  virtual ~PlaneInspection() = default;
+  virtual void forEachPlane(const PlaneVisitor& visit) const = 0;
+};
+
+template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public PlaneInspection {
  public:
   explicit CpuDenoiser(tbb::task_arena& arena) : arena_(arena) {}
 
@@ -29,17 +39,27 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
     resetHistory();
   }
 
+  /// The imported frames, the output planes and what the method adds (visitMethodPlanes).
+  void forEachPlane(const PlaneVisitor& visit) const final {
+    for (const FrameData* f : {&current_, &previous_})
+      for (const auto& planes : f->buffers)
+        for (const Plane& p : planes) visitPlane(visit, "frame", p);
+    visitPlanes(visit, "output", output_);
+    visitMethodPlanes(visit);
+  }
+
   void denoise(const FrameInputs& frame, const ImageView& output) final {
     FrameStats stats;
     auto start = std::chrono::steady_clock::now();
     // Recomputed per frame: the lists may depend on the settings.
     used_ = importedBuffers(this->requiredBuffers(), extraBuffers(), this->settings_.reprojection);
-    if (output.empty() || output.width != frame[Buffer::Color].width || output.height != frame[Buffer::Color].height)
-      throw Error("output view must be non-empty and the size of buffer 'color'");
+    // Everything is checked before history is touched (the Vulkan backend checks the same).
+    checkInputViews(frame, this->requiredBuffers());
+    checkOutputView(output, frame[Buffer::Color].width, frame[Buffer::Color].height);
     arena_.execute([&] {
       {
         PassTimer t(stats, "import");
-        stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_, &used_);
+        stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_, &used_, &stats.sanitized);
       }
       const int w = current_.width, h = current_.height;
       if (w != width_ || h != height_) {
@@ -76,6 +96,8 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser> {
   virtual void resizeHistory(int width, int height) = 0;
   /// Forget history (allocations stay).
   virtual void resetHistory() = 0;
+  /// Every plane the method keeps (PlaneInspection).
+  virtual void visitMethodPlanes(const PlaneVisitor& visit) const = 0;
 
 
   tbb::task_arena& arena_;

@@ -66,26 +66,49 @@ void GpuTemporalAccumulator::resize(Context& ctx, int w, int h) {
   cur_ = 0;
 }
 
+namespace {
+struct AccumulationPC {
+  uint32_t width, height;
+  float alpha, momentsAlpha, maxHistoryLength;
+  uint32_t luminanceMode, cumulativeMoments;
+  uint32_t gradientWidth = 0, gradientStride = 1;
+  float historyExponent = 0;
+  uint32_t cumulativeColor = 1;  // 0: Gersthofer's fixed weights
+};
+}  // namespace
+
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
                                  int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments,
                                  const Planes* sampleMask, bool cumulativeColor) {
+  const Planes& prev = advance(rec);
+  AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
+                    luminanceMode, cumulativeMoments};
+  pc.cumulativeColor = cumulativeColor;
+  if (sampleMask)
+    rec.dispatch("temporal_accumulation_masked", {rp, color, prev, history_[cur_], *sampleMask}, pc, color.width,
+                 color.height);
+  else
+    rec.dispatch("temporal_accumulation", {rp, color, prev, history_[cur_]}, pc, color.width, color.height);
+}
+
+void GpuTemporalAccumulator::runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha,
+                                         float momentsAlpha, int maxHistoryLength, uint32_t luminanceMode,
+                                         const Planes& gradient, int stride, float historyExponent) {
+  const Planes& prev = advance(rec);
+  AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
+                    luminanceMode, 1, uint32_t(gradient.width), uint32_t(stride), historyExponent};
+  rec.dispatch("temporal_accumulation_gradient", {rp, color, prev, history_[cur_], gradient}, pc, color.width,
+               color.height);
+}
+
+const Planes& GpuTemporalAccumulator::advance(Recorder& rec) {
   const int prev = cur_;
   cur_ ^= 1;
   if (clear_) {
     rec.fill(history_[prev].buffer, 0);
     clear_ = false;
   }
-  struct PC {
-    uint32_t width, height;
-    float alpha, momentsAlpha, maxHistoryLength;
-    uint32_t luminanceMode, cumulativeMoments, cumulativeColor;
-  } pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength), luminanceMode,
-       cumulativeMoments, cumulativeColor};
-  if (sampleMask)
-    rec.dispatch("temporal_accumulation_masked", {rp, color, history_[prev], history_[cur_], *sampleMask}, pc,
-                 color.width, color.height);
-  else
-    rec.dispatch("temporal_accumulation", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
+  return history_[prev];
 }
 
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient) {

@@ -51,6 +51,12 @@ class GpuTemporalAccumulator {
   void run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha, int maxHistoryLength,
            uint32_t luminanceMode = 0, bool cumulativeMoments = true, const Planes* sampleMask = nullptr,
            bool cumulativeColor = true);
+  /// A-SVGF's adaptive accumulation (AccumulationOptions::temporalGradient; shader variant
+  /// temporal_accumulation_gradient): G in the first plane of `gradient`, one texel per
+  /// stride x stride pixels; alpha and momentsAlpha are the weights' floors.
+  void runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
+                   int maxHistoryLength, uint32_t luminanceMode, const Planes& gradient, int stride,
+                   float historyExponent);
   /// Bytes of the history (both buffers).
   uint64_t bytes() const { return uint64_t(history_[0].buffer.size() + history_[1].buffer.size()); }
   /// This frame's result; methods that feed a filtered colour back (SVGF) write its planes 0-2.
@@ -58,6 +64,8 @@ class GpuTemporalAccumulator {
   const Planes& current() const { return history_[cur_]; }
 
  private:
+  /// Swaps the history buffers (clearing the previous one after reset()); returns it.
+  const Planes& advance(Recorder& rec);
   Planes history_[2];
   int cur_ = 0;
   bool clear_ = false;

@@ -5,7 +5,9 @@
 #include <cstring>
 
 #include "core/frame_data.h"
+#include "core/sanitize.h"
 #include "core/timer.h"
+#include "core/validate.h"
 
 namespace rtd::vk {
 
@@ -14,8 +16,6 @@ namespace {
 constexpr uint32_t kMaxQueries = 64;
 
 std::string describe(Buffer b) { return "buffer '" + std::string(bufferName(b)) + "'"; }
-
-std::string sizeText(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
 // Input image formats (rtd/vulkan.h): channels and the import shader for their texel type.
 // Sampling these formats is a mandatory Vulkan feature, so no format query is needed.
@@ -65,7 +65,8 @@ VulkanDenoiserBase::VulkanDenoiserBase(Context& ctx) : keepAlive_(ctx.weak_from_
     qi.queryCount = kMaxQueries;
     check(vkCreateQueryPool(ctx.device(), &qi, nullptr, &queries_), "vkCreateQueryPool");
   }
-  counter_ = DeviceBuffer(ctx, 16, true);
+  // Sanitize counters, three per buffer (shaders/sanitize.glsl).
+  counter_ = DeviceBuffer(ctx, kBufferCount * 3 * sizeof(uint32_t), true);
   for (auto& f : frames_) f.camera = DeviceBuffer(ctx, 32 * sizeof(float), false);
 }
 
@@ -136,18 +137,30 @@ void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& 
 
   rec.pass("import");
   for (const auto& im : imports) {
+    const ValueRange range = importRange(im.which);
+    const uint32_t counter = 3 * uint32_t(im.which);
     if (im.imageShader) {
       struct PC {
-        uint32_t width, height, channels, radiance;
-      } pc{uint32_t(width_), uint32_t(height_), uint32_t(bufferChannelCount(im.which)), isRadianceBuffer(im.which)};
+        uint32_t width, height, channels, counter;
+        float lo, hi;
+      } pc{uint32_t(width_), uint32_t(height_), uint32_t(bufferChannelCount(im.which)), counter, range.lo, range.hi};
       rec.dispatch(im.imageShader, {im.source, f.planes[int(im.which)], counter_}, pc, width_, height_);
       continue;
     }
     struct PC {
-      uint32_t width, height, srcOffset, pixelStride, rowStride, channels, isInt, radiance;
+      uint32_t width, height, srcOffset, pixelStride, rowStride, channels, isInt, counter;
+      float lo, hi;
     } pc{uint32_t(width_), uint32_t(height_), im.offsetWords, im.pixelStrideWords, im.rowStrideWords,
-         uint32_t(bufferChannelCount(im.which)), im.isInt, isRadianceBuffer(im.which)};
+         uint32_t(bufferChannelCount(im.which)), im.isInt, counter, range.lo, range.hi};
     rec.dispatch("import", {im.source, f.planes[int(im.which)], counter_}, pc, width_, height_);
+  }
+  // Unit vectors renormalized (sanitizeUnitVectors on the CPU).
+  for (const auto& im : imports) {
+    if (!isUnitVectorBuffer(im.which)) continue;
+    struct PC {
+      uint32_t width, height, counter;
+    } pc{uint32_t(width_), uint32_t(height_), 3 * uint32_t(im.which)};
+    rec.dispatch("sanitize_unit_vectors", {f.planes[int(im.which)], counter_}, pc, width_, height_);
   }
 
   const bool emission = f.present[int(Buffer::Emission)];
@@ -217,6 +230,16 @@ void VulkanDenoiserBase::submitAndWait() {
   check(r, "vkWaitForFences");
 }
 
+void VulkanDenoiserBase::readSanitizeCounts(FrameStats& stats) const {
+  const uint32_t* c = static_cast<const uint32_t*>(counter_.mapped());
+  stats.sanitizedValues = 0;
+  for (int b = 0; b < kBufferCount; ++b) {
+    SanitizeCounts& s = stats.sanitized[size_t(b)];
+    s = {c[3 * b], c[3 * b + 1], c[3 * b + 2]};
+    stats.sanitizedValues += s.total();
+  }
+}
+
 bool VulkanDenoiserBase::readTimings(FrameStats& stats, bool wait) {
   if (!queries_ || recordedQueries_ < 2) return false;
   uint64_t t[kMaxQueries];
@@ -240,16 +263,10 @@ bool VulkanDenoiserBase::readTimings(FrameStats& stats, bool wait) {
 void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output) {
   const auto start = std::chrono::steady_clock::now();
   FrameStats stats;
-  const ImageView& color = in[Buffer::Color];
-  if (color.empty()) throw Error("missing required " + describe(Buffer::Color));
-  const int w = color.width, h = color.height;
-  if (w <= 0 || h <= 0) throw Error("buffer 'color' has an empty size");
-  if (output.empty() || output.width != w || output.height != h)
-    throw Error("output view must be non-empty and the size of buffer 'color'");
-  if (output.format != Format::Float3 && output.format != Format::Float4)
-    throw Error("output view must be Float3 or Float4");
-  for (Buffer b : requiredBuffers())
-    if (!in.has(b)) throw Error("missing required " + describe(b));
+  // Everything is checked before history is touched, as on the CPU (core/validate.h).
+  checkInputViews(in, requiredBuffers());
+  const int w = in[Buffer::Color].width, h = in[Buffer::Color].height;
+  checkOutputView(output, w, h);
 
   // Validate every used buffer before touching history, then pack them into the staging buffer
   // row by row, keeping each view's pixel layout (the import shader applies the strides).
@@ -262,12 +279,6 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
   for (Buffer b : usedBuffers()) {
     const ImageView& v = in[b];
     if (v.empty()) continue;
-    if (v.width != w || v.height != h)
-      throw Error(describe(b) + " is " + sizeText(v.width, v.height) + " but color is " + sizeText(w, h));
-    if (v.channels() < bufferChannelCount(b))
-      throw Error(describe(b) + " needs " + std::to_string(bufferChannelCount(b)) + " channels, the view has " +
-                  std::to_string(v.channels()));
-    if (v.bytesPerPixel() % 4) throw Error(describe(b) + ": pixel stride must be a multiple of 4 bytes");
     used.push_back(b);
     bytes += alignUp(v.bytesPerPixel() * size_t(w) * h, align);
   }
@@ -319,7 +330,7 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
       }
     }
   }
-  stats.sanitizedValues = *static_cast<const uint32_t*>(counter_.mapped());
+  readSanitizeCounts(stats);
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats_ = std::move(stats);
@@ -328,7 +339,7 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
 void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanBufferView& output, VkCommandBuffer cmd) {
   if (output.empty() || (output.format != Format::Float3 && output.format != Format::Float4))
     throw Error("output VkBuffer view must be set and Float3 or Float4");
-  if (in.width <= 0 || in.height <= 0) throw Error("VulkanFrameInputs: width and height must be positive");
+  checkImageSize("VulkanFrameInputs", in.width, in.height);
   Export ex{};
   ex.channels = uint32_t(channelCount(output.format));
   bindBufferView(output, "output", ex.channels, in.width, in.height, ex.target, ex.offsetWords, ex.pixelStrideWords,
@@ -356,9 +367,11 @@ void VulkanDenoiserBase::bindBufferView(const VulkanBufferView& v, const std::st
   // A view as a binding: the offset rounded down to the alignment the device needs, the rest
   // passed to the shader in words; the range covers exactly the pixels read or written.
   const VkDeviceSize align = std::max<VkDeviceSize>(ctx_.limits().minStorageBufferOffsetAlignment, 4);
+  if (channelCount(v.format) == 0) throw Error(what + " has no format (Format::Undefined or an unknown value)");
+  if (v.offset % 4) throw Error(what + ": offset " + std::to_string(v.offset) + " must be a multiple of 4 bytes");
+  checkStrides(what, channelCount(v.format), v.pixelStride, v.rowStride, w);
   const uint32_t pixel = v.pixelStride ? v.pixelStride : uint32_t(channelCount(v.format)) * 4;
   const uint32_t row = v.rowStride ? v.rowStride : pixel * uint32_t(w);
-  if (v.offset % 4 || pixel % 4 || row % 4) throw Error(what + ": offset and strides must be multiples of 4 bytes");
   const VkDeviceSize base = v.offset / align * align;
   binding = Binding(v.buffer, base, VkDeviceSize(v.offset - base) + VkDeviceSize(h - 1) * row +
                                         VkDeviceSize(w - 1) * pixel + channels * 4);
@@ -368,14 +381,19 @@ void VulkanDenoiserBase::bindBufferView(const VulkanBufferView& v, const std::st
 }
 
 void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& ex, VkCommandBuffer cmd) {
+  // Checked like host frames (core/validate.h) before history is touched: size, required
+  // buffers, camera, and every buffer given, used by the method or not.
   const int w = in.width, h = in.height;
-  if (w <= 0 || h <= 0) throw Error("VulkanFrameInputs: width and height must be positive");
+  checkImageSize("VulkanFrameInputs", w, h);
   if (!in.has(Buffer::Color)) throw Error("missing required " + describe(Buffer::Color));
   for (Buffer b : requiredBuffers())
     if (!in.has(b)) throw Error("missing required " + describe(b));
+  checkCamera(in.camera);
 
+  const std::vector<Buffer> used = usedBuffers();
   std::vector<Import> imports;
-  for (Buffer b : usedBuffers()) {
+  for (int i = 0; i < kBufferCount; ++i) {
+    const Buffer b = Buffer(i);
     if (!in.has(b)) continue;
     const VulkanImageView& image = in.image(b);
     if (!image.empty()) {
@@ -391,7 +409,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
         throw Error(describe(b) + ": image layout " + std::to_string(int(image.layout)) +
                     " cannot be sampled (use VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL or GENERAL)");
       Import im{b, Binding::image(image.view, image.layout), 0, 0, 0, false, f->shader};
-      imports.push_back(im);
+      if (std::find(used.begin(), used.end(), b) != used.end()) imports.push_back(im);
       continue;
     }
     const VulkanBufferView& v = in[b];
@@ -401,7 +419,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
     Import im{b, {}, 0, 0, 0, v.format == Format::Int32};
     bindBufferView(v, describe(b), uint32_t(bufferChannelCount(b)), w, h, im.source, im.offsetWords,
                    im.pixelStrideWords, im.rowStrideWords);
-    imports.push_back(im);
+    if (std::find(used.begin(), used.end(), b) != used.end()) imports.push_back(im);
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -410,7 +428,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
     FrameStats previous;
     if (readTimings(previous, false)) {
       previous.pixels = uint64_t(width_) * height_;
-      previous.sanitizedValues = *static_cast<const uint32_t*>(counter_.mapped());
+      readSanitizeCounts(previous);
       stats_ = std::move(previous);
     }
     prepare(w, h, in.cameraCut);
@@ -427,7 +445,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
   check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
   submitAndWait();
   readTimings(stats, true);
-  stats.sanitizedValues = *static_cast<const uint32_t*>(counter_.mapped());
+  readSanitizeCounts(stats);
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats_ = std::move(stats);

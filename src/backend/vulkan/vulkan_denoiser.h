@@ -77,6 +77,8 @@ class VulkanDenoiserBase : public Denoiser {
   void prepare(int w, int h, bool cameraCut);
   void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera, const Export& out);
   void submitAndWait();
+  /// The sanitize counters of the last frame that ran into `stats` (sanitized, sanitizedValues).
+  void readSanitizeCounts(FrameStats& stats) const;
   /// GPU pass times of the last recorded frame into `stats`; false if not available yet.
   bool readTimings(FrameStats& stats, bool wait);
 

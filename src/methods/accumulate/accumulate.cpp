@@ -18,6 +18,10 @@ class AccumulateCpu final : public CpuDenoiser<AccumulateSettings> {
  protected:
   void resizeHistory(int w, int h) override { accumulator_.resize(w, h); }
   void resetHistory() override { accumulator_.reset(); }
+  void visitMethodPlanes(const PlaneVisitor& visit) const override {
+    reprojection_.forEachPlane(visit);
+    accumulator_.forEachPlane(visit);
+  }
 
   const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& out, FrameStats& stats) override {
     const auto* albedo = settings_.demodulate && frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;

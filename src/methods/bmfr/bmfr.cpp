@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "backend/cpu/cpu_denoiser.h"
+#include "core/flush.h"
 #include "core/parallel.h"
 #include "methods/bmfr/blocks.h"
 #include "methods/bmfr/bmfr_common.h"
@@ -117,6 +118,20 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     noisy_.reset();
     taa_.reset();
     frameIndex_ = 0;
+  }
+  void visitMethodPlanes(const PlaneVisitor& visit) const override {
+    reprojection_.forEachPlane(visit);
+    noisy_.forEachPlane(visit);
+    for (const auto& f : filtered_) visitPlanes(visit, "phase III history", f);
+    visitPlanes(visit, "fitted", fitted_);
+    visitPlanes(visit, "remodulated", remodulated_);
+    taa_.forEachPlane(visit);
+    visit("block fits", reinterpret_cast<const float*>(fits_.data()), fits_.size() * sizeof(BlockFit) / sizeof(float));
+    visit("noise", noise_.data(), noise_.size());
+    for (const Scratch& s : scratch_) {
+      visit("block columns", s.columns.data(), s.columns.size());
+      visit("synthesized row", s.rgb.data(), s.rgb.size());
+    }
   }
 
   const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& /*out*/, FrameStats& stats) override {
@@ -476,7 +491,8 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
           v = v > 1.0f ? Float8{} + 1.0f : v;
           for (int c = 0; c < 3; ++c) sum[c] += fit.alpha[c][k] * v;
         }
-        for (int c = 0; c < 3; ++c) *reinterpret_cast<Float8*>(outRow[c] + x) = sum[c] > 0.0f ? sum[c] : Float8{};
+        // Clamped at 0; below kTiny also 0 (core/flush.h).
+        for (int c = 0; c < 3; ++c) *reinterpret_cast<Float8*>(outRow[c] + x) = sum[c] >= kTiny ? sum[c] : Float8{};
       }
       for (; x < x1; ++x) {
         float sum[3] = {fit.alpha[0][0], fit.alpha[1][0], fit.alpha[2][0]};
@@ -484,7 +500,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
           const float v = std::clamp(feature(k, x), -1.0f, 1.0f);
           for (int c = 0; c < 3; ++c) sum[c] += fit.alpha[c][k] * v;
         }
-        for (int c = 0; c < 3; ++c) outRow[c][x] = std::max(sum[c], 0.0f);
+        for (int c = 0; c < 3; ++c) outRow[c][x] = sum[c] >= kTiny ? sum[c] : 0.0f;
       }
       x0 = x1;
     }

@@ -12,17 +12,7 @@
 namespace rtd::svgf {
 
 namespace {
-
-uint64_t bytesOf(const Plane& p) { return uint64_t(p.data.size()) * sizeof(float); }
-uint64_t bytesOf(const PaddedPlane& p) { return uint64_t(p.data.size()) * sizeof(float); }
-uint64_t bytesOf(const Plane3& p) { return bytesOf(p[0]) + bytesOf(p[1]) + bytesOf(p[2]); }
-uint64_t bytesOf(const Reprojection& r) {
-  return uint64_t(r.kind.size()) * (sizeof(uint8_t) + sizeof(int32_t) + sizeof(std::array<float, 4>) + sizeof(uint16_t)) +
-         bytesOf(r.prevX) + bytesOf(r.prevY);
-}
-
 void copyPadded(const Plane& in, PaddedPlane& out) { out.copyFrom(in); }
-
 }  // namespace
 
 float sampleCoverage(const Plane& mask, const Plane* hidden) {
@@ -279,14 +269,30 @@ const Plane3& GersthoferEye::back(const FrameData& frame, const SvgfSettings& s,
   return *result;
 }
 
-std::vector<MemoryUse> GersthoferEye::memory() const {
-  uint64_t history = composite_.bytes() + indirect_.bytes() + bytesOf(distance_[0]) + bytesOf(distance_[1]) + taa_.bytes();
-  uint64_t intermediate = bytesOf(reprojection_) + filter_.bytes() + bytesOf(luma_);
-  for (const PaddedPlane* p : {&guide_.depth, &guide_.normal[0], &guide_.normal[1], &guide_.normal[2], &guide_.gradX,
-                               &guide_.gradY, &objectId_, &indirectDistance_, &indirectDistanceScale_, &centreScale_})
-    intermediate += bytesOf(*p);
+void GersthoferEye::visitHistory(const PlaneVisitor& visit) const {
+  composite_.forEachPlane(visit);
+  indirect_.forEachPlane(visit);
+  for (const Plane& d : distance_) visitPlane(visit, "indirect ray length", d);
+  taa_.forEachPlane(visit);
+}
+
+void GersthoferEye::visitIntermediate(const PlaneVisitor& visit) const {
+  reprojection_.forEachPlane(visit);
+  guide_.forEachPlane(visit);
+  for (const PaddedPlane* p : {&objectId_, &indirectDistance_, &indirectDistanceScale_, &centreScale_})
+    p->visit(visit, "gersthofer guide");
   for (const Plane3* p : {&currentComposite_, &currentIndirect_, &median_, &shared_, &input_, &output_, &post_})
-    intermediate += bytesOf(*p);
+    visitPlanes(visit, "gersthofer image", *p);
+  visitPlane(visit, "fxaa luma", luma_);
+  filter_.forEachPlane(visit);
+}
+
+std::vector<MemoryUse> GersthoferEye::memory() const {
+  uint64_t history = 0, intermediate = 0;
+  visitHistory([&](std::string_view, const float*, size_t n) { history += n * sizeof(float); });
+  visitIntermediate([&](std::string_view, const float*, size_t n) { intermediate += n * sizeof(float); });
+  // The reprojection's integer arrays (kinds, taps, masks) are not float planes.
+  intermediate += uint64_t(reprojection_.kind.size()) * (sizeof(uint8_t) + sizeof(int32_t) + sizeof(uint16_t));
   return {{"history", history}, {"intermediate", intermediate}};
 }
 
@@ -305,7 +311,7 @@ std::array<size_t, 2> exchangeIndirectDiffuse(GersthoferEye& left, const FrameDa
 uint64_t frameBytes(const FrameData& f) {
   uint64_t b = 0;
   for (const auto& planes : f.buffers)
-    for (const auto& p : planes) b += bytesOf(p);
+    for (const auto& p : planes) b += uint64_t(p.size()) * sizeof(float);
   return b;
 }
 

@@ -58,9 +58,16 @@ class GersthoferEye {
   void reset();
   /// History and intermediate bytes (Table 5.4), without the frames.
   std::vector<MemoryUse> memory() const;
+  /// Every float array it keeps (PlaneInspection): the history, then the per-frame planes.
+  void forEachPlane(const PlaneVisitor& visit) const {
+    visitHistory(visit);
+    visitIntermediate(visit);
+  }
 
  private:
   void resize(int w, int h, int pad);
+  void visitHistory(const PlaneVisitor& visit) const;
+  void visitIntermediate(const PlaneVisitor& visit) const;
   void accumulateDistance(const FrameData& frame, const Plane* mask, const SvgfSettings& s);
 
   int width_ = 0, height_ = 0;

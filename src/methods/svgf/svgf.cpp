@@ -53,6 +53,19 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     taa_.reset();
     if (gersthofer_) gersthofer_->reset();
   }
+  void visitMethodPlanes(const PlaneVisitor& visit) const override {
+    reprojection_.forEachPlane(visit);
+    guide_.forEachPlane(visit);
+    filter_.forEachPlane(visit);
+    for (const auto& st : streams_) {
+      visitPlanes(visit, "demodulated", st.demod);
+      st.accumulator.forEachPlane(visit);
+    }
+    visitPlanes(visit, "sum", sum_);
+    visitPlanes(visit, "display", display_);
+    taa_.forEachPlane(visit);
+    if (gersthofer_) gersthofer_->forEachPlane(visit);
+  }
 
   const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& /*out*/, FrameStats& stats) override {
     const SvgfSettings& s = settings_;

@@ -100,16 +100,6 @@ void Filter::resize(int w, int h, int pad) {
   for (auto& v : scratch_) v.resize(w, h, pad);
 }
 
-uint64_t Filter::bytes() const {
-  uint64_t n = sigmaScale_.data.size();
-  for (const auto& im : levels_) {
-    for (const auto& c : im.color) n += c.data.size();
-    n += im.lum.data.size() + im.var.data.size();
-  }
-  for (int k = 0; k < 2; ++k) n += valid_[k].data.size() + scratch_[k].data.size();
-  return n * sizeof(float);
-}
-
 const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& acc, const Plane3& current,
                                const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix,
                                const FilterExtras& extras) {

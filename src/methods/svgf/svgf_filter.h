@@ -65,8 +65,6 @@ class Filter {
  public:
   void resize(int w, int h, int pad);
   int pad() const { return pad_; }
-  /// Bytes of the filter's planes.
-  uint64_t bytes() const;
 
   /// Filters one stream: the level-0 image from `accumulator` (colour, moments, length) and
   /// `current` (this frame's demodulated sample, for the spatial variance estimate), then
@@ -78,6 +76,14 @@ class Filter {
   const AtrousImage& run(const AtrousGuide& guide, TemporalAccumulator& accumulator, const Plane3& current,
                          const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix = {},
                          const FilterExtras& extras = {});
+
+  /// Every plane the filter keeps (CPU denoisers' PlaneInspection).
+  void forEachPlane(const PlaneVisitor& visit) const {
+    for (const auto& im : levels_) im.forEachPlane(visit);
+    sigmaScale_.visit(visit, "sigma scale");
+    for (const auto& v : valid_) v.visit(visit, "valid");
+    for (const auto& v : scratch_) v.visit(visit, "variance window input");
+  }
 
  private:
   AtrousImage levels_[3];

@@ -25,16 +25,16 @@ size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const Va
     float *sa = scratch[0].row(y), *sb = scratch[1].row(y);
     const Plane3* cur = in.current;
     for (int x = 0; x < w; ++x) {
-      lum[x] = momentLuminance(p.luminance, r[x], gg[x], b[x]);
-      var[x] = std::max(0.0f, m2[x] - m1[x] * m1[x]);
+      lum[x] = flushTiny(momentLuminance(p.luminance, r[x], gg[x], b[x]));
+      var[x] = flushTiny(std::max(0.0f, m2[x] - squareOrZero(m1[x])));
       count += len[x] < float(p.shortHistoryFrames);
       if (!spatial) continue;
       if (p.fromMoments) {
         sa[x] = m1[x];
         sb[x] = m2[x];
       } else {
-        sa[x] = momentLuminance(p.luminance, (*cur)[0].row(y)[x], (*cur)[1].row(y)[x], (*cur)[2].row(y)[x]);
-        sb[x] = sa[x] * sa[x];
+        sa[x] = flushTiny(momentLuminance(p.luminance, (*cur)[0].row(y)[x], (*cur)[1].row(y)[x], (*cur)[2].row(y)[x]));
+        sb[x] = squareOrZero(sa[x]);
       }
     }
     spatialCount += count;

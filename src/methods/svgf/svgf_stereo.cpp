@@ -49,7 +49,7 @@ class SvgfStereoCpu final : public StereoPair {
         Eye& eye = eyes_[e];
         {
           PassTimer t(stats[e], "import");
-          stats[e].sanitizedValues = importFrame(in.eye[e], requiredBuffers(), eye.current, &used);
+          stats[e].sanitizedValues = importFrame(in.eye[e], requiredBuffers(), eye.current, &used, &stats[e].sanitized);
         }
         if (eye.current.width != width_ || eye.current.height != height_ || in.eye[0].cameraCut || in.eye[1].cameraCut) {
           if (e == 0) resetShared();  // a new size or a cut restarts both eyes

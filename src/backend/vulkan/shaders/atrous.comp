@@ -189,14 +189,13 @@ void main() {
 #else
       const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv;
 #endif
-      const float wt = (kernel1D(dx) * kernel1D(dy) * wn) * exp(-expo);
+      const float wt = kernel1D(dx) * kernel1D(dy) * cutWeight(wn * exp(-expo));
       sw += wt;
       sc += wt * cq;
       if (propagate) sv += wt * wt * img[4u * plane + q];
     }
 #ifdef RTD_SAMPLE_MASK
-  // Total weights this small are the CPU exp's e^-87 floor, not data (as atrousRows<kMasked>).
-  const bool any = sw > 1e-20;
+  const bool any = sw > 0.0;
   const float rcp = any ? 1.0 / sw : 0.0;
   validOut[c] = any ? 1.0 : 0.0;
 #else

@@ -35,8 +35,9 @@ void main() {
     gy = smaller(dUp, dDown);
   }
   if (pc.maxDepthSlope > 0.0 && max(abs(gx), abs(gy)) > pc.maxDepthSlope * abs(z)) {
-    gx = 1e30;  // |gx ox + gy oy| >= 0.5e30 for any non-zero integer offset: w_z = 1
-    gy = 0.5e30;
+    // As AtrousGuide::build: |gx ox + gy oy| > 5e7 for any non-zero offset within 64 pixels.
+    gx = 4294967296.0;  // 2^32
+    gy = 4294967296.0 * 0.41421356;
   }
   outp[i] = gx;
   outp[plane + i] = gy;

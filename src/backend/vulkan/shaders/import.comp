@@ -1,8 +1,9 @@
 #version 450
 // Pass "import": one buffer of the frame, as the application laid it out (any pixel and row
-// stride, float or int32), into planes; radiance made finite and non-negative, features finite
-// (NaN never reaches history). Counts replaced values.
+// stride, float or int32), into planes, every value made finite and clamped into the buffer's
+// range (sanitize.glsl; NaN never reaches history). Counts replaced values per buffer.
 #include "common.glsl"
+#include "sanitize.glsl"
 RTD_LOCAL_SIZE
 
 layout(std430, binding = 0) readonly buffer Src { uint src[]; };
@@ -14,7 +15,8 @@ layout(push_constant) uniform PC {
   uint srcOffset, pixelStride, rowStride;  // in 32-bit words
   uint channels;
   uint isInt;     // source holds int32 (ids)
-  uint radiance;  // clamp negatives too
+  uint counter;   // 3 * the buffer's index (sanitize.glsl)
+  float lo, hi;   // the buffer's range (importRange)
 } pc;
 
 void main() {
@@ -22,14 +24,12 @@ void main() {
   if (outside(p, pc.width, pc.height)) return;
   const uint s = pc.srcOffset + p.y * pc.rowStride + p.x * pc.pixelStride;
   const uint i = p.y * pc.width + p.x, plane = pc.width * pc.height;
-  uint bad = 0;
+  uint nonFinite = 0, outOfRange = 0;
   for (uint c = 0; c < pc.channels; ++c) {
     const uint bits = src[s + c];
-    float v = pc.isInt != 0 ? float(int(bits)) : uintBitsToFloat(bits);
-    // Ordered comparisons are false for NaN; the bound rejects +Inf (and -Inf via the abs).
-    const bool ok = pc.radiance != 0 ? (v >= 0.0 && v <= 3.0e38) : (abs(v) <= 3.0e38);
-    if (!ok) { v = 0.0; ++bad; }
-    dst[c * plane + i] = v;
+    const float v = pc.isInt != 0 ? float(int(bits)) : uintBitsToFloat(bits);
+    dst[c * plane + i] = sanitizeValue(v, pc.lo, pc.hi, nonFinite, outOfRange);
   }
-  if (bad != 0) atomicAdd(replaced[0], bad);
+  if (nonFinite != 0) atomicAdd(replaced[pc.counter + kCountNonFinite], nonFinite);
+  if (outOfRange != 0) atomicAdd(replaced[pc.counter + kCountOutOfRange], outOfRange);
 }

@@ -4,6 +4,7 @@
 // itexture2D or utexture2D) before including this file.
 #extension GL_EXT_samplerless_texture_functions : require
 #include "common.glsl"
+#include "sanitize.glsl"
 RTD_LOCAL_SIZE
 
 layout(binding = 0) uniform IMAGE_TYPE src;
@@ -13,7 +14,8 @@ layout(std430, binding = 2) buffer Counter { uint replaced[]; };
 layout(push_constant) uniform PC {
   uint width, height;
   uint channels;
-  uint radiance;  // clamp negatives too
+  uint counter;   // 3 * the buffer's index (sanitize.glsl)
+  float lo, hi;   // the buffer's range (importRange)
 } pc;
 
 void main() {
@@ -21,13 +23,8 @@ void main() {
   if (outside(p, pc.width, pc.height)) return;
   const uint i = p.y * pc.width + p.x, plane = pc.width * pc.height;
   const vec4 texel = vec4(texelFetch(src, ivec2(p), 0));
-  uint bad = 0;
-  for (uint c = 0; c < pc.channels; ++c) {
-    float v = texel[c];
-    // Ordered comparisons are false for NaN; the bound rejects +Inf (and -Inf via the abs).
-    const bool ok = pc.radiance != 0 ? (v >= 0.0 && v <= 3.0e38) : (abs(v) <= 3.0e38);
-    if (!ok) { v = 0.0; ++bad; }
-    dst[c * plane + i] = v;
-  }
-  if (bad != 0) atomicAdd(replaced[0], bad);
+  uint nonFinite = 0, outOfRange = 0;
+  for (uint c = 0; c < pc.channels; ++c) dst[c * plane + i] = sanitizeValue(texel[c], pc.lo, pc.hi, nonFinite, outOfRange);
+  if (nonFinite != 0) atomicAdd(replaced[pc.counter + kCountNonFinite], nonFinite);
+  if (outOfRange != 0) atomicAdd(replaced[pc.counter + kCountOutOfRange], outOfRange);
 }

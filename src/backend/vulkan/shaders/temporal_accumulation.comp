@@ -5,7 +5,10 @@
 // Port of TemporalAccumulator::run (src/passes/temporal_accumulation.cpp).
 // Variant temporal_accumulation_masked (RTD_SAMPLE_MASK, AccumulationOptions::sampleMask):
 // progressive rendering below 1 spp (Dundr Sec. 5) with the frame's sample mask at binding 4.
+// Variant temporal_accumulation_gradient (RTD_TEMPORAL_GRADIENT, AccumulationOptions::
+// temporalGradient): A-SVGF's adaptive history with the per-stratum gradient at binding 4.
 // variant: temporal_accumulation_masked RTD_SAMPLE_MASK
+// variant: temporal_accumulation_gradient RTD_TEMPORAL_GRADIENT
 #include "common.glsl"
 RTD_LOCAL_SIZE
 
@@ -15,6 +18,9 @@ layout(std430, binding = 2) readonly buffer Hist { float hist[]; };
 layout(std430, binding = 3) writeonly buffer Out { float outp[]; };
 #ifdef RTD_SAMPLE_MASK
 layout(std430, binding = 4) readonly buffer Mask { float sampleMask[]; };
+#endif
+#ifdef RTD_TEMPORAL_GRADIENT
+layout(std430, binding = 4) readonly buffer Gradient { float temporalGradient[]; };  // first plane: G
 #endif
 
 float histAt(uint j) { return hist[j]; }
@@ -27,8 +33,26 @@ layout(push_constant) uniform PC {
   float maxHistoryLength;
   uint luminanceMode;      // MomentLuminance: 0 Rec709, 1 Rec601, 2 CIE L*
   uint cumulativeMoments;  // 1: moments w = max(1/n, alpha); 0: plain EMA (Schied)
+  uint gradientWidth, gradientStride;  // temporal_accumulation_gradient: texels per row, pixels per texel
+  float historyExponent;
   uint cumulativeColor;    // 0: fixed weights, alpha where there is history (Gersthofer Sec. 3.4.1)
 } pc;
+
+#ifdef RTD_TEMPORAL_GRADIENT
+// (1 - G)^e as historyShrink() on the CPU: integral exponents by repeated squaring.
+float historyShrink(float g, float e) {
+  const float b = 1.0 - g;
+  if (e == floor(e) && e >= 0.0 && e <= 64.0) {
+    float r = 1.0, d = b;
+    for (int k = int(e); k != 0; k >>= 1) {
+      if ((k & 1) != 0) r *= d;
+      d *= d;
+    }
+    return r;
+  }
+  return pow(b, e);
+}
+#endif
 
 void main() {
   const uvec2 p = gl_GlobalInvocationID.xy;
@@ -48,15 +72,27 @@ void main() {
     return;
   }
 #endif
+#ifdef RTD_TEMPORAL_GRADIENT
+  // A-SVGF (AccumulationOptions::temporalGradient): N' = min(N (1-G)^e + 1, cap), unrounded;
+  // weights mix(max(1/N', floor), 1, G).
+  const float g = clamp(temporalGradient[(p.y / pc.gradientStride) * pc.gradientWidth + p.x / pc.gradientStride], 0.0, 1.0);
+  const float histLength = none ? 0.0 : gatherPlane(i, 5u * plane, w, plane);
+  precise float n = min(histLength * historyShrink(g, pc.historyExponent) + 1.0, pc.maxHistoryLength);
+  const float a0 = max(1.0 / n, pc.alpha), am0 = max(1.0 / n, pc.momentsAlpha);
+  precise float a = a0 + (1.0 - a0) * g;
+  precise float am = am0 + (1.0 - am0) * g;
+#else
   const float n = none ? 1.0 : min(floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) + 1.0, pc.maxHistoryLength);
-  outp[5u * plane + i] = n;
-
-  const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
-  const float l = momentLuminance(pc.luminanceMode, c);
+  // Fixed weights (cumulativeColor 0, Gersthofer Sec. 3.4.1): alpha wherever there is history.
   const bool fixedWeights = pc.cumulativeColor == 0u;
   const float a = fixedWeights ? (n <= 1.0 ? 1.0 : pc.alpha) : max(1.0 / n, pc.alpha);
   const float am = fixedWeights ? (n <= 1.0 ? 1.0 : pc.momentsAlpha)
                                 : pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
+#endif
+  outp[5u * plane + i] = n;
+
+  const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
+  const float l = momentLuminance(pc.luminanceMode, c);
   for (uint k = 0; k < 3; ++k) {
     const float hist = none ? 0.0 : gatherPlane(i, k * plane, w, plane);
     precise float v = a * c[k] + (1.0 - a) * hist;

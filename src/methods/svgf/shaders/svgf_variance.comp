@@ -62,7 +62,7 @@ void main() {
         if (dx != 0 || dy != 0) {
           const vec3 nq = vec3(normal[q], normal[plane + q], normal[2u * plane + q]);
           const float wz = exp(-abs(zc - depth[q]) / (pc.sigmaDepth * abs(gx * float(dx) + gy * float(dy)) + pc.depthEpsilon));
-          wt = normalWeight(dot(n, nq), pc.normalExponent) * wz;
+          wt = cutWeight(normalWeight(dot(n, nq), pc.normalExponent) * wz);
           if ((pc.flags & F_OBJECT_ID) != 0u && objectId[q] != objectId[i]) wt = 0.0;
           if (!(wt > 0.0)) continue;
         }
