@@ -101,6 +101,14 @@ void VulkanDenoiserBase::prepare(int w, int h, bool cameraCut) {
 
 void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
                                 const Export& out) {
+  Recorder rec = beginRecord(cmd, imports, camera, out);
+  resultHasEmission_ = false;
+  const Planes& result = process(rec, frames_[cur_], hasPrevious_ ? &frames_[cur_ ^ 1] : nullptr);
+  endRecord(rec, result, out);
+}
+
+Recorder VulkanDenoiserBase::beginRecord(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
+                                         const Export& out) {
   GpuFrame& f = frames_[cur_];
   f.width = width_;
   f.height = height_;
@@ -186,9 +194,13 @@ void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& 
       }
   }
 
-  resultHasEmission_ = false;
-  const Planes& result = process(rec, f, hasPrevious_ ? &frames_[cur_ ^ 1] : nullptr);
-  const bool addEmission = emission && !resultHasEmission_;
+  return rec;
+}
+
+void VulkanDenoiserBase::endRecord(Recorder& rec, const Planes& result, const Export& out) {
+  GpuFrame& f = frames_[cur_];
+  const VkCommandBuffer cmd = rec.commandBuffer();
+  const bool addEmission = f.present[int(Buffer::Emission)] && !resultHasEmission_;
 
   rec.pass("export");
   if (out.imageShader) {
@@ -261,8 +273,54 @@ bool VulkanDenoiserBase::readTimings(FrameStats& stats, bool wait) {
 }
 
 void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output) {
-  const auto start = std::chrono::steady_clock::now();
-  FrameStats stats;
+  HostFrame frame = stageHost(in, output);
+  check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
+  record(cmd_, frame.imports, frame.camera, frame.out);
+  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
+  submitAndWait();
+  finishHost(frame, output);
+}
+
+void VulkanDenoiserBase::denoiseTwoViews(VulkanDenoiserBase& a, VulkanDenoiserBase& b, const FrameInputs& inA,
+                                         const FrameInputs& inB, const ImageView& outA, const ImageView& outB,
+                                         const std::function<void(Recorder&)>& exchange) {
+  HostFrame fa = a.stageHost(inA, outA);
+  HostFrame fb = b.stageHost(inB, outB);
+  const VkCommandBuffer cmd = a.cmd_;
+  check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+  auto previous = [](VulkanDenoiserBase& v) { return v.hasPrevious_ ? &v.frames_[v.cur_ ^ 1] : nullptr; };
+  Recorder ra = a.beginRecord(cmd, fa.imports, fa.camera, fa.out);
+  a.resultHasEmission_ = false;
+  a.processFront(ra, a.frames_[a.cur_], previous(a));
+  ra.pass("(other eye)");
+  Recorder rb = b.beginRecord(cmd, fb.imports, fb.camera, fb.out);
+  b.resultHasEmission_ = false;
+  b.processFront(rb, b.frames_[b.cur_], previous(b));
+  rb.pass("(other eye)");
+  ra.barrier();  // b's writes (recorded through the other recorder) before a reads them
+  ra.pass("eyeReprojection");
+  exchange(ra);
+  const Planes& resultA = a.processBack(ra, a.frames_[a.cur_], previous(a));
+  a.endRecord(ra, resultA, fa.out);
+  rb.barrier();
+  const Planes& resultB = b.processBack(rb, b.frames_[b.cur_], previous(b));
+  b.endRecord(rb, resultB, fb.out);
+  check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  a.submitAndWait();
+  a.finishHost(fa, outA);
+  b.finishHost(fb, outB);
+}
+
+VulkanDenoiserBase::HostFrame VulkanDenoiserBase::stageHost(const FrameInputs& in, const ImageView& output) {
+  HostFrame frame;
+  frame.start = std::chrono::steady_clock::now();
+  FrameStats& stats = frame.stats;
   // Everything is checked before history is touched, as on the CPU (core/validate.h).
   checkInputViews(in, requiredBuffers());
   const int w = in[Buffer::Color].width, h = in[Buffer::Color].height;
@@ -310,13 +368,19 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
     readback_ = DeviceBuffer(ctx_, outBytes, true);
   }
 
-  check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
-  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
-  record(cmd_, imports, in.camera, {Binding(readback_), 0, outChannels, outChannels * uint32_t(w), outChannels});
-  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
-  submitAndWait();
+  frame.imports = std::move(imports);
+  frame.out = {Binding(readback_), 0, outChannels, outChannels * uint32_t(w), outChannels};
+  frame.camera = in.camera;
+  frame.width = w;
+  frame.height = h;
+  frame.outChannels = outChannels;
+  return frame;
+}
+
+void VulkanDenoiserBase::finishHost(HostFrame& frame, const ImageView& output) {
+  FrameStats& stats = frame.stats;
+  const int w = frame.width, h = frame.height;
+  const uint32_t outChannels = frame.outChannels;
   readTimings(stats, true);
   {
     PassTimer t(stats, "download (host)");
@@ -332,7 +396,8 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
   }
   readSanitizeCounts(stats);
   stats.pixels = uint64_t(w) * h;
-  stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.totalMilliseconds =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame.start).count();
   stats_ = std::move(stats);
 }
 

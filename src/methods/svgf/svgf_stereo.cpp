@@ -14,8 +14,6 @@
 namespace rtd {
 
 std::unique_ptr<Denoiser> createSvgfCpu(tbb::task_arena& arena);
-namespace vk { class Context; }
-std::unique_ptr<Denoiser> createSvgfVulkan(vk::Context& ctx);
 
 namespace {
 
@@ -118,30 +116,11 @@ class SvgfStereoCpu final : public StereoPair {
   int width_ = 0, height_ = 0;
 };
 
-#ifdef RTD_HAS_VULKAN
-// On Vulkan the eyes are two single-view denoisers; the exchange between them runs on the CPU
-// backend only (the Vulkan pass exists, eye_reprojection.comp, but the two-view recording does
-// not yet), so asking for it is an error rather than a silent single-view result.
-class SvgfStereoVulkan final : public StereoPair {
- public:
-  explicit SvgfStereoVulkan(vk::Context& ctx) : StereoPair(createSvgfVulkan(ctx), createSvgfVulkan(ctx)) {}
-  void denoise(const StereoFrameInputs& in, const ImageView& left, const ImageView& right) override {
-    const SvgfSettings s = getSettings<SvgfSettings>();
-    if (s.components == SvgfComponents::composite && s.eyeReprojection)
-      throw Error("svgf: eyeReprojection (the gersthofer variant's sharing between the eyes) runs on the CPU backend "
-                  "only; use --backend cpu, or set eyeReprojection=false to denoise the eyes apart on Vulkan");
-    StereoPair::denoise(in, left, right);
-  }
-};
-#endif
 
 }  // namespace
 
 std::unique_ptr<StereoDenoiser> createSvgfStereoCpu(tbb::task_arena& arena) {
   return std::make_unique<SvgfStereoCpu>(arena);
 }
-#ifdef RTD_HAS_VULKAN
-std::unique_ptr<StereoDenoiser> createSvgfStereoVulkan(vk::Context& ctx) { return std::make_unique<SvgfStereoVulkan>(ctx); }
-#endif
 
 }  // namespace rtd
