@@ -153,7 +153,10 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
     }
   };
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-  const bool vectorized = !mask && !gradient && options.luminance != MomentLuminance::CieLightness && options.cumulativeColor;
+  // (CIE L* has no vector form here: its moments take the scalar path; without moments the
+  // luminance is not needed.)
+  const bool vectorized = !mask && !gradient && (options.luminance != MomentLuminance::CieLightness || !moments);
+  const bool fixedWeights = !options.cumulativeColor;
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef __AVX2__
@@ -178,8 +181,12 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
         rounded = _mm256_add_ps(rounded, _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(len, rounded), half, _CMP_GE_OQ), one));
         const __m256 n = _mm256_min_ps(_mm256_add_ps(rounded, one), maxLen);
         const __m256 invN = _mm256_div_ps(one, n);
-        const __m256 a = _mm256_max_ps(invN, vAlpha);
-        const __m256 am = options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha) : vMomentsAlpha;
+        // Fixed weights (Gersthofer): alpha, or 1 where the taps hold no data yet (n = 1).
+        const __m256 first = _mm256_cmp_ps(n, one, _CMP_LE_OQ);
+        const __m256 a = fixedWeights ? _mm256_blendv_ps(vAlpha, one, first) : _mm256_max_ps(invN, vAlpha);
+        const __m256 am = fixedWeights                ? _mm256_blendv_ps(vMomentsAlpha, one, first)
+                          : options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha)
+                                                      : vMomentsAlpha;
         _mm256_storeu_ps(length_[cur_].ptr() + i, n);
         __m256 c[3];
         for (int k = 0; k < 3; ++k) {

@@ -541,6 +541,16 @@ struct Renderer::Impl {
     return h & (kSeedLimit - 1);
   }
 
+  bool hidden(int x, int y, Eye eye) const {
+    if (!settings.hiddenArea) return false;
+    const float u = (float(x) + 0.5f) / float(settings.width) * 2.0f - 1.0f;
+    const float v = (float(y) + 0.5f) / float(settings.height) * 2.0f - 1.0f;  // down
+    if (u * u + v * v > 1.18f) return true;  // outside the lens circle, radius sqrt(1.18)
+    // The nose: the inner bottom corner of each eye (the right side of the left eye).
+    const float inner = eye == Eye::Left ? u : eye == Eye::Right ? -u : -2.0f;
+    return inner > 0.75f && v > 0.55f;
+  }
+
   bool masked(int index, int x, int y, Eye eye) const {
     if (settings.sampleFraction >= 1.0f) return true;
     constexpr int N = kBlueNoiseSize * kBlueNoiseSize;
@@ -790,6 +800,7 @@ struct Renderer::Impl {
         list.push_back(b);
     if (gradients)
       for (Buffer b : {Buffer::GradientSample, Buffer::GradientPrevious, Buffer::GradientCurrent}) list.push_back(b);
+    if (settings.hiddenArea) list.push_back(Buffer::HiddenArea);
     for (Buffer b : list) f[b] = Image(w, h, bufferChannelCount(b));
     const bool all = settings.allBuffers;
     auto put3 = [&](Buffer b, int x, int y, V3 c) {
@@ -803,6 +814,10 @@ struct Renderer::Impl {
       uint64_t rays = 0;
       for (int y = range.begin(); y != range.end(); ++y)
         for (int x = 0; x < w; ++x) {
+          if (hidden(x, y, eye)) {  // the lens hides it: no ray, no shading (the stencil prepass)
+            f[Buffer::HiddenArea].at(x, y) = 1.0f;
+            continue;
+          }
           const V3 d = pixelDirection(v, float(x) + 0.5f, float(y) + 0.5f, w, h);
           RTCRayHit rh;
           ++rays;
@@ -946,6 +961,7 @@ struct Renderer::Impl {
       uint64_t rays = 0;
       for (int y = range.begin(); y != range.end(); ++y)
         for (int x = 0; x < w; ++x) {
+          if (hidden(x, y, eye)) continue;
           const V3 d = pixelDirection(v, float(x) + 0.5f, float(y) + 0.5f, w, h);
           RTCRayHit rh;
           ++rays;
@@ -961,6 +977,7 @@ struct Renderer::Impl {
         uint64_t rays = 0;
         for (int y = range.begin(); y != range.end(); ++y)
           for (int x = 0; x < w; ++x) {
+            if (hidden(x, y, eye)) continue;  // never displayed: 0
             const uint32_t seed = pixelSeed(index, x, y, eye, 0x7e5f0a11u);
             const Surface& s = hits[size_t(y) * w + x];
             const Radiance r = shade(g, v, x, y, seed, n, done, &s, rays);
@@ -1017,6 +1034,7 @@ Image Renderer::renderReference(int index, int spp, double secondsBudget, Eye ey
 }
 uint32_t Renderer::pixelSeed(int index, int x, int y, Eye eye) const { return impl_->pixelSeed(index, x, y, eye, 0); }
 bool Renderer::sampleMask(int index, int x, int y, Eye eye) const { return impl_->masked(index, x, y, eye); }
+bool Renderer::hidden(int x, int y, Eye eye) const { return impl_->hidden(x, y, eye); }
 
 std::array<float, 3> Renderer::shadePixel(int index, int x, int y, uint32_t seed, Eye eye) {
   const auto& s = impl_->settings;
@@ -1051,7 +1069,8 @@ std::filesystem::path ReferenceCache::entry(const Scene& scene, const RenderSett
                           std::to_string(s.maxDepth) + "|rr" + std::to_string(s.russianRouletteDepth) + "|s" +
                           std::to_string(s.seed) + "|j" + std::to_string(int(s.pixelJitter)) + "|e" + eyeName(eye) +
                           "|ed" + std::to_string(s.eyeDistance) + "|f" + std::to_string(index) + "|spp" +
-                          std::to_string(spp) + "|b" + std::to_string(budgetSeconds) + "|v1";
+                          std::to_string(spp) + "|b" + std::to_string(budgetSeconds) + "|v1" +
+                          (s.hiddenArea ? "|hidden" : "");
   return dir / (scene.name() + "_" + hashHex(key) + ".exr");
 }
 

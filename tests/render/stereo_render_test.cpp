@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "render/render_test_util.h"
+#include "rtd/rtd.h"
 
 namespace rtd::render::test {
 namespace {
@@ -110,6 +111,49 @@ TEST(RenderSplit, IndirectDiffuseIsTheIndirectLightOfTheDiffuseLobe) {
     glossyPixels += id < in - tol;  // indirect light through the specular lobe exists
   }
   EXPECT_GT(glossyPixels, 10);
+}
+
+TEST(RenderStereo, HiddenAreaIsNotTracedAndDenoisesToZero) {
+  auto scene = Scene::load("cornell");
+  RenderSettings s = tiny(64, 48);
+  Renderer plain(scene, s);
+  plain.render(0, Eye::Left);
+  const uint64_t raysAll = plain.stats().rays;
+  s.hiddenArea = true;
+  Renderer r(scene, s);
+  const Frame f = r.render(0, Eye::Left);
+  const uint64_t raysMasked = r.stats().rays;
+  const Image ref = r.renderReference(0, 4, 0, Eye::Left);
+  int hidden = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const bool h = r.hidden(x, y, Eye::Left);
+      ASSERT_EQ(f[Buffer::HiddenArea].at(x, y), h ? 1.0f : 0.0f);
+      hidden += h;
+      if (!h) continue;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(f[Buffer::Color].at(x, y, c), 0.0f);
+        EXPECT_EQ(f[Buffer::Normal].at(x, y, c), 0.0f);
+        EXPECT_EQ(ref.at(x, y, c), 0.0f);
+      }
+    }
+  // About 15 % of an HMD's pixels are hidden (Vlachos 2015, via Gersthofer Sec. 2.4.2).
+  EXPECT_NEAR(double(hidden) / (64 * 48), 0.15, 0.03);
+  // The nose notch is on each eye's inner side: the right of the left eye, the left of the right.
+  EXPECT_TRUE(r.hidden(58, 38, Eye::Left));
+  EXPECT_FALSE(r.hidden(58, 38, Eye::Right));
+  EXPECT_TRUE(r.hidden(5, 38, Eye::Right));
+  // No ray for a hidden pixel: each saves at least its primary ray (and its path; both renders
+  // trace the visible pixels with the same random numbers).
+  EXPECT_GE(raysAll - raysMasked, uint64_t(hidden));
+  // Denoised: the hidden area comes out 0, the visible pixels do not.
+  auto d = Device::create()->createDenoiser(SvgfSettings::forVariant(SvgfVariant::gersthofer));
+  Image out(64, 48, 3);
+  d->denoise(f.inputs(), out.view());
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x)
+      if (r.hidden(x, y, Eye::Left)) ASSERT_EQ(out.at(x, y, 1), 0.0f) << x << "," << y;
+  EXPECT_GT(out.at(32, 24, 1), 0.0f);
 }
 
 TEST(RenderStereoCli, DenoisesBothEyesOfAStereoSequence) {

@@ -32,18 +32,19 @@ float sampleCoverage(const Plane& mask, const Plane* hidden) {
   return visible ? float(double(sampled) / double(visible)) : 1.0f;
 }
 
-size_t boostDisoccluded(const Reprojection& rp, const Plane& previousLength, const Plane& mask, float c, Plane3& light) {
+size_t boostDisoccluded(const Reprojection& rp, const Plane& previousLength, const Plane& mask, float c, Plane& factor) {
   const float k = 1.0f / c;
   std::atomic<size_t> count{0};
   parallelRows(mask.height, [&](int y) {
     size_t n = 0;
+    float* f = factor.row(y);
     for (int x = 0; x < mask.width; ++x) {
       const size_t i = size_t(y) * mask.width + x;
-      if (mask.data[i] == 0.0f) continue;
       // "for which reprojection failed": no valid tap, or taps that hold no data yet.
-      if (rp.kind[i] != Reprojection::None && std::round(rp.gather(previousLength, i)) >= 1.0f) continue;
-      for (auto& p : light) p.data[i] *= k;
-      ++n;
+      const bool boost = mask.data[i] != 0.0f &&
+                         (rp.kind[i] == Reprojection::None || std::round(rp.gather(previousLength, i)) < 1.0f);
+      f[x] = boost ? k : 1.0f;
+      n += boost;
     }
     count += n;
   });
@@ -62,6 +63,7 @@ void GersthoferEye::resize(int w, int h, int pad) {
   indirect_.resize(w, h);
   for (auto& d : distance_) d.resize(w, h);
   luma_.resize(w, h);
+  boost_.resize(w, h);
   filter_.resize(w, h, pad);
   taaSized_ = false;  // allocated when TAA is first used
 }
@@ -106,12 +108,10 @@ void GersthoferEye::front(const FrameData& frame, const FrameData* previous, con
       // No split: everything counts as "direct + indirect specular" (nothing to share).
       for (auto& p : currentIndirect_) p.fill(0.0f);
     }
-    if (masked_ && s.maskBoost && coverage > 0.0f) {
-      // Eq. 3.1 on both components alike (the composite holds the indirect diffuse too); the
-      // previous lengths are still the accumulators' current ones.
-      boostDisoccluded(reprojection_, composite_.historyLength(), *mask, coverage, currentComposite_);
-      boostDisoccluded(reprojection_, composite_.historyLength(), *mask, coverage, currentIndirect_);
-    }
+    // Eq. 3.1, decided before the accumulation (the previous lengths are still the
+    // accumulators' current ones) and applied to this frame's filter input in back().
+    boosted_ = masked_ && s.maskBoost && coverage > 0.0f &&
+               boostDisoccluded(reprojection_, composite_.historyLength(), *mask, coverage, boost_) > 0;
   }
   {
     PassTimer t(stats, "accumulate");
@@ -174,16 +174,26 @@ const Plane3& GersthoferEye::back(const FrameData& frame, const SvgfSettings& s,
   {
     PassTimer t(stats, "composite");
     // (direct + indirect specular) + indirect diffuse; the first is the accumulated composite
-    // minus the accumulated indirect diffuse (the same weights and taps made both).
+    // minus the accumulated indirect diffuse (the same weights and taps made both). Sampled
+    // pixels without history then take Eq. 3.1's 1/c: "distributed to neighboring pixels
+    // through ... spatial filtering"; kept out of the history, where it would stay 1/c too
+    // bright until the EMA forgot it (a pixel is sampled once every 1/c frames).
     const Plane3& diffuse = exchanged_ ? shared_ : *indirectDiffuse_;
-    if (&diffuse != &indirect_.color()) {
+    const bool split = &diffuse != &indirect_.color();
+    if (split || boosted_) {
       const Plane3& c = composite_.color();
       const Plane3& b = indirect_.color();
       parallelRows(height_, [&](int y) {
-        for (int k = 0; k < 3; ++k) {
-          const float *pc = c[k].row(y), *pb = b[k].row(y), *pd = diffuse[k].row(y);
-          float* o = input_[k].row(y);
-          for (int x = 0; x < width_; ++x) o[x] = std::max(0.0f, pc[x] - pb[x]) + pd[x];
+        const float* k = boosted_ ? boost_.row(y) : nullptr;
+        for (int ch = 0; ch < 3; ++ch) {
+          const float *pc = c[ch].row(y), *pb = b[ch].row(y), *pd = diffuse[ch].row(y);
+          float* o = input_[ch].row(y);
+          float* cur = currentComposite_[ch].row(y);
+          for (int x = 0; x < width_; ++x) {
+            const float v = split ? std::max(0.0f, pc[x] - pb[x]) + pd[x] : pc[x];
+            o[x] = k ? v * k[x] : v;
+            if (k) cur[x] *= k[x];  // the sample the spatial variance estimate sees, likewise
+          }
         }
       });
       extras.input = &input_;
@@ -284,6 +294,7 @@ void GersthoferEye::visitIntermediate(const PlaneVisitor& visit) const {
   for (const Plane3* p : {&currentComposite_, &currentIndirect_, &median_, &shared_, &input_, &output_, &post_})
     visitPlanes(visit, "gersthofer image", *p);
   visitPlane(visit, "fxaa luma", luma_);
+  visitPlane(visit, "boost", boost_);
   filter_.forEachPlane(visit);
 }
 

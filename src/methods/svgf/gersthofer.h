@@ -2,12 +2,13 @@
 // Sec. 3.3-3.5), SVGF's `composite` mode, for one eye: its own history, run in two halves so
 // that a two-view denoiser can exchange indirect diffuse light between the eyes in between.
 //
-//   front: reprojection, guide, demodulation, the 1/c boost of sampled pixels without history
-//          (Eq. 3.1), temporal accumulation of the composite (colour, CIE L* moments, length)
-//          and of the indirect diffuse, the indirect ray length, the 3x3 median of the
-//          indirect diffuse (off while masking);
+//   front: reprojection, guide, demodulation, temporal accumulation of the composite (colour,
+//          CIE L* moments, length) and of the indirect diffuse, the indirect ray length, the
+//          3x3 median of the indirect diffuse (off while masking), which sampled pixels lack
+//          history (the 1/c boost of Eq. 3.1);
 //   [exchange: eyeReprojection() of each eye's indirect diffuse into the other, Sec. 3.4.2]
-//   back:  composite = (direct + indirect specular) + indirect diffuse, variance (temporal, or
+//   back:  composite = (direct + indirect specular) + indirect diffuse, boosted by 1/c where
+//          Eq. 3.1 says (this frame's filter input only, not the history), variance (temporal, or
 //          the 3x3 spatial estimate with the mesh-id term), five a-trous levels with the glossy
 //          weights w_zi and w_r, remodulation, FXAA, tone map.
 //
@@ -32,11 +33,11 @@ namespace rtd::svgf {
 /// Share of the visible pixels (HiddenArea 0) that `mask` marks as sampled.
 float sampleCoverage(const Plane& mask, const Plane* hidden);
 
-/// Eq. 3.1: where `mask` is 1 and the pixel has no history (reprojection failed, or its taps
-/// hold no data: the gathered previous `historyLength` rounds to 0), `light` *= 1/c. Returns
-/// the number of boosted pixels.
+/// Eq. 3.1: `factor` = 1/c where `mask` is 1 and the pixel has no history (reprojection
+/// failed, or its taps hold no data: the gathered previous `historyLength` rounds to 0), 1
+/// elsewhere. Returns the number of boosted pixels.
 size_t boostDisoccluded(const Reprojection& rp, const Plane& previousHistoryLength, const Plane& mask, float coverage,
-                        Plane3& light);
+                        Plane& factor);
 
 /// The two halves of the pipeline for one eye.
 class GersthoferEye {
@@ -80,6 +81,8 @@ class GersthoferEye {
   int distanceCur_ = 0;
   bool distanceValid_ = false;                 // distance_[distanceCur_] holds last frame's z_i
   Plane3 median_, shared_, input_;             // median, after the exchange, the filter's input
+  Plane boost_;                                // Eq. 3.1's factor per pixel (1 or 1/c)
+  bool boosted_ = false;                       // some pixel of this frame is boosted
   const Plane3* indirectDiffuse_ = &median_;
   bool masked_ = false;                        // this frame's sample mask leaves pixels out
   bool exchanged_ = false;                     // shared_ holds this frame's exchanged light

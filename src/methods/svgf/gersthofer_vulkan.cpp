@@ -13,6 +13,7 @@ void GpuGersthoferEye::resize(vk::Context& ctx, int w, int h) {
   reprojection_.allocate(ctx, w, h, 8);
   gradient_.allocate(ctx, w, h, 2);
   counter_.allocate(ctx, 2, 1, 1);
+  boost_.allocate(ctx, w, h, 1);
   for (vk::Planes* p : {&currentComposite_, &currentIndirect_, &median_, &shared_, &output_, &fxaa_}) p->allocate(ctx, w, h, 3);
   composite_.resize(ctx, w, h);
   indirect_.resize(ctx, w, h);
@@ -66,14 +67,16 @@ void GpuGersthoferEye::front(vk::Recorder& rec, const vk::GpuFrame& frame, const
     rec.fill(counter_.buffer, 0);
     rec.dispatch("gersthofer_coverage", {*mask, frame.bindingOf(Buffer::HiddenArea, rec.context()), counter_}, cpc, w, h);
   }
-  if (masked_ && s.maskBoost) {
+  boosted_ = masked_ && s.maskBoost;
+  if (boosted_) {
     struct BoostPC {
       uint32_t width, height;
       float coverage;
     } bpc{uint32_t(w), uint32_t(h), s.maskCoverage};
-    // The previous lengths are still the accumulator's current ones.
-    rec.dispatch("gersthofer_boost",
-                 {reprojection_, composite_.current(), *mask, counter_, currentComposite_, currentIndirect_}, bpc, w, h);
+    // Decided before the accumulation (the previous lengths are still the accumulator's
+    // current ones), applied to this frame's filter input by the composite pass.
+    rec.dispatch("gersthofer_boost", {reprojection_, composite_.current(), *mask, measure ? vk::Binding(counter_) : dummy, boost_},
+                 bpc, w, h);
   }
   rec.pass("accumulate");
   const uint32_t lum = momentLuminanceMode(params);
@@ -119,11 +122,15 @@ const vk::Planes& GpuGersthoferEye::back(vk::Recorder& rec, const vk::GpuFrame& 
   GpuFilterExtras extras;
   rec.pass("composite");
   const vk::Planes& diffuse = exchanged_ ? shared_ : *indirectDiffuse_;
-  if (&diffuse != &indirect_.current()) {
+  const bool split = &diffuse != &indirect_.current();
+  if (split || boosted_) {
     struct PC {
-      uint32_t width, height;
-    } pc{uint32_t(w), uint32_t(h)};
-    rec.dispatch("gersthofer_composite", {composite_.current(), indirect_.current(), diffuse, source_}, pc, w, h);
+      uint32_t width, height, flags;
+    } pc{uint32_t(w), uint32_t(h), (split ? 1u : 0u) | (boosted_ ? 2u : 0u)};
+    rec.dispatch("gersthofer_composite",
+                 {composite_.current(), indirect_.current(), diffuse, boosted_ ? vk::Binding(boost_) : dummy, source_,
+                  currentComposite_},
+                 pc, w, h);
     extras.source = &source_;
   }
   if (s.spatialVarianceObjectId && frame.has(Buffer::ObjectId)) extras.objectId = &frame[Buffer::ObjectId];
@@ -177,7 +184,7 @@ std::vector<MemoryUse> GpuGersthoferEye::memory() const {
       composite_.bytes() + indirect_.bytes() + distance_[0].buffer.size() + distance_[1].buffer.size() + taa_.bytes();
   uint64_t intermediate = filter_.bytes();
   for (const vk::Planes* p : {&reprojection_, &gradient_, &counter_, &currentComposite_, &currentIndirect_, &glossyCentre_, &glossyScale_,
-                              &median_, &shared_, &source_, &output_, &post_, &fxaa_})
+                              &median_, &shared_, &source_, &output_, &post_, &fxaa_, &boost_})
     intermediate += p->buffer.size();
   return {{"history", history}, {"intermediate", intermediate}};
 }

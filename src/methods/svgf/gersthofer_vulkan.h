@@ -28,7 +28,7 @@ class GpuGersthoferEye {
 
  private:
   int width_ = 0, height_ = 0;
-  vk::Planes reprojection_, gradient_, counter_;
+  vk::Planes reprojection_, gradient_, counter_, boost_;
   vk::Planes currentComposite_, currentIndirect_;
   vk::GpuTemporalAccumulator composite_, indirect_;
   vk::Planes distance_[2], glossyCentre_, glossyScale_;
@@ -36,7 +36,7 @@ class GpuGersthoferEye {
   bool distanceValid_ = false;
   vk::Planes median_, shared_, source_, output_, post_, fxaa_;
   const vk::Planes* indirectDiffuse_ = &median_;
-  bool masked_ = false, exchanged_ = false;
+  bool masked_ = false, exchanged_ = false, boosted_ = false;
   GpuFilter filter_;
   vk::GpuTaa taa_;
 };

@@ -1,8 +1,8 @@
 #version 450
-// Gersthofer Eq. 3.1: a sampled pixel whose reprojection failed (no valid tap, or taps holding
-// no data: the gathered previous history length rounds to 0) is scaled by 1/c, in both
-// components (composite and indirect diffuse, 3 planes each, in place). c is pc.coverage, or
-// sampled / visible from gersthofer_coverage where pc.coverage is 0. Port of
+// Gersthofer Eq. 3.1: the factor 1/c of a sampled pixel whose reprojection failed (no valid
+// tap, or taps holding no data: the gathered previous history length rounds to 0), 1 elsewhere
+// (one plane; the composite pass applies it to this frame's filter input). c is pc.coverage,
+// or sampled / visible from gersthofer_coverage where pc.coverage is 0. Port of
 // svgf::boostDisoccluded.
 #include "common.glsl"
 RTD_LOCAL_SIZE
@@ -11,8 +11,7 @@ layout(std430, binding = 0) readonly buffer Rp { uint rp[]; };
 layout(std430, binding = 1) readonly buffer Hist { float hist[]; };  // previous accumulator: length is plane 5
 layout(std430, binding = 2) readonly buffer Mask { float sampleMask[]; };
 layout(std430, binding = 3) readonly buffer Counter { uint counter[]; };
-layout(std430, binding = 4) buffer A { float lightA[]; };
-layout(std430, binding = 5) buffer B { float lightB[]; };
+layout(std430, binding = 4) writeonly buffer Factor { float factor[]; };
 
 float histAt(uint j) { return hist[j]; }
 #define RP_GATHER
@@ -24,13 +23,8 @@ void main() {
   const uvec2 p = gl_GlobalInvocationID.xy;
   if (outside(p, pc.width, pc.height)) return;
   const uint w = pc.width, plane = w * pc.height, i = p.y * w + p.x;
-  if (sampleMask[i] == 0.0) return;
-  if (rpKind(i) != RP_NONE && floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) >= 1.0) return;
   const float c = pc.coverage > 0.0 ? pc.coverage : (counter[1] > 0u ? float(counter[0]) / float(counter[1]) : 1.0);
-  if (!(c > 0.0)) return;
-  const float k = 1.0 / c;
-  for (uint ch = 0; ch < 3; ++ch) {
-    lightA[ch * plane + i] *= k;
-    lightB[ch * plane + i] *= k;
-  }
+  const bool boost = sampleMask[i] != 0.0 && c > 0.0 &&
+                     (rpKind(i) == RP_NONE || floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) < 1.0);
+  factor[i] = boost ? 1.0 / c : 1.0;
 }
