@@ -8,6 +8,6 @@ size="${1:-1280x720}"
 shift || true
 cli=build/release/apps/rtdenoise
 lscpu | grep -E 'Model name' || true
-for m in $($cli methods --json | python3 -c 'import json,sys; print(" ".join(m["name"] for m in json.load(sys.stdin)))'); do
+for m in $($cli methods --json - | python3 -c 'import json,sys; print(" ".join(m["name"] for m in json.load(sys.stdin)))'); do
   $cli bench --method "$m" --size "$size" --frames 20 --warmup 5 "$@" 2>/dev/null
 done

@@ -8,9 +8,11 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libtinygltf-dev libstb-dev
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
-  chromium
+  chromium help2man
   # Training of the learned methods and its tests only (python/rtdenoise_train, /usr/bin/python3).
   python3-torch python3-numpy python3-matplotlib
+  # Python bindings (bindings/python: pybind11 module for /usr/bin/python3) and their tests.
+  python3-dev pybind11-dev python3-pybind11 python3-pytest
 )
 missing=()
 for p in "${packages[@]}"; do

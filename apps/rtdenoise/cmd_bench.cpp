@@ -8,6 +8,7 @@
 #endif
 
 #include "cli.h"
+#include "core/cpu_path.h"
 #include "synthetic/synthetic.h"
 
 namespace rtd::cli {
@@ -16,12 +17,10 @@ namespace {
 struct BenchOptions {
   std::string method = "svgf";
   std::string size = "1280x720";
-  std::string backend = "cpu";
-  std::string vulkanDevice;
+  DeviceOptions device;
   std::vector<std::string> settings;
   int frames = 20;
   int warmup = 5;
-  int threads = 0;
   std::string json;
   bool sampleMask = false;
   bool ftzDaz = false;
@@ -56,8 +55,9 @@ double median(std::vector<double> v) {
 
 void runBench(const BenchOptions& o) {
   const auto [w, h] = parseSize(o.size);
+  (void)methodInfo(o.method);
   if (o.ftzDaz) setFlushToZero();
-  auto device = Device::create({.backend = parseBackend(o.backend), .threads = o.threads, .vulkanDevice = o.vulkanDevice});
+  auto device = Device::create(o.device.desc(o.device.single()));
   // --stereo: both eyes through the two-view denoiser (rtd/stereo.h); timings summed over the eyes.
   std::unique_ptr<Denoiser> denoiser;
   std::unique_ptr<StereoDenoiser> stereo;
@@ -133,6 +133,11 @@ void runBench(const BenchOptions& o) {
   nlohmann::json j = {{"method", o.method}, {"width", w}, {"height", h}, {"device", device->name()},
                       {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames},
                       {"sampleMask", o.sampleMask}, {"ftzDaz", o.ftzDaz}, {"stereo", o.stereo}};
+  if (device->backend() == Backend::Cpu) {
+    // The SIMD path the CPU passes dispatched to (RTD_CPU_PATH forces one).
+    std::printf("  cpu path: %s\n", describeCpuPath().c_str());
+    j["cpuPath"] = cpuPathName(cpuPath());
+  }
   for (const auto& name : order) {
     const double m = median(passes[name]);
     std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
@@ -156,16 +161,14 @@ void runBench(const BenchOptions& o) {
 
 void addBench(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
-  auto* cmd = app.add_subcommand("bench", "time a method's passes on a synthetic scene (medians)");
-  cmd->add_option("--method,-m", o->method, "method name")->capture_default_str();
+  auto* cmd = addSubcommand(app, "bench", "time a method's passes on a synthetic scene (medians)");
+  cmd->add_option("--method,-m", o->method, "method name (see `rtdenoise methods`)")->capture_default_str();
   cmd->add_option("--size", o->size, "WIDTHxHEIGHT")->capture_default_str();
-  cmd->add_option("--backend,-b", o->backend, "cpu or vulkan")->capture_default_str();
-  cmd->add_option("--device", o->vulkanDevice, "Vulkan device index or name substring");
-  cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable)");
-  cmd->add_option("--frames", o->frames, "timed frames")->capture_default_str();
-  cmd->add_option("--warmup", o->warmup, "untimed frames first")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
-  cmd->add_option("--json", o->json, "also write the medians to this JSON file");
+  o->device.add(cmd);
+  cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable; presets such as variant= apply first)");
+  cmd->add_option("--frames", o->frames, "timed frames (>= 1)")->capture_default_str()->check(atLeast(1));
+  cmd->add_option("--warmup", o->warmup, "untimed frames first")->capture_default_str()->check(atLeast(0));
+  cmd->add_option("--json", o->json, "FILE: also write the medians as JSON to FILE");
   cmd->add_flag("--sample-mask", o->sampleMask, "frames carry a rotating 1/4 sampleMask (progressive modes)");
   cmd->add_flag("--stereo", o->stereo, "both eyes through the two-view denoiser (the right eye: other noise)");
   cmd->add_flag("--ftz-daz", o->ftzDaz,

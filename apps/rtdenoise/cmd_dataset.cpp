@@ -60,14 +60,6 @@ struct SceneEntry {
   bool test = false;
 };
 
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 std::vector<SceneEntry> sceneList(const DatasetOptions& o, int width, int height) {
   std::vector<SceneEntry> list;
   const auto test = splitList(o.test);
@@ -75,7 +67,7 @@ std::vector<SceneEntry> sceneList(const DatasetOptions& o, int width, int height
   const auto builtins = render::Scene::builtinScenes();
   for (const auto& b : splitList(o.builtin)) {
     if (std::find(builtins.begin(), builtins.end(), b) == builtins.end())
-      throw Error("--builtin: '" + b + "' is not a built-in scene");
+      throw UsageError("--builtin: '" + b + "' is not a built-in scene");
     list.push_back({b, b, render::Scene::builtinDescription(b), held.count(b) > 0});
   }
   for (int i = 0; i < o.procedural; ++i) {
@@ -213,12 +205,12 @@ json cacheLayout() {
 }
 
 void runDataset(const DatasetOptions& o) {
-  if (o.output.empty()) throw Error("dataset: --output is required");
-  if (o.frames < 1) throw Error("--frames: must be >= 1");
-  if (o.testFrames < 0) throw Error("--test-frames: must be >= 0");
-  if (o.referenceSpp < 2 || o.referenceSpp % 2) throw Error("--reference-spp: must be an even number >= 2");
-  if (o.maxReferenceSpp < o.referenceSpp) throw Error("--max-reference-spp: must be >= --reference-spp");
-  if (o.tolerance <= 0) throw Error("--tolerance: must be > 0");
+  if (o.output.empty() && !o.listOnly) throw UsageError("--output is required (unless --list)");
+  if (o.frames < 1) throw UsageError("--frames: must be >= 1");
+  if (o.testFrames < 0) throw UsageError("--test-frames: must be >= 0");
+  if (o.referenceSpp < 2 || o.referenceSpp % 2) throw UsageError("--reference-spp: must be an even number >= 2");
+  if (o.maxReferenceSpp < o.referenceSpp) throw UsageError("--max-reference-spp: must be >= --reference-spp");
+  if (o.tolerance <= 0) throw UsageError("--tolerance: must be > 0");
   const auto [width, height] = parseSize(o.size);
   const std::vector<SceneEntry> scenes = sceneList(o, width, height);
   if (o.listOnly) {
@@ -345,8 +337,8 @@ void runDataset(const DatasetOptions& o) {
 
 void addDataset(CLI::App& app) {
   auto o = std::make_shared<DatasetOptions>();
-  auto* cmd = app.add_subcommand("dataset", "render the learned methods' training/test data set (docs/dataset.md)");
-  cmd->add_option("--output,-o", o->output, "output directory (dataset.json, train/<scene>/, test/<scene>/)");
+  auto* cmd = addSubcommand(app, "dataset", "render the learned methods' training/test data set (docs/dataset.md)");
+  cmd->add_option("--output,-o", o->output, "REQUIRED (unless --list): output directory (dataset.json, train/<scene>/, test/<scene>/)");
   cmd->add_option("--seed", o->seed, "seed of the procedural scenes and of every render")->default_val(1);
   cmd->add_option("--procedural", o->procedural, "number of procedural scenes (seeds 1000*seed + i)")->default_val(20);
   cmd->add_option("--builtin", o->builtin, "comma-separated built-in scenes to include")->default_val(o->builtin);
@@ -361,7 +353,7 @@ void addDataset(CLI::App& app) {
   cmd->add_option("--tolerance", o->tolerance, "convergence: RMSE of x/(1+x), N/2 vs N spp")->default_val(0.01);
   cmd->add_option("--firefly-fraction", o->fireflyFraction, "convergence: most fireflies allowed, as a fraction of the pixels")
       ->default_val(0.001);
-  cmd->add_option("--threads", o->threads, "worker threads (default: all cores)");
+  cmd->add_option("--threads", o->threads, "CPU threads (0 = all cores)")->capture_default_str()->check(atLeast(0));
   cmd->add_option("--reference-cache", o->cacheDir, "reference cache directory (default as `render`)");
   cmd->add_flag("--no-reference-cache", o->noCache, "do not read or write the reference cache");
   cmd->add_flag("--list", o->listOnly, "print the scene list with its split and exit");

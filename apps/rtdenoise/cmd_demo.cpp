@@ -4,8 +4,8 @@
 #include <filesystem>
 
 #include "cli.h"
+#include "compare_common.h"
 #include "eval_options.h"
-#include "rtd/eval/compare.h"
 #include "synthetic/synthetic.h"
 #ifdef HAVE_RTDENOISE_RENDER
 #include "rtd/render/render.h"
@@ -15,22 +15,18 @@ namespace rtd::cli {
 
 namespace fs = std::filesystem;
 
-eval::Comparison runComparisonWithProgress(const eval::FrameSource& source, const eval::CompareSettings& cs,
-                                           const std::string& what);
-void writeComparison(const eval::Comparison& c, const fs::path& outDir);
-std::vector<std::string> splitList(const std::string& s);
-
 namespace {
 struct DemoOptions {
-  std::string out = "rtdenoise-demo";
+  OutputOptions output{"rtdenoise-demo"};
   std::string scene = "dynamic";
   std::string size = "320x180";
   int frames = 32;
   int referenceSpp = 256;  // 128 leaves visible caustic fireflies from the metal ball
   std::string cacheDir;
   bool noCache = false;
-  int threads = 0;
-  std::string methods;
+  DeviceOptions device;
+  std::vector<std::string> methods, settings;
+  std::string json;
   bool saveScene = false;
   EvalOptions eval;
 };
@@ -71,7 +67,6 @@ eval::FrameSource syntheticScene(const DemoOptions& o, int w, int h) {
 /// second run renders no reference again. `--scene synthetic` uses the analytic scene instead.
 eval::FrameSource demoScene(const DemoOptions& o) {
   const auto [w, h] = parseSize(o.size);
-  if (o.frames < 2) throw Error("--frames " + std::to_string(o.frames) + ": the demo needs at least 2 frames");
   eval::FrameSource src;
   if (o.scene == "synthetic") {
     src = syntheticScene(o, w, h);
@@ -97,48 +92,54 @@ eval::FrameSource demoScene(const DemoOptions& o) {
     throw Error("this build has no path tracer; use --scene synthetic");
 #endif
   }
-  if (o.saveScene) src = savedWhileLoading(src, fs::path(o.out) / "scene");
+  src.width = w;
+  src.height = h;
+  if (o.saveScene) src = savedWhileLoading(src, fs::path(o.output.dir) / "scene");
   return src;
 }
 
 void run(const DemoOptions& o) {
-  eval::CompareSettings cs;
-  cs.methods = splitList(o.methods);  // empty: every method with a CPU implementation
-  cs.threads = o.threads;
-  cs.eval = o.eval.settings();
-  std::vector<std::string> names = cs.methods;
-  if (names.empty())
-    for (const auto& m : listMethods())
-      if (m.cpu) names.push_back(m.name);
-  std::string list;
-  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  eval::CompareSettings cs = compareSettings(o.methods, o.settings, o.device);
+  cs.eval = o.eval.settings(o.frames);
+  o.output.prepare(kComparisonOutputs);
   const auto source = demoScene(o);
+  std::string list;
+  for (const auto& m : o.methods) list += (list.empty() ? "" : ", ") + m;
   std::fprintf(stderr, "rtdenoise demo: %s, %d frames; methods: %s\n", source.description.c_str(), o.frames,
-               list.c_str());
+               list.empty() ? "every CPU method" : list.c_str());
   auto c = runComparisonWithProgress(source, cs, "demo: denoise + evaluate");
   c.title = "rtdenoise demo";
-  writeComparison(c, o.out);
+  writeComparison(c, o.output.dir, o.json);
 }
 }  // namespace
 
 void addDemo(CLI::App& app) {
   auto o = std::make_shared<DemoOptions>();
-  auto* cmd = app.add_subcommand("demo", "render the built-in scene, run every method, evaluate, write the HTML report");
-  cmd->add_option("--out,--output,-o", o->out, "output directory (report.html, metrics.json)")->capture_default_str();
+  auto* cmd = addSubcommand(app, "demo", "render the built-in scene, run every method, evaluate, write the HTML report");
+  o->output.add(cmd, "report.html, metrics.json", false);
+  cmd->get_option("--output")->capture_default_str();
   cmd->add_option("--scene", o->scene, "built-in scene (see `rtdenoise render --help`), a scene file, or 'synthetic'")
       ->capture_default_str();
   cmd->add_option("--size", o->size, "WIDTHxHEIGHT")->capture_default_str();
-  cmd->add_option("--reference-spp", o->referenceSpp, "samples per pixel of the references")->capture_default_str();
+  cmd->add_option("--reference-spp", o->referenceSpp, "samples per pixel of the references")->capture_default_str()
+      ->check(atLeast(1));
   cmd->add_option("--reference-cache", o->cacheDir, "reference cache directory (default $RTD_CACHE_DIR or ~/.cache/rtdenoise/references)");
   cmd->add_flag("--no-reference-cache", o->noCache, "do not read or write the reference cache");
-  cmd->add_option("--frames", o->frames, "number of frames")->capture_default_str();
-  cmd->add_option("--methods,-m", o->methods, "comma-separated methods (default: every CPU method)");
-  cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
+  cmd->add_option("--frames", o->frames, "number of frames (>= 2)")->capture_default_str()->check(atLeast(2));
+  addConfigurationOptions(cmd, o->methods, o->settings);
+  o->device.add(cmd, true);
+  cmd->add_option("--json", o->json, "FILE: write the metrics JSON to FILE (default: <output>/metrics.json)");
   cmd->add_flag("--save-scene", o->saveScene,
-                "also write the scene: <out>/scene/input (native sequence) and <out>/scene/reference (EXRs); "
+                "also write the scene: <output>/scene/input (native sequence) and <output>/scene/reference (EXRs); "
                 "large: about 10 MB per 480x270 frame");
   o->eval.add(cmd);
-  cmd->callback([o] { run(*o); });
+  cmd->callback([o, cmd] {
+    if (o->scene == "synthetic" && (cmd->count("--reference-spp") || cmd->count("--reference-cache")))
+      throw UsageError("--scene synthetic has an exact reference: --reference-spp and --reference-cache do not apply");
+    if (cmd->count("--reference-cache") && o->noCache)
+      throw UsageError("--reference-cache and --no-reference-cache contradict each other");
+    run(*o);
+  });
 }
 
 }  // namespace rtd::cli

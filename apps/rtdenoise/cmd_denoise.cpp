@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "denoise_stereo.h"
+#include "sanitize_report.h"
 
 namespace rtd::cli {
 
@@ -13,10 +14,26 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-void runDenoise(const DenoiseOptions& o) {
-  if (isStereoSequence(o.input)) return runDenoiseStereo(o);  // render --stereo output: both eyes
-  auto reader = SequenceReader::open(o.input);
-  auto device = Device::create({.backend = parseBackend(o.backend), .threads = o.threads, .vulkanDevice = o.vulkanDevice});
+
+/// What `denoise` writes into its output directory (and --overwrite replaces).
+const std::vector<std::string> kDenoiseOutputs = {R"(frame_\d+\.(exr|png))", R"(timings\.json)"};
+
+void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
+  const auto backend = o.device.single();
+  if (!o.preview && (cmd.count("--tonemap") || cmd.count("--exposure")))
+    throw UsageError("--tonemap and --exposure shape the PNG previews: give them with --preview");
+  eval::ToneMapSettings previewToneMap;
+  try {
+    previewToneMap.op = eval::parseOperator(o.toneMap);
+  } catch (const Error& e) {
+    throw UsageError(std::string("--tonemap: ") + e.what());
+  }
+  previewToneMap.exposure = o.exposure;
+  (void)methodInfo(o.method);
+  if (isStereoSequence(o.input)) return runDenoiseStereo(o, previewToneMap);  // render --stereo output: both eyes
+  auto reader = SequenceReader::open(o.input, o.sequence);
+  const int frames = framesToUse(o.maxFrames, reader->frameCount());
+  auto device = Device::create(o.device.desc(backend));
   auto denoiser = device->createDenoiser(o.method);
   applySettings(*denoiser, o.settings);
 
@@ -26,8 +43,8 @@ void runDenoise(const DenoiseOptions& o) {
       throw Error("method '" + o.method + "' needs buffer '" + std::string(bufferName(b)) + "', which sequence '" +
                   o.input + "' does not have (first frame: '" + reader->framePath(0).string() + "')");
 
-  fs::create_directories(o.output);
-  const int frames = o.maxFrames > 0 ? std::min(o.maxFrames, reader->frameCount()) : reader->frameCount();
+  o.output.prepare(kDenoiseOutputs);
+  const fs::path out(o.output.dir);
   std::fprintf(stderr, "denoising %d frames (%dx%d, %s input) with '%s' on %s\n", frames, reader->width(),
                reader->height(), reader->kind() == SequenceKind::Native ? "native" : "Blender", o.method.c_str(),
                device->name().c_str());
@@ -44,7 +61,9 @@ void runDenoise(const DenoiseOptions& o) {
   timing["settings"] = settings;
   json perFrame = json::array();
   uint64_t sanitized = 0;
+  BufferCounts sanitizedPerBuffer{};
   std::vector<double> totals;
+  std::vector<std::string> notes;  // distinct FrameStats::notes (parts that did not run), in order
 
   Progress progress("denoise", frames);
   Image output(reader->width(), reader->height(), 3);
@@ -52,15 +71,21 @@ void runDenoise(const DenoiseOptions& o) {
     const Frame frame = reader->read(i);
     denoiser->denoise(frame.inputs(), output.view());
     char name[32];
-    std::snprintf(name, sizeof name, "frame_%04d.exr", frame.number);
-    writeRgbExr(fs::path(o.output) / name, output);
+    std::snprintf(name, sizeof name, "frame_%04d", frame.number);
+    writeRgbExr(out / (std::string(name) + ".exr"), output, o.half ? ExrPixels::Half : ExrPixels::Float);
+    if (o.preview) writeFileAtomic(out / (std::string(name) + ".png"), eval::encodePng(eval::toneMap(output, previewToneMap)));
 
     const FrameStats& st = denoiser->stats();
     json passes = json::object();
     for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
     perFrame.push_back({{"number", frame.number}, {"passes", passes}, {"totalMs", st.totalMilliseconds},
-                        {"sanitizedValues", st.sanitizedValues}});
+                        {"sanitizedValues", st.sanitizedValues}, {"sanitized", sanitizeJson(st.sanitized)}});
+    if (frame.cut) perFrame.back()["cut"] = true;
+    if (!st.notes.empty()) perFrame.back()["notes"] = st.notes;
+    for (const auto& n : st.notes)
+      if (std::find(notes.begin(), notes.end(), n) == notes.end()) notes.push_back(n);
     sanitized += st.sanitizedValues;
+    accumulate(sanitizedPerBuffer, st.sanitized);
     totals.push_back(st.totalMilliseconds);
     char detail[64];
     std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
@@ -69,31 +94,41 @@ void runDenoise(const DenoiseOptions& o) {
   std::vector<double> sorted = totals;
   std::sort(sorted.begin(), sorted.end());
   timing["frames"] = perFrame;
+  timing["pixels"] = o.half ? "half" : "float";
   timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   timing["sanitizedValues"] = sanitized;
-  writeFileAtomic(fs::path(o.output) / "timings.json", timing.dump(1));
+  timing["sanitized"] = sanitizeJson(sanitizedPerBuffer);
+  timing["notes"] = notes;
+  writeFileAtomic(out / "timings.json", timing.dump(1));
   progress.finish();
   if (sanitized)
-    std::fprintf(stderr, "note: %llu NaN/Inf/negative radiance values were replaced by 0 (see timings.json)\n",
-                 (unsigned long long)sanitized);
-  std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.c_str());
+    std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized,
+                 sanitizeSummary(sanitizedPerBuffer).c_str());
+  for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.dir.c_str());
 }
 }  // namespace
 
 void addDenoise(CLI::App& app) {
   auto o = std::make_shared<DenoiseOptions>();
-  auto* cmd = app.add_subcommand("denoise", "denoise a sequence (native or Blender multilayer EXR)");
+  auto* cmd = addSubcommand(app, "denoise", "denoise a sequence (native, per-buffer image files or Blender multilayer EXR)");
   cmd->add_option("--method,-m", o->method, "method name (see `rtdenoise methods`)")->capture_default_str();
-  cmd->add_option("--input,-i", o->input, "sequence directory (a stereo one, with left/ and right/, denoises both eyes)")
-      ->required();
-  cmd->add_option("--output,-o", o->output, "output directory (frame_NNNN.exr + timings.json; stereo: left/, right/)")
-      ->required();
-  cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable)");
-  cmd->add_option("--backend,-b", o->backend, "cpu or vulkan")->capture_default_str();
-  cmd->add_option("--device", o->vulkanDevice, "Vulkan device index or name substring");
-  cmd->add_option("--threads", o->threads, "CPU threads (0 = all)")->capture_default_str();
-  cmd->add_option("--frames", o->maxFrames, "denoise only the first N frames (0 = all)");
-  cmd->callback([o] { runDenoise(*o); });
+  cmd->add_option("--input,-i", o->input, "sequence directory (docs/sequence-format.md); a stereo one (left/, right/) denoises both eyes")->required();
+  o->output.add(cmd, "frame_NNNN.exr + timings.json (stereo: left/, right/ + timings.json)");
+  cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable; presets such as variant= apply first)");
+  o->device.add(cmd);
+  cmd->add_option("--frames", o->maxFrames, "denoise only the first N frames (0 = all)")->capture_default_str();
+  cmd->add_option("--cut", o->sequence.cuts,
+                  "frame number(s) where the camera cuts: history is reset there (repeatable or comma-separated; "
+                  "sequence.json and cameras.json can mark cuts too)")
+      ->delimiter(',');
+  cmd->add_flag("--continuous", o->sequence.continuous,
+                "gaps in the frame numbering are not cuts (by default a gap resets history)");
+  cmd->add_flag("--half", o->half, "write half-float EXRs (default 32-bit float)");
+  cmd->add_flag("--preview", o->preview, "also write a tone-mapped 8-bit sRGB preview frame_NNNN.png per frame");
+  cmd->add_option("--tonemap", o->toneMap, "tone map of the previews: aces, reinhard or clamp")->capture_default_str();
+  cmd->add_option("--exposure", o->exposure, "exposure of the previews in stops")->capture_default_str();
+  cmd->callback([o, cmd] { runDenoise(*o, *cmd); });
 }
 
 }  // namespace rtd::cli

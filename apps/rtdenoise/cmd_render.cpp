@@ -14,12 +14,19 @@ namespace rtd::cli {
 
 namespace {
 
+// "cornell, pillars, ...": the built-in scenes for the help text.
+std::string builtinList() {
+  std::string list;
+  for (const auto& n : render::Scene::builtinScenes()) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
 namespace fs = std::filesystem;
 using render::Eye;
 
 struct RenderOptions {
   std::string scene;
-  std::string output;
+  OutputOptions output;
   std::string size;
   int frames = 0;
   int spp = 1;
@@ -39,6 +46,10 @@ struct RenderOptions {
   std::string printScene;
 };
 
+/// What `render` writes into its output directory (and --overwrite replaces).
+const std::vector<std::string> kRenderOutputs = {R"(frame_\d+\.exr)", R"(sequence\.json)", R"(render\.json)",
+                                                 "reference", "left", "right"};
+
 /// Renders (or fetches from the cache) the reference of one frame.
 Image reference(render::Renderer& r, const render::Scene& scene, const RenderOptions& o, const render::ReferenceCache& cache,
                 int index, Eye eye, int& sppTaken, bool& cached) {
@@ -47,18 +58,23 @@ Image reference(render::Renderer& r, const render::Scene& scene, const RenderOpt
   return img;
 }
 
-void runRender(const RenderOptions& o) {
+void runRender(const RenderOptions& o, const CLI::App& cmd) {
   if (!o.printScene.empty()) {
+    for (const char* other : {"--scene", "--output", "--frames", "--size", "--reference-spp"})
+      if (cmd.count(other)) throw UsageError(std::string("--print-scene prints a description and renders nothing: drop ") + other);
     const std::string text = render::Scene::builtinDescription(o.printScene);
-    if (text.empty()) throw Error("--print-scene '" + o.printScene + "': not a built-in scene");
+    if (text.empty()) throw UsageError("--print-scene '" + o.printScene + "': not a built-in scene");
     std::printf("%s\n", text.c_str());
     return;
   }
-  if (o.scene.empty()) throw Error("render: --scene is required");
-  if (o.output.empty()) throw Error("render: --output is required");
-  if (o.frames < 0) throw Error("--frames: must be >= 1");
-  if (o.referenceSpp < 0) throw Error("--reference-spp: must be >= 0");
-  if (o.referenceSeconds < 0) throw Error("--reference-seconds: must be >= 0");
+  if (o.scene.empty()) throw UsageError("--scene is required (unless --print-scene)");
+  if (o.output.dir.empty()) throw UsageError("--output is required (unless --print-scene)");
+  if (o.referenceSeconds > 0 && o.referenceSpp == 0)
+    throw UsageError("--reference-seconds limits the references: give --reference-spp too");
+  if (o.referenceSpp == 0 && cmd.count("--reference-cache"))
+    throw UsageError("--reference-cache concerns references: give --reference-spp too");
+  if (cmd.count("--reference-cache") && o.noCache) throw UsageError("--reference-cache and --no-reference-cache contradict each other");
+  if (cmd.count("--eye-distance") && !o.stereo) throw UsageError("--eye-distance needs --stereo");
   std::unique_ptr<tbb::global_control> threads;
   if (o.threads > 0) threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
 
@@ -78,7 +94,8 @@ void runRender(const RenderOptions& o) {
   render::ReferenceCache cache;
   if (!o.noCache) cache.dir = o.cacheDir.empty() ? render::ReferenceCache::defaultDir() : fs::path(o.cacheDir);
 
-  const fs::path out(o.output);
+  o.output.prepare(kRenderOutputs);
+  const fs::path out(o.output.dir);
   std::vector<std::pair<Eye, fs::path>> eyes;
   if (o.stereo) eyes = {{Eye::Left, out / "left"}, {Eye::Right, out / "right"}};
   else eyes = {{Eye::Center, out}};
@@ -157,27 +174,31 @@ void runRender(const RenderOptions& o) {
 
 void addRender(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
-  auto* cmd = app.add_subcommand("render", "path-trace a scene into a native sequence (1-spp input, features, references)");
-  cmd->add_option("--scene", o->scene, "built-in scene (cornell, pillars, glossy, dynamic), .gltf/.glb or .json description");
-  cmd->add_option("--output,-o", o->output, "output directory (a native sequence; stereo: <dir>/left and <dir>/right)");
-  cmd->add_option("--frames", o->frames, "number of frames (default: the scene's)");
+  auto* cmd = addSubcommand(app, "render", "path-trace a scene into a native sequence (1-spp input, features, references)");
+  cmd->add_option("--scene", o->scene, "REQUIRED (unless --print-scene): built-in scene (" + builtinList() + "), .gltf/.glb or .json description");
+  o->output.add(cmd, "REQUIRED (unless --print-scene): a native sequence; stereo: <dir>/left and <dir>/right", false);
+  cmd->add_option("--frames", o->frames, "number of frames (default: the scene's)")->check(atLeast(1));
   cmd->add_option("--size", o->size, "WxH (default: the scene's, 320x180 for built-in scenes)");
-  cmd->add_option("--spp", o->spp, "samples per pixel of the noisy color")->default_val(1);
-  cmd->add_option("--reference-spp", o->referenceSpp, "also render references with this many samples per pixel (0: none)");
-  cmd->add_option("--reference-seconds", o->referenceSeconds, "time budget per reference frame in seconds (0: none)");
-  cmd->add_option("--max-depth", o->maxDepth, "maximum path depth (default 8)");
-  cmd->add_option("--seed", o->seed, "global random seed (default: the scene's, 1)");
-  cmd->add_option("--sample-fraction", o->sampleFraction, "fraction of pixels traced per frame (sparse, blue-noise mask)")->default_val(1.0f);
+  cmd->add_option("--spp", o->spp, "samples per pixel of the noisy color")->default_val(1)->check(atLeast(1));
+  cmd->add_option("--reference-spp", o->referenceSpp, "also render references with this many samples per pixel (0: none)")
+      ->check(atLeast(0));
+  cmd->add_option("--reference-seconds", o->referenceSeconds, "time budget per reference frame in seconds (0: none)")
+      ->check(atLeast(0));
+  cmd->add_option("--max-depth", o->maxDepth, "maximum path depth (default 8)")->check(atLeast(1));
+  cmd->add_option("--seed", o->seed, "global random seed (default: the scene's, 1)")->check(atLeast(0));
+  cmd->add_option("--sample-fraction", o->sampleFraction, "fraction of pixels traced per frame (sparse, blue-noise mask)")
+      ->default_val(1.0f)->check(CLI::Range(1e-6f, 1.0f));
   cmd->add_flag("--stereo", o->stereo, "render left and right eyes into <output>/left and <output>/right");
   cmd->add_flag("--hidden-area", o->hiddenArea, "a synthetic HMD hidden-area mesh: lens border and nose not traced (buffer hiddenArea)");
-  cmd->add_option("--eye-distance", o->eyeDistance, "stereo eye distance in world units (default 0.064)");
+  cmd->add_option("--eye-distance", o->eyeDistance, "stereo eye distance in world units (default 0.064; with --stereo)")
+      ->check(atLeast(0));
   cmd->add_flag("--jitter", o->jitter, "jitter primary rays within the pixel (default: pixel centres)");
   cmd->add_flag("--minimal", o->minimal, "write only color and the standard feature buffers");
-  cmd->add_option("--threads", o->threads, "worker threads (default: all cores)");
+  cmd->add_option("--threads", o->threads, "CPU threads (0 = all cores)")->capture_default_str()->check(atLeast(0));
   cmd->add_option("--reference-cache", o->cacheDir, "reference cache directory (default $RTD_CACHE_DIR or ~/.cache/rtdenoise/references)");
   cmd->add_flag("--no-reference-cache", o->noCache, "do not read or write the reference cache");
   cmd->add_option("--print-scene", o->printScene, "print a built-in scene's JSON description and exit");
-  cmd->callback([o] { runRender(*o); });
+  cmd->callback([o, cmd] { runRender(*o, *cmd); });
 }
 
 }  // namespace rtd::cli

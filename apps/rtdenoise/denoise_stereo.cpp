@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
+#include "sanitize_report.h"
 
 namespace rtd::cli {
 
@@ -14,9 +15,13 @@ bool isStereoSequence(const fs::path& dir) {
   return !fs::exists(dir / "sequence.json") && fs::is_directory(dir / "left") && fs::is_directory(dir / "right");
 }
 
-void runDenoiseStereo(const DenoiseOptions& o) {
-  const fs::path in(o.input), out(o.output);
-  std::unique_ptr<SequenceReader> eyes[2] = {SequenceReader::open(in / "left"), SequenceReader::open(in / "right")};
+/// What a stereo `denoise` writes into its output directory (and --overwrite replaces).
+const std::vector<std::string> kStereoOutputs = {"left", "right", R"(timings\.json)"};
+
+void runDenoiseStereo(const DenoiseOptions& o, const eval::ToneMapSettings& previewToneMap) {
+  const fs::path in(o.input), out(o.output.dir);
+  std::unique_ptr<SequenceReader> eyes[2] = {SequenceReader::open(in / "left", o.sequence),
+                                             SequenceReader::open(in / "right", o.sequence)};
   const char* names[2] = {"left", "right"};
   const SequenceReader &l = *eyes[0], &r = *eyes[1];
   if (l.width() != r.width() || l.height() != r.height())
@@ -30,7 +35,8 @@ void runDenoiseStereo(const DenoiseOptions& o) {
       throw Error("stereo sequence '" + o.input + "': frame " + std::to_string(i + 1) + " is number " +
                   std::to_string(l.frameNumber(i)) + " on the left and " + std::to_string(r.frameNumber(i)) + " on the right");
 
-  auto device = Device::create({.backend = parseBackend(o.backend), .threads = o.threads, .vulkanDevice = o.vulkanDevice});
+  const int frames = framesToUse(o.maxFrames, l.frameCount());
+  auto device = Device::create(o.device.desc(o.device.single()));
   auto denoiser = device->createStereoDenoiser(o.method);
   applySettings(*denoiser, o.settings);
   for (int e = 0; e < 2; ++e) {
@@ -41,8 +47,8 @@ void runDenoiseStereo(const DenoiseOptions& o) {
                     " eye of '" + o.input + "' does not have (first frame: '" + eyes[e]->framePath(0).string() + "')");
   }
 
+  o.output.prepare(kStereoOutputs);
   for (const char* e : names) fs::create_directories(out / e);
-  const int frames = o.maxFrames > 0 ? std::min(o.maxFrames, l.frameCount()) : l.frameCount();
   std::fprintf(stderr, "denoising %d stereo frames (2 x %dx%d) with '%s' on %s\n", frames, l.width(), l.height(),
                o.method.c_str(), device->name().c_str());
 
@@ -59,7 +65,9 @@ void runDenoiseStereo(const DenoiseOptions& o) {
   timing["settings"] = settings;
   json perFrame = json::array();
   uint64_t sanitized = 0;
+  BufferCounts sanitizedPerBuffer{};
   std::vector<double> totals;
+  std::vector<std::string> notes;  // distinct FrameStats::notes (parts that did not run), in order
   Progress progress("denoise", frames);
   Image outputs[2] = {Image(l.width(), l.height(), 3), Image(l.width(), l.height(), 3)};
   for (int i = 0; i < frames; ++i) {
@@ -69,8 +77,12 @@ void runDenoiseStereo(const DenoiseOptions& o) {
     inputs.eye[1] = fr.inputs();
     denoiser->denoise(inputs, outputs[0].view(), outputs[1].view());
     char name[32];
-    std::snprintf(name, sizeof name, "frame_%04d.exr", fl.number);
-    for (int e = 0; e < 2; ++e) writeRgbExr(out / names[e] / name, outputs[e]);
+    std::snprintf(name, sizeof name, "frame_%04d", fl.number);
+    for (int e = 0; e < 2; ++e) {
+      writeRgbExr(out / names[e] / (std::string(name) + ".exr"), outputs[e], o.half ? ExrPixels::Half : ExrPixels::Float);
+      if (o.preview)
+        writeFileAtomic(out / names[e] / (std::string(name) + ".png"), eval::encodePng(eval::toneMap(outputs[e], previewToneMap)));
+    }
     const FrameStats& st = denoiser->stats();
     json passes = json::object();
     for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
@@ -78,8 +90,14 @@ void runDenoiseStereo(const DenoiseOptions& o) {
     for (const auto& m : st.memory) memory[m.category] = m.bytes;
     perFrame.push_back({{"number", fl.number}, {"passes", passes}, {"totalMs", st.totalMilliseconds},
                         {"eyeTotalMs", {denoiser->eyeStats(0).totalMilliseconds, denoiser->eyeStats(1).totalMilliseconds}},
-                        {"sanitizedValues", st.sanitizedValues}, {"memoryBytes", memory}});
+                        {"sanitizedValues", st.sanitizedValues}, {"sanitized", sanitizeJson(st.sanitized)},
+                        {"memoryBytes", memory}});
+    if (fl.cut || fr.cut) perFrame.back()["cut"] = true;
+    if (!st.notes.empty()) perFrame.back()["notes"] = st.notes;
+    for (const auto& n : st.notes)
+      if (std::find(notes.begin(), notes.end(), n) == notes.end()) notes.push_back(n);
     sanitized += st.sanitizedValues;
+    accumulate(sanitizedPerBuffer, st.sanitized);
     totals.push_back(st.totalMilliseconds);
     char detail[64];
     std::snprintf(detail, sizeof detail, "%.1f ms/frame (both eyes)", st.totalMilliseconds);
@@ -88,15 +106,19 @@ void runDenoiseStereo(const DenoiseOptions& o) {
   std::vector<double> sorted = totals;
   std::sort(sorted.begin(), sorted.end());
   timing["frames"] = perFrame;
+  timing["pixels"] = o.half ? "half" : "float";
   timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
   timing["sanitizedValues"] = sanitized;
+  timing["sanitized"] = sanitizeJson(sanitizedPerBuffer);
+  timing["notes"] = notes;
   writeFileAtomic(out / "timings.json", timing.dump(1));
   progress.finish();
   if (sanitized)
-    std::fprintf(stderr, "note: %llu NaN/Inf/negative radiance values were replaced by 0 (see timings.json)\n",
-                 (unsigned long long)sanitized);
-  std::printf("wrote %d frames per eye to %s/left and %s/right, and timings.json\n", frames, o.output.c_str(),
-              o.output.c_str());
+    std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized,
+                 sanitizeSummary(sanitizedPerBuffer).c_str());
+  for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  std::printf("wrote %d frames per eye to %s/left and %s/right, and timings.json\n", frames, o.output.dir.c_str(),
+              o.output.dir.c_str());
 }
 
 }  // namespace rtd::cli

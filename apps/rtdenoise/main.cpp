@@ -1,38 +1,70 @@
-// rtdenoise — command-line front end. Every subcommand is a client of the public API.
+// rtdenoise — command-line front end. Every subcommand is a client of the public API; the
+// conventions they share (exit codes, option spellings) are in cli.h and docs/cli.md.
 #include <cstdio>
+#include <filesystem>
+#include <new>
 #include <string>
 
 #include "cli.h"
+#include "interrupt.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"rtdenoise: real-time denoisers for 1-spp path-traced sequences"};
+  using namespace rtd::cli;
+  installInterruptHandlers();
+  CLI::App app{"rtdenoise: real-time denoisers for 1-spp path-traced sequences", "rtdenoise"};
   app.set_version_flag("--version", std::string("rtdenoise ") + rtd::versionString());
-  app.footer("Exit status: 0 success, 1 bad input, 2 usage error, 3 internal error.");
+  app.footer(kExitStatusFooter);
   app.require_subcommand(1);
-  rtd::cli::addDenoise(app);
-  rtd::cli::addMethods(app);
-  rtd::cli::addBench(app);
+  addDenoise(app);
+  addMethods(app);
+  addBench(app);
 #ifdef HAVE_RTDENOISE_EVAL
-  rtd::cli::addEval(app);
-  rtd::cli::addCompare(app);
-  rtd::cli::addDemo(app);
+  addEval(app);
+  addCompare(app);
+  addDemo(app);
 #endif
 #ifdef HAVE_RTDENOISE_RENDER
-  rtd::cli::addRender(app);
-  rtd::cli::addDataset(app);
+  addRender(app);
+  addDataset(app);
 #endif
-  rtd::cli::addDevices(app);
+  addPack(app);
+  addDevices(app);
+
+  // An unknown subcommand is named (CLI11 alone would say "arguments were not expected").
+  if (argc > 1 && argv[1][0] != '-') {
+    bool known = false;
+    std::string names;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      known |= sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::fprintf(stderr, "rtdenoise: unknown subcommand '%s' (subcommands: %s; see rtdenoise --help)\n", argv[1],
+                   names.c_str());
+      return kExitUsage;
+    }
+  }
+  const std::string which = argc > 1 && argv[1][0] != '-' ? std::string(" ") + argv[1] : std::string();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int printed = app.exit(e);  // prints help/version (0) or the parse error
-    return printed == 0 ? rtd::cli::kExitOk : rtd::cli::kExitUsage;
+    return printed == 0 ? kExitOk : kExitUsage;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "rtdenoise%s: usage error: %s (see rtdenoise%s --help)\n", which.c_str(), e.what(), which.c_str());
+    return kExitUsage;
   } catch (const rtd::Error& e) {
-    std::fprintf(stderr, "rtdenoise: error: %s\n", e.what());
-    return rtd::cli::kExitBadInput;
+    std::fprintf(stderr, "rtdenoise%s: error: %s\n", which.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const std::filesystem::filesystem_error& e) {  // the user's paths: a missing or unwritable directory
+    std::fprintf(stderr, "rtdenoise%s: error: %s\n", which.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {  // inputs too large for this machine (the library refuses absurd sizes)
+    std::fprintf(stderr, "rtdenoise%s: error: out of memory\n", which.c_str());
+    return kExitBadInput;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "rtdenoise: internal error: %s\n", e.what());
-    return rtd::cli::kExitInternal;
+    std::fprintf(stderr, "rtdenoise%s: internal error: %s\n", which.c_str(), e.what());
+    return kExitInternal;
   }
-  return rtd::cli::kExitOk;
+  return kExitOk;
 }

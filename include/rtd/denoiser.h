@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "rtd/error.h"
@@ -65,6 +66,9 @@ struct FrameStats {
   /// Memory held after the call, by category; filled by the methods that account for it
   /// (svgf with components = composite), empty otherwise.
   std::vector<MemoryUse> memory;
+  /// Parts of the method that were asked for but did not run on this frame, and why (e.g.
+  /// "glossyBandwidth off: the frame has no 'reflectedFootprint' buffer").
+  std::vector<std::string> notes;
 };
 
 /// A denoiser owns the history of one image stream. Not thread-safe; use one per stream.
@@ -90,10 +94,11 @@ class Denoiser {
     return *static_cast<const S*>(const_cast<Denoiser*>(this)->settingsStorage(S::kMethod));
   }
 
-  /// Denoise one frame. `output` must have the input's size, Float3 or Float4 (alpha is set
-  /// to 1); it receives linear RGB radiance, remodulated, not tone-mapped. A frame whose size
-  /// differs from the previous one resizes the history (and resets it). Throws rtd::Error on a
-  /// missing required buffer or a size mismatch, before touching history.
+  /// Denoise one frame. `output` must have the input's size, Float3, Float4, Half3 or Half4
+  /// (alpha is set to 1); it receives linear RGB radiance, remodulated, not tone-mapped. The
+  /// frame's conventions (FrameConventions) are converted to the native ones after import. A
+  /// frame whose size differs from the previous one resizes the history (and resets it). Throws
+  /// rtd::Error on a missing required buffer or a size mismatch, before touching history.
   virtual void denoise(const FrameInputs& frame, const ImageView& output) = 0;
 
   /// Forget all history (camera cut, scene change).
@@ -158,5 +163,14 @@ std::vector<DeviceInfo> listDevices(std::string* vulkanError = nullptr);
 
 /// Every registered method with its settings' defaults.
 std::vector<MethodInfo> listMethods();
+
+/// One setting by name and its value as text ("sigmaLuminance", "4").
+using SettingAssignment = std::pair<std::string, std::string>;
+
+/// Sets several settings by name as one request: presets (SettingInfo::preset, e.g. SVGF's
+/// "variant") first, then the others in the order given, so that a preset never overrides a
+/// setting given with it whatever the order. Throws rtd::Error, before changing anything, for
+/// an unknown name or a name given twice; a bad value throws as Denoiser::set() does.
+void applySettings(Denoiser& denoiser, const std::vector<SettingAssignment>& assignments);
 
 }  // namespace rtd

@@ -13,6 +13,9 @@ struct SettingInfo {
   std::string value;                 ///< current value, as text
   std::string doc;                   ///< meaning and source of the default
   std::vector<std::string> choices;  ///< allowed values of an enum
+  /// A preset: setting it by name resets other settings (SVGF's "variant"). setSettings()
+  /// applies presets before the other settings given with them.
+  bool preset = false;
 };
 
 /// Description of a registered method.

@@ -71,6 +71,9 @@ class StereoDenoiser {
   virtual void assignSettings(std::string_view method, const void* settings) = 0;
 };
 
+/// rtd::applySettings (rtd/denoiser.h) for both eyes: presets first, then the others in order.
+void applySettings(StereoDenoiser& denoiser, const std::vector<SettingAssignment>& assignments);
+
 template <class S>
   requires requires { S::kMethod; }
 std::unique_ptr<StereoDenoiser> Device::createStereoDenoiser(const S& settings) {

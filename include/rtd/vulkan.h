@@ -34,9 +34,10 @@ struct VulkanDeviceDesc {
 std::unique_ptr<Device> createVulkanDevice(const VulkanDeviceDesc& desc);
 
 /// Pixels in one of the application's VkBuffers (created with VK_BUFFER_USAGE_STORAGE_BUFFER_BIT
-/// on the same device). Pixel (x, y), channel c, is the 32-bit value at byte
-/// offset + y * rowStride + x * pixelStride + 4 * c; rows from the top. Strides 0 mean tightly
-/// packed. `offset` and the strides must be multiples of 4. Formats as in rtd::ImageView.
+/// on the same device). Pixel (x, y), channel c, is the 32-bit value (16-bit for Half*) at byte
+/// offset + y * rowStride + x * pixelStride + channelBytes(format) * c; rows from the top.
+/// Strides 0 mean tightly packed. `offset` and the strides must be multiples of the channel size
+/// (4 bytes, 2 for Half*). Formats as in rtd::ImageView; outputs are Float3 or Float4.
 struct VulkanBufferView {
   VkBuffer buffer = VK_NULL_HANDLE;
   VkDeviceSize offset = 0;
@@ -77,6 +78,8 @@ struct VulkanFrameInputs {
   std::array<VulkanBufferView, kBufferCount> buffers{};
   std::array<VulkanImageView, kBufferCount> images{};
   Camera camera;
+  /// How the buffers differ from the native conventions (rtd::FrameConventions; converted on the GPU).
+  FrameConventions conventions;
   bool cameraCut = false;
 
   VulkanBufferView& operator[](Buffer b) { return buffers[int(b)]; }

@@ -106,7 +106,8 @@ def train(args) -> dict:
         os.replace(ckpt_path + ".tmp", ckpt_path)
         with open(os.path.join(args.out, "loss.json"), "w") as f:
             json.dump({"model": args.model, "losses": vars(weights), "history": history, "seconds": seconds}, f)
-        plot(history, os.path.join(args.out, "loss.png"), f"{args.model}: {vars(weights)}")
+        terms = ", ".join(f"{k}={v:g}" for k, v in vars(weights).items() if v)
+        plot(history, os.path.join(args.out, "loss.png"), f"{args.model} ({terms})")
 
     if step == 0:
         history["val"].append([0, evaluate(model, val_batch, weights)])
@@ -137,7 +138,10 @@ def train(args) -> dict:
             last = time.time()
     save()
     info = {"command": open(os.path.join(args.out, "command.txt")).read().strip(), "steps": step,
-            "seconds": round(seconds, 1), "machine": machine(), "dataset": os.path.abspath(args.data),
+            "seconds": round(seconds, 1), "machine": machine(),
+            "dataset": {"dir": args.data, "seed": ds.index["seed"], "size": ds.index["size"],
+                        "referenceSpp": ds.index["reference"]["spp"],
+                        "sequences": [s.name for s in ds.sequences]},
             "patches": {"train": len(train_ids), "validation": len(val_ids), "size": args.patch},
             "losses": vars(weights), "finalValidationLoss": history["val"][-1][1] if history["val"] else None,
             "torch": torch.__version__}

@@ -60,8 +60,10 @@ class TnndTest(unittest.TestCase):
                 self.assertTrue(torch.isfinite(pred).all(), f"{k} iterations")
 
     def test_quality_is_stable_across_the_trained_iteration_range(self):
-        # The committed weights on the tiny data set: MSE (log space) at every count in the
-        # training range stays within 25% of the default count's, and below the input's.
+        # The committed weights on the tiny data set (other scenes than the training ones): the
+        # MSE (log space) at every count in the training range stays within 35% of the default
+        # count's and below 75% of the input's. (On the training data set's patches the spread
+        # is 25%; beyond the range the automaton drifts: docs/methods/tnnd.md.)
         m = TNND.load_weights(WEIGHTS)
         ds = Dataset(TINY)
         b = {k: torch.from_numpy(v) for k, v in PatchSampler(ds, ds.patches(16), 16, augment=False).fixed(8).items()}
@@ -72,8 +74,8 @@ class TnndTest(unittest.TestCase):
             noisy = float(((m.predict(b, 0) - target) ** 2).mean())
         ref = err[TNND.default_iterations]
         for k, e in err.items():
-            self.assertLess(e, noisy, f"{k} iterations: not better than the noisy input")
-            self.assertLess(abs(e - ref), 0.25 * ref, f"{k} iterations: {e} vs {ref} at {TNND.default_iterations}")
+            self.assertLess(e, 0.75 * noisy, f"{k} iterations: {e}, hardly better than the noisy input's {noisy}")
+            self.assertLess(abs(e - ref), 0.35 * ref, f"{k} iterations: {e} vs {ref} at {TNND.default_iterations}")
 
     def test_committed_fixture_is_this_model(self):
         with tempfile.TemporaryDirectory() as d:

@@ -20,7 +20,8 @@ constexpr BufferDesc kBuffers[kBufferCount] = {
     {"reflectedPosition", "XYZ"}, {"reflectedNormal", "XYZ"}, {"reflectedAlbedo", "RGB"},
     {"secondaryDistance", "Z"}, {"mirrorDirection", "XYZ"}, {"seed", "I"},
     {"sampleMask", "V"},      {"emission", "RGB"},        {"gradientSample", "V"},
-    {"gradientPrevious", "V"}, {"gradientCurrent", "V"},  {"indirectDiffuse", "RGB"},
+    {"gradientPrevious", "V"}, {"gradientCurrent", "V"},  {"reflectedFootprint", "V"},
+    {"diffuseAlbedo", "RGB"}, {"specularAlbedo", "RGB"}, {"indirectDiffuse", "RGB"},
     {"hiddenArea", "V"},
 };
 }  // namespace

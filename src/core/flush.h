@@ -17,9 +17,6 @@
 // sum it would have entered (< 2^-24 of the centre tap's weight).
 #pragma once
 #include <cmath>
-#ifdef __AVX__
-#include <immintrin.h>
-#endif
 
 namespace rtd {
 
@@ -42,15 +39,5 @@ inline float squareOrZero(float v) { return std::abs(v) < kTinyRoot ? 0.0f : v *
 /// the vectorized weights' exp).
 inline float weightExp(float x) { return x < kMaxWeightExponent ? std::exp(-x) : 0.0f; }
 
-#ifdef __AVX__
-inline __m256 flushTiny8(__m256 v) {
-  const __m256 magnitude = _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
-  return _mm256_and_ps(v, _mm256_cmp_ps(magnitude, _mm256_set1_ps(kTiny), _CMP_GE_OQ));
-}
-inline __m256 squareOrZero8(__m256 v) {
-  const __m256 magnitude = _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
-  return _mm256_and_ps(_mm256_mul_ps(v, v), _mm256_cmp_ps(magnitude, _mm256_set1_ps(kTinyRoot), _CMP_GE_OQ));
-}
-#endif
 
 }  // namespace rtd

@@ -60,7 +60,7 @@ void applyHiddenArea(FrameData& frame);
 bool streamsPastCache(size_t bytes);
 
 /// Writes RGB planes, plus the separated emission if not null, into a Float3/Float4 view
-/// (alpha = 1).
+/// (alpha = 1); Half3/Half4 views go to exportRgbHalf() (core/half.h).
 void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out);
 
 }  // namespace rtd

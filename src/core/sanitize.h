@@ -5,9 +5,12 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cfloat>
 #include <cmath>
 
+#include "core/flush.h"
 #include "rtd/denoiser.h"
 #include "rtd/frame.h"
 
@@ -31,6 +34,25 @@ constexpr float kMaxId = 16777216.0f;
 
 /// The range of buffer b's values after import.
 ValueRange importRange(Buffer b);
+
+/// v made finite and put into r, counted in `bad`: the scalar rule of every import path (float
+/// and half rows; sanitize.glsl is its GLSL twin). Non-finite values become 0 (counted),
+/// magnitudes below kTiny 0 (not counted: the hot loops never see a subnormal, core/flush.h),
+/// values outside r are clamped (counted). Decided on the bits, so a subnormal input is never
+/// the operand of a floating-point instruction.
+inline float sanitizeValue(float v, ValueRange r, SanitizeCounts& bad) {
+  const uint32_t magnitude = std::bit_cast<uint32_t>(v) & 0x7fffffffu;
+  if (magnitude > std::bit_cast<uint32_t>(FLT_MAX)) {  // NaN and infinities
+    ++bad.nonFinite;
+    return 0.0f;
+  }
+  if (magnitude < std::bit_cast<uint32_t>(kTiny)) v = 0.0f;
+  if (v < r.lo || v > r.hi) {
+    ++bad.outOfRange;
+    return v < r.lo ? r.lo : r.hi;
+  }
+  return v;
+}
 
 /// Buffers holding unit vectors (normal, reflectedNormal, mirrorDirection): renormalized after import.
 bool isUnitVectorBuffer(Buffer b);

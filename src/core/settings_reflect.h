@@ -130,6 +130,8 @@ struct SettingValidator {
 template <class S> std::vector<SettingInfo> listSettings(S s) {
   SettingLister l;
   s.visit(l);
+  if constexpr (requires { S::isPreset(std::string_view()); })
+    for (auto& info : l.out) info.preset = S::isPreset(info.name);
   return std::move(l.out);
 }
 

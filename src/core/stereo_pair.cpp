@@ -16,6 +16,14 @@ FrameStats combineEyeStats(const FrameStats& l, const FrameStats& r) {
   }
   out.totalMilliseconds = l.totalMilliseconds + r.totalMilliseconds;
   out.sanitizedValues = l.sanitizedValues + r.sanitizedValues;
+  for (int b = 0; b < kBufferCount; ++b) {
+    out.sanitized[b].nonFinite = l.sanitized[b].nonFinite + r.sanitized[b].nonFinite;
+    out.sanitized[b].outOfRange = l.sanitized[b].outOfRange + r.sanitized[b].outOfRange;
+    out.sanitized[b].renormalized = l.sanitized[b].renormalized + r.sanitized[b].renormalized;
+  }
+  out.notes = l.notes;  // the eyes' distinct notes
+  for (const auto& n : r.notes)
+    if (std::find(out.notes.begin(), out.notes.end(), n) == out.notes.end()) out.notes.push_back(n);
   out.pixels = l.pixels + r.pixels;
   out.memory = l.memory;
   for (const auto& m : r.memory) {

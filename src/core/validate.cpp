@@ -14,9 +14,11 @@ std::string sizeText(long long w, long long h) { return std::to_string(w) + "x" 
 
 // Pointer alignment and strides of a host view.
 void checkLayout(const std::string& what, const ImageView& v) {
-  if (reinterpret_cast<uintptr_t>(v.data) % 4)
-    throw Error(what + ": data pointer is not 4-byte aligned (pixels are 32-bit values)");
-  checkStrides(what, v.channels(), v.pixelStride, v.rowStride, v.width);
+  const size_t unit = size_t(channelBytes(v.format));
+  if (reinterpret_cast<uintptr_t>(v.data) % unit)
+    throw Error(what + ": data pointer is not " + std::to_string(unit) + "-byte aligned (pixels are " +
+                std::to_string(8 * unit) + "-bit values)");
+  checkStrides(what, v.format, v.pixelStride, v.rowStride, v.width);
 }
 
 void checkMatrix(const std::array<float, 16>& m, const char* name) {
@@ -34,11 +36,11 @@ void checkImageSize(const std::string& what, long long width, long long height) 
                 std::to_string(kMaxImageSide) + " pixels a side, " + std::to_string(kMaxImagePixels) + " pixels)");
 }
 
-void checkStrides(const std::string& what, int channels, size_t pixelStride, size_t rowStride, int width) {
-  const size_t packed = size_t(channels) * 4;
-  if (pixelStride % 4 || rowStride % 4)
+void checkStrides(const std::string& what, Format format, size_t pixelStride, size_t rowStride, int width) {
+  const size_t unit = size_t(channelBytes(format)), packed = size_t(channelCount(format)) * unit;
+  if (pixelStride % unit || rowStride % unit)
     throw Error(what + ": pixel stride " + std::to_string(pixelStride) + " and row stride " + std::to_string(rowStride) +
-                " must be multiples of 4 bytes");
+                " must be multiples of " + std::to_string(unit) + " bytes");
   if (pixelStride && pixelStride < packed)
     throw Error(what + ": pixel stride " + std::to_string(pixelStride) + " is smaller than a pixel of the format (" +
                 std::to_string(packed) + " bytes)");
@@ -79,7 +81,9 @@ void checkCamera(const Camera& camera) {
 
 void checkOutputView(const ImageView& out, int width, int height) {
   if (out.empty()) throw Error("output view is empty");
-  if (out.format != Format::Float3 && out.format != Format::Float4) throw Error("output view must be Float3 or Float4");
+  if (out.format != Format::Float3 && out.format != Format::Float4 && out.format != Format::Half3 &&
+      out.format != Format::Half4)
+    throw Error("output view must be Float3, Float4, Half3 or Half4");
   if (out.width != width || out.height != height)
     throw Error("output view is " + sizeText(out.width, out.height) + ", the frame (buffer 'color') is " +
                 sizeText(width, height));

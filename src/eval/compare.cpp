@@ -31,29 +31,101 @@ std::string cpuModel() {
   return "unknown CPU";
 }
 
-/// Applies "method.key=value" or "key=value" assignments that concern this denoiser.
-void applySettings(Denoiser& d, const std::vector<std::string>& assignments) {
-  const auto known = d.settings();
-  for (const auto& a : assignments) {
-    const auto eq = a.find('=');
-    if (eq == std::string::npos || eq == 0) throw Error("setting '" + a + "': expected method.key=value or key=value");
-    std::string key = a.substr(0, eq);
-    const std::string value = a.substr(eq + 1);
-    const auto dot = key.find('.');
-    if (dot != std::string::npos && key.substr(0, dot) == d.method()) {
-      key = key.substr(dot + 1);
-    } else if (dot != std::string::npos) {
-      // Either another method's setting, or a dotted setting name of this method.
-      bool mine = false;
-      for (const auto& s : known) mine |= s.name == key;
-      if (!mine) continue;
-    } else {
-      bool has = false;
-      for (const auto& s : known) has |= s.name == key;
-      if (!has) continue;
+bool hasSetting(const MethodInfo& m, const std::string& key) {
+  return std::any_of(m.settings.begin(), m.settings.end(), [&](const SettingInfo& s) { return s.name == key; });
+}
+
+const MethodInfo& methodNamed(const std::vector<MethodInfo>& methods, const std::string& name, const std::string& where) {
+  for (const auto& m : methods)
+    if (m.name == name) return m;
+  std::string names;
+  for (const auto& m : methods) names += (names.empty() ? "" : ", ") + m.name;
+  throw Error(where + ": no method '" + name + "' (methods: " + names + ")");
+}
+
+/// One run to make: a configuration on one backend, with every setting it gets.
+struct PlannedRun {
+  RunConfig config;
+  Backend backend;
+  std::vector<SettingAssignment> settings;  ///< global settings that concern it, then its own
+};
+
+/// Expands the configurations over the backends and distributes the global settings; every
+/// name is checked here, before anything runs.
+std::vector<PlannedRun> planRuns(const CompareSettings& cs, std::vector<std::string>& skipped) {
+  const auto methods = listMethods();
+  std::vector<RunConfig> configs = cs.configs;
+  if (configs.empty())
+    for (const auto& m : methods)
+      if (m.cpu) configs.push_back({m.name, false, Backend::Cpu, {}});
+  if (cs.backends.empty()) throw Error("comparison: no backend given");
+
+  std::vector<PlannedRun> plan;
+  for (const auto& c : configs) {
+    const MethodInfo& info = methodNamed(methods, c.method, "configuration '" + configText(c) + "'");
+    for (const auto& [key, value] : c.settings)
+      if (!hasSetting(info, key))
+        throw Error("configuration '" + configText(c) + "': method '" + c.method + "' has no setting '" + key +
+                    "' (see `rtdenoise methods " + c.method + "`)");
+    const std::vector<Backend> backends = c.hasBackend ? std::vector<Backend>{c.backend} : cs.backends;
+    for (Backend b : backends) {
+      const bool implemented = b == Backend::Cpu ? info.cpu : info.vulkan;
+      if (!implemented) {
+        // Skipped (and noted) when another backend of the list runs it, so `--backend cpu,vulkan`
+        // compares what exists on both; an error when nothing would run it.
+        if (!c.hasBackend && backends.size() > 1) {
+          skipped.push_back(configText(c) + " on " + std::string(backendName(b)) + ": not implemented on this backend");
+          continue;
+        }
+        throw Error("configuration '" + configText(c) + "': method '" + c.method + "' has no " +
+                    std::string(backendName(b)) + " implementation");
+      }
+      plan.push_back({c, b, {}});
     }
-    d.set(key, value);
   }
+
+  // Global settings: "method.key=value" or "key=value"; each must reach at least one run.
+  for (const auto& text : cs.settings) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0) throw Error("setting '" + text + "': expected method.key=value or key=value");
+    const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
+    bool used = false;
+    for (auto& run : plan) {
+      const MethodInfo& info = methodNamed(methods, run.config.method, "configuration");
+      std::string k = key;
+      // "svgf.sigmaNormal": for svgf runs; a dotted name of the method's own wins over that reading.
+      const auto dot = key.find('.');
+      if (!hasSetting(info, key) && dot != std::string::npos) {
+        if (key.substr(0, dot) != run.config.method) continue;
+        k = key.substr(dot + 1);
+      }
+      if (!hasSetting(info, k)) continue;
+      const bool own = std::any_of(run.config.settings.begin(), run.config.settings.end(),
+                                   [&](const SettingAssignment& a) { return a.first == k; });
+      if (!own) run.settings.emplace_back(k, value);
+      used = true;
+    }
+    if (!used) throw Error("setting '" + text + "': no method in the comparison has a setting '" + key + "'");
+  }
+  for (auto& run : plan) run.settings.insert(run.settings.end(), run.config.settings.begin(), run.config.settings.end());
+  return plan;
+}
+
+/// Labels: the method, then the configuration's own settings, then the backend when the runs
+/// use more than one. Two runs with one label are the same configuration listed twice.
+std::vector<std::string> labelRuns(const std::vector<PlannedRun>& plan) {
+  bool severalBackends = false;
+  for (const auto& r : plan) severalBackends |= r.backend != plan.front().backend;
+  std::vector<std::string> labels;
+  for (const auto& r : plan) {
+    std::string label = r.config.method;
+    for (const auto& [k, v] : r.config.settings) label += " " + k + "=" + v;
+    if (severalBackends) label += " (" + std::string(backendName(r.backend)) + ")";
+    if (std::find(labels.begin(), labels.end(), label) != labels.end())
+      throw Error("configuration '" + configText(r.config) + "' is listed twice");
+    labels.push_back(label);
+  }
+  return labels;
 }
 
 struct Runner {
@@ -63,6 +135,47 @@ struct Runner {
   Image output;
 };
 }  // namespace
+
+RunConfig parseRunConfig(const std::string& text) {
+  RunConfig c;
+  std::vector<std::string> parts;
+  size_t start = 0;
+  for (size_t i = 0; i <= text.size(); ++i)
+    if (i == text.size() || text[i] == ':') {
+      parts.push_back(text.substr(start, i - start));
+      start = i + 1;
+    }
+  std::string head = parts.front();
+  if (const auto at = head.find('@'); at != std::string::npos) {
+    const std::string b = head.substr(at + 1);
+    if (b == "cpu") c.backend = Backend::Cpu;
+    else if (b == "vulkan") c.backend = Backend::Vulkan;
+    else throw Error("configuration '" + text + "': backend '" + b + "' (expected cpu or vulkan)");
+    c.hasBackend = true;
+    head = head.substr(0, at);
+  }
+  if (head.empty()) throw Error("configuration '" + text + "': no method (expected method[@backend][:key=value]...)");
+  c.method = head;
+  for (size_t i = 1; i < parts.size(); ++i) {
+    const auto eq = parts[i].find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error("configuration '" + text + "': '" + parts[i] + "' is not key=value (expected method[@backend][:key=value]...)");
+    c.settings.emplace_back(parts[i].substr(0, eq), parts[i].substr(eq + 1));
+  }
+  return c;
+}
+
+std::string configText(const RunConfig& c) {
+  std::string s = c.method;
+  if (c.hasBackend) s += "@" + std::string(backendName(c.backend));
+  for (const auto& [k, v] : c.settings) s += ":" + k + "=" + v;
+  return s;
+}
+
+void checkCompareSettings(const CompareSettings& settings) {
+  std::vector<std::string> skipped;
+  (void)labelRuns(planRuns(settings, skipped));
+}
 
 double MethodRun::medianTotalMs() const { return median(totalMs); }
 double MethodRun::medianPassMs(const std::string& pass) const {
@@ -81,6 +194,8 @@ FrameSource directorySource(const fs::path& inputDir, const fs::path& referenceD
   FrameSource s;
   s.description = "input " + inputDir.string() + ", reference " + referenceDir.string();
   s.frameCount = n;
+  s.width = input->width();
+  s.height = input->height();
   s.load = [input, reference](int index, Image& ref) {
     Frame f = input->read(index);
     const int ri = reference->indexOf(f.number);
@@ -98,11 +213,6 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
                          const std::function<void(int, int, const std::string&)>& progress) {
   const auto start = std::chrono::steady_clock::now();
   if (source.frameCount <= 0) throw Error("comparison: the source '" + source.description + "' has no frames");
-  std::vector<std::string> methods = settings.methods;
-  if (methods.empty())
-    for (const auto& m : listMethods())
-      if (m.cpu) methods.push_back(m.name);
-
   Comparison c;
   c.source = source.description;
   c.eval = settings.eval;
@@ -115,36 +225,34 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
     r.run.label = "input";
     runners.push_back(std::move(r));
   }
+  const std::vector<PlannedRun> plan = planRuns(settings, c.skipped);
+  const std::vector<std::string> labels = labelRuns(plan);
   std::map<Backend, std::unique_ptr<Device>> devices;
-  for (Backend b : settings.backends) {
-    auto& dev = devices[b];
+  for (size_t k = 0; k < plan.size(); ++k) {
+    const PlannedRun& p = plan[k];
+    auto& dev = devices[p.backend];
     if (!dev) {
       DeviceDesc desc;
-      desc.backend = b;
+      desc.backend = p.backend;
       desc.threads = settings.threads;
+      if (p.backend == Backend::Vulkan) desc.vulkanDevice = settings.vulkanDevice;
       dev = Device::create(desc);
     }
-    for (const auto& m : methods) {
-      // A method without an implementation on this backend is skipped (and noted) when another
-      // backend runs it, so `--backends cpu,vulkan` compares what exists on both.
-      const auto infos = listMethods();
-      const auto info = std::find_if(infos.begin(), infos.end(), [&](const MethodInfo& i) { return i.name == m; });
-      if (info != infos.end() && settings.backends.size() > 1 && !(b == Backend::Cpu ? info->cpu : info->vulkan)) {
-        c.skipped.push_back(m + " on " + std::string(backendName(b)) + ": not implemented on this backend");
-        continue;
-      }
-      Runner r{{}, dev->createDenoiser(m), SequenceEvaluator(settings.eval), {}};
-      applySettings(*r.denoiser, settings.settings);
-      r.run.method = m;
-      r.run.backend = std::string(backendName(b));
-      r.run.label = settings.backends.size() > 1 ? m + " (" + r.run.backend + ")" : m;
-      r.run.device = dev->name();
-      r.run.settings = r.denoiser->settings();
-      runners.push_back(std::move(r));
-    }
+    Runner r{{}, dev->createDenoiser(p.config.method), SequenceEvaluator(settings.eval), {}};
+    applySettings(*r.denoiser, p.settings);
+    r.run.method = p.config.method;
+    r.run.config = configText(p.config);
+    r.run.backend = std::string(backendName(p.backend));
+    r.run.label = labels[k];
+    r.run.device = dev->name();
+    r.run.settings = r.denoiser->settings();
+    runners.push_back(std::move(r));
   }
 
-  const int shown = settings.shownFrame < 0 ? source.frameCount - 1 : std::min(settings.shownFrame, source.frameCount - 1);
+  if (settings.shownFrame >= source.frameCount)
+    throw Error("comparison: shown frame index " + std::to_string(settings.shownFrame) + " is past the last of " +
+                std::to_string(source.frameCount) + " frames");
+  const int shown = settings.shownFrame < 0 ? source.frameCount - 1 : settings.shownFrame;
   for (int i = 0; i < source.frameCount; ++i) {
     Image reference;
     const Frame frame = source.load(i, reference);
@@ -161,7 +269,9 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
       c.reference = reference;
       c.shownFrameNumber = frame.number;
     }
-    const FrameInputs inputs = frame.inputs();
+    const FrameInputs inputs = frame.inputs();  // a cut (Frame::cut) resets each denoiser's history
+    if (frame.cut)
+      for (auto& r : runners) r.evaluator.resetTemporal();  // no temporal error across a cut
     const PreparedReference prepared = prepareReference(frame.number, reference, settings.eval);
     for (auto& r : runners) {
       const Image* result = &frame[Buffer::Color];
@@ -190,11 +300,20 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
     r.run.metrics = {r.run.label, r.evaluator.frames(), r.evaluator.steady(), r.evaluator.warmup()};
     c.runs.push_back(std::move(r.run));
   }
-  // Crop: as asked, clamped to the image; by default a centred region a third of each side.
-  c.cropWidth = settings.cropWidth > 0 ? std::min(settings.cropWidth, c.width) : std::max(1, std::min(c.width, c.width / 3));
-  c.cropHeight = settings.cropHeight > 0 ? std::min(settings.cropHeight, c.height) : std::max(1, std::min(c.height, c.height / 3));
-  c.cropX = settings.cropWidth > 0 ? std::clamp(settings.cropX, 0, c.width - c.cropWidth) : (c.width - c.cropWidth) / 2;
-  c.cropY = settings.cropWidth > 0 ? std::clamp(settings.cropY, 0, c.height - c.cropHeight) : (c.height - c.cropHeight) / 2;
+  // Crop: as asked (it must lie inside the image); by default a centred region a third of each side.
+  if (settings.cropWidth > 0) {
+    if (settings.cropX < 0 || settings.cropY < 0 || settings.cropHeight <= 0 || settings.cropX + settings.cropWidth > c.width ||
+        settings.cropY + settings.cropHeight > c.height)
+      throw Error("comparison: crop " + std::to_string(settings.cropWidth) + "x" + std::to_string(settings.cropHeight) + " at " +
+                  std::to_string(settings.cropX) + "," + std::to_string(settings.cropY) + " does not lie inside the " +
+                  std::to_string(c.width) + "x" + std::to_string(c.height) + " image");
+    c.cropX = settings.cropX, c.cropY = settings.cropY, c.cropWidth = settings.cropWidth, c.cropHeight = settings.cropHeight;
+  } else {
+    c.cropWidth = std::max(1, c.width / 3);
+    c.cropHeight = std::max(1, c.height / 3);
+    c.cropX = (c.width - c.cropWidth) / 2;
+    c.cropY = (c.height - c.cropHeight) / 2;
+  }
   c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return c;
 }
@@ -221,6 +340,7 @@ std::string comparisonJson(const Comparison& c) {
                       {"skipped", c.skipped}, {"runs", nlohmann::json::array()}};
   for (const auto& r : c.runs) {
     nlohmann::json run = {{"label", r.label},
+                          {"config", r.config},
                           {"method", r.method},
                           {"backend", r.backend},
                           {"device", r.device},

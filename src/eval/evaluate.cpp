@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -21,13 +22,14 @@ const std::vector<MetricInfo>& metricList() {
       {"psnr", "PSNR [dB]", "tone-mapped sRGB", true, &FrameMetrics::psnr, false},
       {"ssim", "SSIM", "tone-mapped sRGB", true, &FrameMetrics::ssim, false},
       {"flip", "FLIP", "tone-mapped sRGB", false, &FrameMetrics::flip, false},
+      {"hdrFlip", "HDR-FLIP", "linear HDR, exposure bracket", false, &FrameMetrics::hdrFlip, false},
       {"relMse", "relMSE", "linear HDR", false, &FrameMetrics::relMse, false},
       {"rmse", "RMSE", "linear HDR", false, &FrameMetrics::rmse, false},
-      {"temporalError", "temporal", "tone-mapped sRGB luma", false, &FrameMetrics::temporalError, true},
       {"temporalErrorVsReference", "temporal vs ref", "tone-mapped sRGB luma", false,
        &FrameMetrics::temporalErrorVsReference, true},
-      {"referenceTemporalError", "ref temporal", "tone-mapped sRGB luma", false,
-       &FrameMetrics::referenceTemporalError, true},
+      {"temporalError", "temporal change", "tone-mapped sRGB luma", false, &FrameMetrics::temporalError, true, false},
+      {"referenceTemporalError", "ref temporal change", "tone-mapped sRGB luma", false,
+       &FrameMetrics::referenceTemporalError, true, false},
   };
   return list;
 }
@@ -35,20 +37,31 @@ const std::vector<MetricInfo>& metricList() {
 MetricSummary summarize(const std::vector<FrameMetrics>& frames, bool warmup) {
   MetricSummary s;
   for (const auto& m : metricList()) {
-    double sum = 0;
-    int n = 0;
-    for (const auto& f : frames) {
-      if (f.warmup != warmup) continue;
-      const double v = f.*m.field;
-      if (std::isnan(v)) continue;
-      sum += v;
-      ++n;
+    std::vector<double> v;
+    for (const auto& f : frames)
+      if (f.warmup == warmup && !std::isnan(f.*m.field)) v.push_back(f.*m.field);
+    if (v.empty()) {
+      s.mean.*m.field = s.q1.*m.field = s.median.*m.field = s.q3.*m.field = kNaN;
+      continue;
     }
-    s.mean.*m.field = n ? sum / n : kNaN;
+    double sum = 0;
+    for (double x : v) sum += x;
+    s.mean.*m.field = sum / double(v.size());
+    std::sort(v.begin(), v.end());
+    const auto at = [&](double q) {  // numpy.percentile's default ('linear')
+      const double pos = q * double(v.size() - 1);
+      const size_t lo = size_t(pos), hi = std::min(lo + 1, v.size() - 1);
+      return v[lo] + (pos - double(lo)) * (v[hi] - v[lo]);
+    };
+    s.q1.*m.field = at(0.25);
+    s.median.*m.field = at(0.5);
+    s.q3.*m.field = at(0.75);
   }
   for (const auto& f : frames) {
-    s.frames += f.warmup == warmup;
-    if (f.warmup == warmup) s.mean.nonFiniteValues += f.nonFiniteValues;
+    if (f.warmup != warmup) continue;
+    if (s.frames++ == 0) s.firstFrame = f.number;
+    s.lastFrame = f.number;
+    s.mean.nonFiniteValues += f.nonFiniteValues;
   }
   return s;
 }
@@ -78,18 +91,21 @@ PreparedReference prepareReference(int number, const Image& reference, const Eva
   p.ldr = toneMap(p.linear, settings.toneMap);
   p.luma = luminance(p.ldr);
   if (settings.computeFlip) p.flip = FlipReference(p.ldr, settings.flip);
+  if (settings.computeHdrFlip) p.hdrFlip = HdrFlipReference(p.linear, settings.flip);
   return p;
 }
 
-const FrameMetrics& SequenceEvaluator::add(int number, const Image& result, const Image& reference, Image* flipMap) {
+const FrameMetrics& SequenceEvaluator::add(int number, const Image& result, const Image& reference, Image* flipMap,
+                                           Image* hdrFlipMap) {
   if (result.width != reference.width || result.height != reference.height)
     throw Error("frame " + std::to_string(number) + ": result is " + std::to_string(result.width) + "x" +
                 std::to_string(result.height) + " but reference is " + std::to_string(reference.width) + "x" +
                 std::to_string(reference.height));
-  return add(result, prepareReference(number, reference, settings_), flipMap);
+  return add(result, prepareReference(number, reference, settings_), flipMap, hdrFlipMap);
 }
 
-const FrameMetrics& SequenceEvaluator::add(const Image& result, const PreparedReference& ref, Image* flipMap) {
+const FrameMetrics& SequenceEvaluator::add(const Image& result, const PreparedReference& ref, Image* flipMap,
+                                           Image* hdrFlipMap) {
   if (result.width != ref.linear.width || result.height != ref.linear.height)
     throw Error("frame " + std::to_string(ref.number) + ": result is " + std::to_string(result.width) + "x" +
                 std::to_string(result.height) + " but reference is " + std::to_string(ref.linear.width) + "x" +
@@ -107,7 +123,21 @@ const FrameMetrics& SequenceEvaluator::add(const Image& result, const PreparedRe
 
   m.psnr = psnr(resultLdr, ref.ldr);
   m.ssim = ssim(resultLdr, ref.ldr);
-  m.flip = settings_.computeFlip && !ref.flip.empty() ? ref.flip.compare(resultLdr, flipMap) : kNaN;
+  const ErrorStatistics none{kNaN, kNaN, kNaN, kNaN};
+  m.flipPixels = m.hdrFlipPixels = none;
+  Image map;
+  if (settings_.computeFlip && !ref.flip.empty()) {
+    ref.flip.compare(resultLdr, &map);
+    m.flipPixels = errorStatistics(map);
+    if (flipMap) *flipMap = std::move(map);
+  }
+  if (settings_.computeHdrFlip && !ref.hdrFlip.empty()) {
+    ref.hdrFlip.compare(resultHdr, &map);
+    m.hdrFlipPixels = errorStatistics(map);
+    if (hdrFlipMap) *hdrFlipMap = std::move(map);
+  }
+  m.flip = m.flipPixels.mean;
+  m.hdrFlip = m.hdrFlipPixels.mean;
   m.relMse = relMse(resultHdr, ref.linear, settings_.relMseEpsilon);
   m.rmse = rmse(resultHdr, ref.linear);
 
@@ -206,6 +236,52 @@ std::unique_ptr<RgbSequence> RgbSequence::open(const fs::path& dir, const std::s
   return std::make_unique<ExrFilesSequence>(std::move(files));
 }
 
+namespace {
+/// The result's frames are the reference's (or its first N), and those `timings.json` lists.
+void checkResultFrames(const RgbSequence& result, const RgbSequence& reference, const fs::path& resultDir,
+                       const fs::path& referenceDir) {
+  const int n = result.frameCount();
+  const auto listed = [](const RgbSequence& s) {
+    const int count = s.frameCount();
+    if (count == 0) return std::string("no frames");
+    std::string text = std::to_string(count) + " frame(s), " + std::to_string(s.frameNumber(0));
+    bool consecutive = true;
+    for (int i = 1; i < count; ++i) consecutive &= s.frameNumber(i) == s.frameNumber(i - 1) + 1;
+    return text + (count > 1 ? (consecutive ? "-" : " ... ") + std::to_string(s.frameNumber(count - 1)) : std::string());
+  };
+  const std::string mismatch = "the result's frames (" + listed(result) + " in '" + resultDir.string() +
+                               "') do not match the reference's (" + listed(reference) + " in '" + referenceDir.string() + "')";
+  for (int i = 0; i < n; ++i) {
+    if (i < reference.frameCount() && result.frameNumber(i) == reference.frameNumber(i)) continue;
+    if (i >= reference.frameCount() || result.frameNumber(i) < reference.frameNumber(i))
+      throw Error(mismatch + ": reference: no frame " + std::to_string(result.frameNumber(i)) + " in '" +
+                  referenceDir.string() + "' for result frame '" + result.framePath(i).string() + "'");
+    throw Error(mismatch + ": result: frame " + std::to_string(reference.frameNumber(i)) + " is missing before '" +
+                result.framePath(i).string() + "' (a result must cover the reference's frames from the first on)");
+  }
+  // timings.json (rtdenoise denoise) lists the frames its run wrote.
+  const fs::path timings = resultDir / "timings.json";
+  if (!fs::exists(timings)) return;
+  nlohmann::json j;
+  try {
+    std::ifstream in(timings);
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw Error("'" + timings.string() + "' is not valid JSON: " + e.what());
+  }
+  if (!j.contains("frames") || !j["frames"].is_array()) return;
+  std::vector<int> written;
+  for (const auto& f : j["frames"])
+    if (f.contains("number") && f["number"].is_number_integer()) written.push_back(f["number"].get<int>());
+  std::vector<int> present;
+  for (int i = 0; i < n; ++i) present.push_back(result.frameNumber(i));
+  std::sort(written.begin(), written.end());
+  if (written != present)
+    throw Error("result '" + resultDir.string() + "' holds " + std::to_string(present.size()) + " frame file(s) but its timings.json lists " +
+                std::to_string(written.size()) + " frame(s) written by its run: the directory mixes runs (denoise again with --overwrite)");
+}
+}  // namespace
+
 std::vector<StreamMetrics> evaluateDirectories(const fs::path& referenceDir, const fs::path& resultDir,
                                                const std::optional<fs::path>& inputDir, const EvalSettings& settings,
                                                const std::function<void(int, int)>& progress) {
@@ -215,16 +291,11 @@ std::vector<StreamMetrics> evaluateDirectories(const fs::path& referenceDir, con
   if (inputDir) input = RgbSequence::open(*inputDir, "input");
 
   const int n = result->frameCount();
+  checkResultFrames(*result, *reference, resultDir, referenceDir);
   std::vector<int> refIndex(n), inIndex(n, -1);
   for (int i = 0; i < n; ++i) {
     const int number = result->frameNumber(i);
-    if (i > 0 && number != result->frameNumber(i - 1) + 1)
-      throw Error("result: frame " + std::to_string(result->frameNumber(i - 1) + 1) + " is missing between '" +
-                  result->framePath(i - 1).string() + "' and '" + result->framePath(i).string() + "'");
     refIndex[i] = reference->indexOf(number);
-    if (refIndex[i] < 0)
-      throw Error("reference: no frame " + std::to_string(number) + " in '" + referenceDir.string() +
-                  "' for result frame '" + result->framePath(i).string() + "'");
     if (input) {
       inIndex[i] = input->indexOf(number);
       if (inIndex[i] < 0)
@@ -268,7 +339,7 @@ std::string formatValue(double v, const MetricInfo& m) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   if (std::string(m.key) == "psnr")
     std::snprintf(buf, sizeof buf, "%.2f", v);
-  else if (std::string(m.key) == "ssim" || std::string(m.key) == "flip")
+  else if (std::string(m.key) == "ssim" || std::string(m.key) == "flip" || std::string(m.key) == "hdrFlip")
     std::snprintf(buf, sizeof buf, "%.4f", v);
   else
     std::snprintf(buf, sizeof buf, "%.3g", v);
@@ -276,23 +347,21 @@ std::string formatValue(double v, const MetricInfo& m) {
 }
 
 std::string tableFor(const std::vector<StreamMetrics>& streams, bool warmup) {
-  std::string out;
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%-22s %6s", "", "frames");
-  out += buf;
-  for (const auto& m : metricList()) {
-    std::snprintf(buf, sizeof buf, " %15s", m.label);
-    out += buf;
-  }
+  // Columns as wide as their labels (and the names: a configuration's label tells runs apart).
+  int nameWidth = 6;
+  for (const auto& s : streams) nameWidth = std::max(nameWidth, int(s.name.size()));
+  const auto cell = [](const std::string& text, int width, bool left = false) {
+    std::string pad(size_t(std::max(0, width - int(text.size()))), ' ');
+    return left ? text + pad : pad + text;
+  };
+  std::string out = cell("", nameWidth, true) + " " + cell("frames", 6);
+  for (const auto& m : metricList()) out += " " + cell(m.label, std::max(8, int(std::string(m.label).size())));
   out += "\n";
   for (const auto& s : streams) {
     const MetricSummary& sum = warmup ? s.warmup : s.steady;
-    std::snprintf(buf, sizeof buf, "%-22s %6d", s.name.substr(0, 22).c_str(), sum.frames);
-    out += buf;
-    for (const auto& m : metricList()) {
-      std::snprintf(buf, sizeof buf, " %15s", formatValue(sum.mean.*m.field, m).c_str());
-      out += buf;
-    }
+    out += cell(s.name, nameWidth, true) + " " + cell(std::to_string(sum.frames), 6);
+    for (const auto& m : metricList())
+      out += " " + cell(formatValue(sum.mean.*m.field, m), std::max(8, int(std::string(m.label).size())));
     if (sum.mean.nonFiniteValues) out += "  (" + std::to_string(sum.mean.nonFiniteValues) + " NaN/Inf values, counted as 0)";
     out += "\n";
   }
@@ -306,21 +375,39 @@ nlohmann::json number(double v) {
 }
 }  // namespace
 
+std::string coverage(const MetricSummary& s) {
+  if (s.frames == 0) return "no frames";
+  return (s.frames == 1 ? "frame " + std::to_string(s.firstFrame)
+                        : "frames " + std::to_string(s.firstFrame) + "-" + std::to_string(s.lastFrame)) +
+         " (" + std::to_string(s.frames) + ")";
+}
+
 std::string summaryTable(const std::vector<StreamMetrics>& streams, const EvalSettings& settings) {
-  std::string out = "mean after " + std::to_string(settings.warmupFrames) + " warm-up frame(s):\n";
+  if (streams.empty()) return "";
+  std::string out = "mean over " + coverage(streams.front().steady) + ", after " + std::to_string(settings.warmupFrames) +
+                    " warm-up frame(s):\n";
   out += tableFor(streams, false);
   if (settings.warmupFrames > 0) {
-    out += "mean over the warm-up frames:\n";
+    out += "mean over the warm-up, " + coverage(streams.front().warmup) + ":\n";
     out += tableFor(streams, true);
   }
-  out += "(PSNR, SSIM, FLIP and temporal errors on " + operatorName(settings.toneMap.op) +
-         "-tone-mapped sRGB; relMSE, RMSE on linear HDR; 'temporal' is the mean |luma change| between consecutive frames, 'temporal vs ref' its difference from the reference's own change)\n";
+  out += "(PSNR, SSIM, FLIP and the temporal columns on " + operatorName(settings.toneMap.op) +
+         "-tone-mapped sRGB; HDR-FLIP, relMSE, RMSE on linear HDR. 'temporal vs ref' is the mean |difference| between "
+         "the result's and the reference's frame-to-frame luma change (lower is better); 'temporal change' and "
+         "'ref temporal change' are the raw mean |luma change| of the result and the reference, shown as "
+         "information: a frozen image has none)\n";
   return out;
 }
 
 nlohmann::json summaryJson(const MetricSummary& s) {
   nlohmann::json j = {{"frames", s.frames}, {"nonFiniteValues", s.mean.nonFiniteValues}};
-  for (const auto& m : metricList()) j[m.key] = number(s.mean.*m.field);
+  if (s.frames) j["frameRange"] = {s.firstFrame, s.lastFrame};
+  nlohmann::json quartiles = nlohmann::json::object();
+  for (const auto& m : metricList()) {
+    j[m.key] = number(s.mean.*m.field);
+    quartiles[m.key] = {number(s.q1.*m.field), number(s.median.*m.field), number(s.q3.*m.field)};
+  }
+  j["quartiles"] = quartiles;
   return j;
 }
 
@@ -329,6 +416,9 @@ nlohmann::json framesJson(const std::vector<FrameMetrics>& frames) {
   for (const auto& f : frames) {
     nlohmann::json j = {{"number", f.number}, {"warmup", f.warmup}, {"nonFiniteValues", f.nonFiniteValues}};
     for (const auto& m : metricList()) j[m.key] = number(f.*m.field);
+    const auto pixels = [](const ErrorStatistics& e) { return nlohmann::json{number(e.q1), number(e.median), number(e.q3)}; };
+    j["flipPixelQuartiles"] = pixels(f.flipPixels);
+    j["hdrFlipPixelQuartiles"] = pixels(f.hdrFlipPixels);
     arr.push_back(j);
   }
   return arr;
@@ -342,6 +432,9 @@ nlohmann::json settingsJson(const EvalSettings& s) {
           {"exposure", s.toneMap.exposure},
           {"warmupFrames", s.warmupFrames},
           {"flipPixelsPerDegree", s.flip.pixelsPerDegree()},
+          {"flip", s.computeFlip}, {"hdrFlip", s.computeHdrFlip},
+          {"quartiles", "summaries' quartiles are [first quartile, median, third quartile] over frames; frames' "
+                        "flipPixelQuartiles over the pixels of the error map (numpy.percentile interpolation)"},
           {"relMseEpsilon", s.relMseEpsilon},
           {"metrics", metrics}};
 }

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -164,6 +165,7 @@ double ssim(const Image& test, const Image& reference, double dataRange, Image* 
 // in docs/evaluation.md.
 
 double FlipSettings::pixelsPerDegree() const {
+  if (ppd > 0) return ppd;
   return monitorDistance * (monitorResolutionX / monitorWidth) * (std::numbers::pi / 180.0);
 }
 
@@ -327,16 +329,19 @@ using FlipPrepared = FlipReference::Prepared;
 namespace {
 using namespace flipdetail;
 
-FlipPrepared prepare(const Image& srgb, double ppd) {
-  const int w = srgb.width, h = srgb.height;
+FlipPrepared prepare(const Image& image, double ppd, FlipInput input) {
+  const int w = image.width, h = image.height;
   const size_t n = size_t(w) * h;
   std::vector<float> ycc[3], gray(n);
   for (auto& c : ycc) c.resize(n);
   tbb::parallel_for(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
-      const float* p = srgb.pixel(x, y);
-      const float lin[3] = {tonemap::srgbDecode(p[0]), tonemap::srgbDecode(p[1]), tonemap::srgbDecode(p[2])};
+      const float* p = image.pixel(x, y);
+      const bool srgb = input == FlipInput::Srgb;
+      const float lin[3] = {srgb ? tonemap::srgbDecode(p[0]) : std::clamp(p[0], 0.0f, 1.0f),
+                            srgb ? tonemap::srgbDecode(p[1]) : std::clamp(p[1], 0.0f, 1.0f),
+                            srgb ? tonemap::srgbDecode(p[2]) : std::clamp(p[2], 0.0f, 1.0f)};
       float o[3];
       linearRgbToYCxCz(lin, o);
       for (int c = 0; c < 3; ++c) ycc[c][i] = o[c];
@@ -424,10 +429,10 @@ FlipPrepared prepare(const Image& srgb, double ppd) {
 }
 }  // namespace
 
-FlipReference::FlipReference(const Image& reference, const FlipSettings& settings)
-    : settings_(settings), width_(reference.width), height_(reference.height) {
+FlipReference::FlipReference(const Image& reference, const FlipSettings& settings, FlipInput input)
+    : settings_(settings), input_(input), width_(reference.width), height_(reference.height) {
   if (reference.channels != 3 || reference.empty()) throw Error("flip: expected a tone-mapped RGB reference (3 channels)");
-  prepared_ = std::make_shared<const Prepared>(prepare(reference, settings.pixelsPerDegree()));
+  prepared_ = std::make_shared<const Prepared>(prepare(reference, settings.pixelsPerDegree(), input));
 }
 
 double FlipReference::compare(const Image& test, Image* errorMap) const {
@@ -437,7 +442,7 @@ double FlipReference::compare(const Image& test, Image* errorMap) const {
     throw Error("flip: test image is " + std::to_string(test.width) + "x" + std::to_string(test.height) + "x" +
                 std::to_string(test.channels) + ", reference is " + std::to_string(width_) + "x" +
                 std::to_string(height_) + "x3");
-  const FlipPrepared t = prepare(test, settings_.pixelsPerDegree());
+  const FlipPrepared t = prepare(test, settings_.pixelsPerDegree(), input_);
   const FlipPrepared& r = *prepared_;
   const int w = width_, h = height_;
   if (errorMap) *errorMap = Image(w, h, 1);
@@ -466,6 +471,129 @@ double flip(const Image& test, const Image& reference, const FlipSettings& setti
   requireSameSize(test, reference, "flip");
   if (test.channels != 3) throw Error("flip: expected tone-mapped RGB images (3 channels)");
   return FlipReference(reference, settings).compare(test, errorMap);
+}
+
+// ---------------------------------------------------------------------------------------------
+// HDR-FLIP, Andersson et al. 2021: LDR-FLIP over an exposure bracket of the reference's range.
+
+namespace flipdetail {
+namespace {
+// FLIP's ACES curve: Narkowicz's fit of 0.6 x, as a ratio of quadratics (a x^2 + b x + c) / (d x^2 + e x + f).
+constexpr double kTa = 0.6 * 0.6 * 2.51, kTb = 0.6 * 0.03, kTc = 0.0, kTd = 0.6 * 0.6 * 2.43, kTe = 0.6 * 0.59, kTf = 0.14;
+constexpr double kExposureTarget = 0.85;  // start/stop exposures map L_max/L_median to this
+constexpr double kMaxStops = 12.0;        // a zero median: at most this many stops below L_max
+
+float relativeLuminance(const float* p) {
+  const auto v = [](float c) { return std::isfinite(c) ? std::max(c, 0.0f) : 0.0f; };
+  return tonemap::luminance(v(p[0]), v(p[1]), v(p[2]));
+}
+}  // namespace
+
+float hdrToneMap(float x) {
+  const double v = std::isfinite(x) ? std::max(double(x), 0.0) : 0.0;
+  return float(std::clamp((kTa * v * v + kTb * v + kTc) / (kTd * v * v + kTe * v + kTf), 0.0, 1.0));
+}
+
+double hdrToneMapInverse(double y) {
+  // (a - y d) x^2 + (b - y e) x + (c - y f) = 0; the positive root.
+  const double a = kTa - y * kTd, b = kTb - y * kTe, c = kTc - y * kTf;
+  return (-b + std::sqrt(b * b - 4.0 * a * c)) / (2.0 * a);
+}
+
+std::vector<double> ExposureRange::exposures() const {
+  std::vector<double> e(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i) e[size_t(i)] = start + (stop - start) * i / double(std::max(count - 1, 1));
+  return e;
+}
+
+ExposureRange exposureRange(const Image& reference) {
+  std::vector<float> lum(size_t(reference.width) * reference.height);
+  for (int y = 0; y < reference.height; ++y)
+    for (int x = 0; x < reference.width; ++x) lum[size_t(y) * reference.width + x] = relativeLuminance(reference.pixel(x, y));
+  ExposureRange r;
+  if (lum.empty()) return r;
+  const double maxL = *std::max_element(lum.begin(), lum.end());
+  const size_t n = lum.size();
+  std::nth_element(lum.begin(), lum.begin() + n / 2, lum.end());
+  double median = lum[n / 2];
+  if (n % 2 == 0) median = 0.5 * (median + *std::max_element(lum.begin(), lum.begin() + n / 2));
+  if (!(maxL > 0)) return r;  // black: one exposure range [0, 0]
+  median = std::max(median, maxL * std::exp2(-kMaxStops));
+  const double xMax = hdrToneMapInverse(kExposureTarget);
+  r.start = std::log2(xMax / maxL);
+  r.stop = std::log2(xMax / median);
+  r.count = std::max(2, int(std::ceil(r.stop - r.start)));
+  return r;
+}
+}  // namespace flipdetail
+
+namespace {
+/// The reference or test image at exposure c through HDR-FLIP's tone curve (display-linear).
+Image exposed(const Image& hdr, double exposure) {
+  if (hdr.channels < 3) throw Error("hdrFlip: expected an RGB image, got " + std::to_string(hdr.channels) + " channel(s)");
+  Image out(hdr.width, hdr.height, 3);
+  const float scale = float(std::exp2(exposure));
+  tbb::parallel_for(0, hdr.height, [&](int y) {
+    for (int x = 0; x < hdr.width; ++x)
+      for (int c = 0; c < 3; ++c) out.at(x, y, c) = flipdetail::hdrToneMap(hdr.at(x, y, c) * scale);
+  });
+  return out;
+}
+}  // namespace
+
+HdrFlipReference::HdrFlipReference(const Image& reference, const FlipSettings& settings)
+    : exposures_(flipdetail::exposureRange(reference).exposures()) {
+  for (double c : exposures_) references_.emplace_back(exposed(reference, c), settings, FlipInput::Linear);
+}
+
+double HdrFlipReference::compare(const Image& test, Image* errorMap, Image* exposureMap) const {
+  if (empty()) throw Error("hdrFlip: no reference prepared");
+  Image best, map;
+  for (size_t k = 0; k < exposures_.size(); ++k) {
+    references_[k].compare(exposed(test, exposures_[k]), &map);
+    if (k == 0) {
+      best = map;
+      if (exposureMap) *exposureMap = Image(map.width, map.height, 1, 0.0f);
+      continue;
+    }
+    for (size_t i = 0; i < map.pixels.size(); ++i)
+      if (map.pixels[i] > best.pixels[i]) {
+        best.pixels[i] = map.pixels[i];
+        if (exposureMap) exposureMap->pixels[i] = float(k) / float(exposures_.size() - 1);
+      }
+  }
+  double sum = 0;
+  for (float v : best.pixels) sum += v;
+  const double mean = sum / double(best.pixels.size());
+  if (errorMap) *errorMap = std::move(best);
+  return mean;
+}
+
+double hdrFlip(const Image& test, const Image& reference, const FlipSettings& settings, Image* errorMap) {
+  if (test.width != reference.width || test.height != reference.height)
+    throw Error("hdrFlip: image sizes differ (" + std::to_string(test.width) + "x" + std::to_string(test.height) + " vs " +
+                std::to_string(reference.width) + "x" + std::to_string(reference.height) + ")");
+  return HdrFlipReference(reference, settings).compare(test, errorMap);
+}
+
+ErrorStatistics errorStatistics(const Image& map) {
+  ErrorStatistics s;
+  const size_t n = size_t(map.width) * map.height;
+  if (n == 0) return s;
+  std::vector<float> v(n);
+  double sum = 0;
+  for (size_t i = 0; i < n; ++i) sum += v[i] = map.pixels[i * map.channels];
+  s.mean = sum / double(n);
+  std::sort(v.begin(), v.end());
+  const auto at = [&](double q) {  // numpy.percentile's default ('linear')
+    const double pos = q * double(n - 1);
+    const size_t lo = size_t(pos), hi = std::min(lo + 1, n - 1);
+    return double(v[lo]) + (pos - double(lo)) * (double(v[hi]) - double(v[lo]));
+  };
+  s.q1 = at(0.25);
+  s.median = at(0.5);
+  s.q3 = at(0.75);
+  return s;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -111,7 +111,7 @@ std::string plotSvg(const Comparison& c, const MetricInfo& m) {
   s << "<svg xmlns='http://www.w3.org/2000/svg' class='plot' width='" << W << "' height='" << H << "' viewBox='0 0 " << W
     << ' ' << H << "' role='img' aria-label='" << esc(m.label) << " per frame'>";
   s << "<text x='" << left << "' y='16' class='pt'>" << esc(m.label) << " (" << esc(m.space) << ", "
-    << (m.higherIsBetter ? "higher" : "lower") << " is better)</text>";
+    << (!m.ranked ? "information, not ranked" : m.higherIsBetter ? "higher is better" : "lower is better") << ")</text>";
   if (!(lo <= hi) || fmin > fmax) {
     s << "<text x='" << left << "' y='" << H / 2 << "'>no values</text></svg>";
     return s.str();
@@ -223,7 +223,7 @@ std::string comparisonHtml(const Comparison& c) {
     h << "</tr>\n";
     std::vector<double> best(metrics.size(), NAN);
     for (size_t k = 0; k < metrics.size(); ++k) {
-      if (std::string(metrics[k].key) == "referenceTemporalError") continue;
+      if (!metrics[k].ranked) continue;  // information only: a frozen image has no temporal change
       for (const auto& r : c.runs) {
         const double v = (warmup ? r.metrics.warmup : r.metrics.steady).mean.*metrics[k].field;
         if (std::isnan(v)) continue;

@@ -7,9 +7,13 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <unistd.h>
+#include <Imath/half.h>
 
+#include <algorithm>
 #include <fstream>
 
+#include "io/exr_limits.h"
+#include "io/temp_files.h"
 #include "rtd/error.h"
 
 namespace rtd::exr {
@@ -24,7 +28,7 @@ static std::string quoted(const fs::path& p) {
 }
 
 Header readHeader(const fs::path& path) {
-  if (!fs::exists(path)) throw Error("file " + quoted(path) + " does not exist");
+  checkHeader(path);
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
@@ -42,11 +46,18 @@ Header readHeader(const fs::path& path) {
 std::vector<std::vector<float>> readChannels(const fs::path& path, const std::vector<std::string>& names,
                                              const std::string& context) {
   const std::string where = (context.empty() ? "" : context + ", ") + "file " + quoted(path);
-  if (!fs::exists(path)) throw Error(where + ": file does not exist");
+  const ReadDeadline deadline(where);
+  HeaderCheck checked;
+  try {
+    checked = checkHeader(path);
+  } catch (const Error& e) {
+    throw Error((context.empty() ? "" : context + ", ") + e.what());
+  }
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    if (w != checked.width || h != checked.height) throw Error(where + ": the header does not parse consistently");
     std::vector<std::vector<float>> planes(names.size(), std::vector<float>(size_t(w) * h));
     Imf::FrameBuffer fb;
     for (size_t i = 0; i < names.size(); ++i) {
@@ -56,7 +67,14 @@ std::vector<std::vector<float>> readChannels(const fs::path& path, const std::ve
     }
     file.setFrameBuffer(fb);
     try {
-      file.readPixels(dw.min.y, dw.max.y);
+      // Slab by slab (whole chunks), so that a file whose decoding stalls stops at the deadline.
+      const int slab = std::max(checked.linesPerChunk, 32 / checked.linesPerChunk * checked.linesPerChunk);
+      for (int y = dw.min.y; y <= dw.max.y; y += slab) {
+        deadline.check();
+        file.readPixels(y, std::min(dw.max.y, y + slab - 1));
+      }
+    } catch (const Error&) {
+      throw;
     } catch (const std::exception& e) {
       std::string list;
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
@@ -70,26 +88,36 @@ std::vector<std::vector<float>> readChannels(const fs::path& path, const std::ve
   }
 }
 
-void writeChannels(const fs::path& path, int width, int height, const std::vector<ChannelSource>& channels) {
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
+void writeChannels(const fs::path& path, int width, int height, const std::vector<ChannelSource>& channels, bool half) {
+  TemporaryFile tmp(path);
   try {
     Imf::Header header(width, height);
     header.compression() = Imf::ZIP_COMPRESSION;
     Imf::FrameBuffer fb;
-    for (const auto& c : channels) {
-      header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
-      fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char*)c.data, sizeof(float) * c.stride,
-                                   sizeof(float) * c.stride * size_t(width)));
+    // OpenEXR writes a slice only as its own pixel type: half channels get half copies.
+    std::vector<std::vector<Imath::half>> halves(half ? channels.size() : 0);
+    for (size_t k = 0; k < channels.size(); ++k) {
+      const auto& c = channels[k];
+      header.channels().insert(c.name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
+      if (half) {
+        auto& h = halves[k];
+        h.resize(size_t(width) * height);
+        for (size_t i = 0; i < h.size(); ++i) h[i] = Imath::half(c.data[i * c.stride]);
+        fb.insert(c.name, Imf::Slice(Imf::HALF, (char*)h.data(), sizeof(Imath::half), sizeof(Imath::half) * size_t(width)));
+      } else {
+        fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char*)c.data, sizeof(float) * c.stride,
+                                     sizeof(float) * c.stride * size_t(width)));
+      }
     }
     {
-      Imf::OutputFile out(tmp.c_str(), header);
+      Imf::OutputFile out(tmp.path().c_str(), header);
       out.setFrameBuffer(fb);
       out.writePixels(height);
     }
-    fs::rename(tmp, path);
+    tmp.commit();
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
     throw Error("cannot write " + quoted(path) + ": " + e.what());
   }
 }

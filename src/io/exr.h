@@ -28,7 +28,9 @@ struct ChannelSource {
   size_t stride;  // floats between horizontally adjacent pixels
 };
 
-/// Writes FLOAT channels (ZIP compression) atomically: temporary file, then rename.
-void writeChannels(const std::filesystem::path& path, int width, int height, const std::vector<ChannelSource>& channels);
+/// Writes the channels (ZIP compression) atomically: temporary file, then rename. `half`:
+/// stored as 16-bit HALF (converted from the float data by OpenEXR), else 32-bit FLOAT.
+void writeChannels(const std::filesystem::path& path, int width, int height, const std::vector<ChannelSource>& channels,
+                   bool half = false);
 
 }  // namespace rtd::exr

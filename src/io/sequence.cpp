@@ -7,11 +7,17 @@
 #include <cctype>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <cmath>
 #include <map>
+#include <optional>
 #include <regex>
+#include <set>
 #include <sstream>
 
+#include "core/validate.h"
 #include "io/exr.h"
+#include "io/small_file.h"
+#include "io/temp_files.h"
 #include "rtd/error.h"
 
 namespace rtd {
@@ -27,6 +33,7 @@ FrameInputs Frame::inputs() const {
   for (int i = 0; i < kBufferCount; ++i)
     if (!buffers[i].empty()) in.buffers[i] = buffers[i].view();
   in.camera = camera;
+  in.cameraCut = cut;
   return in;
 }
 
@@ -47,50 +54,99 @@ static Image interleave(const std::vector<std::vector<float>>& planes, int w, in
 
 static std::array<float, 16> matrixFromJson(const json& j, const std::string& where) {
   std::array<float, 16> m{};
-  std::vector<float> flat;
+  std::vector<const json*> flat;
   if (j.is_array() && j.size() == 4 && j[0].is_array()) {
-    for (const auto& row : j)
-      for (const auto& v : row) flat.push_back(v.get<float>());
+    for (const auto& row : j) {
+      if (!row.is_array()) throw Error(where + ": a camera matrix needs 16 numbers");
+      for (const auto& v : row) flat.push_back(&v);
+    }
   } else if (j.is_array()) {
-    for (const auto& v : j) flat.push_back(v.get<float>());
+    for (const auto& v : j) flat.push_back(&v);
   }
   if (flat.size() != 16) throw Error(where + ": a camera matrix needs 16 numbers");
-  std::copy(flat.begin(), flat.end(), m.begin());
+  for (size_t i = 0; i < 16; ++i) {
+    if (!flat[i]->is_number()) throw Error(where + ": a camera matrix needs 16 numbers");
+    m[i] = flat[i]->get<float>();
+    if (!std::isfinite(m[i])) throw Error(where + ": camera matrix entry " + std::to_string(i) + " is not a finite float");
+  }
   return m;
 }
 
+// sequence.json and cameras.json are small; a larger file is not one of them.
+constexpr std::uintmax_t kMaxJsonBytes = std::uintmax_t(64) << 20;
+
 static json readJson(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open '" + path.string() + "'");
+  const std::string text = readSmallFile(path, kMaxJsonBytes, "'" + path.string() + "'");
   try {
-    return json::parse(in);
+    return json::parse(text);
   } catch (const std::exception& e) {
     throw Error("'" + path.string() + "' is not valid JSON: " + e.what());
   }
 }
 
-void writeFileAtomic(const fs::path& path, const std::string& data) {
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << data;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw Error("cannot write '" + path.string() + "'");
-    }
-  }
-  fs::rename(tmp, path);
+// A frame number given in a file: an integer in [0, kMaxFrameNumber].
+static int frameNumberFromJson(const json& v, const std::string& where) {
+  if (!v.is_number_integer() || (v.is_number_unsigned() ? v.get<uint64_t>() > uint64_t(kMaxFrameNumber)
+                                                          : v.get<int64_t>() < 0 || v.get<int64_t>() > kMaxFrameNumber))
+    throw Error(where + ": frame number " + v.dump() + " is not an integer in [0, " + std::to_string(kMaxFrameNumber) + "]");
+  return int(v.get<int64_t>());
 }
 
-/// Frame number from a file name: the last run of digits (frame_0012.exr -> 12).
+// A frame number written as text (a file name's digits, a cameras.json key), checked the same way.
+static std::optional<int> frameNumberFromText(std::string_view digits) {
+  if (digits.empty() || digits.size() > 10) return std::nullopt;
+  int64_t n = 0;
+  for (char c : digits) {
+    if (c < '0' || c > '9') return std::nullopt;
+    n = n * 10 + (c - '0');
+  }
+  if (n > kMaxFrameNumber) return std::nullopt;
+  return int(n);
+}
+
+static bool boolField(const json& j, const char* key, const std::string& where) {
+  if (!j.contains(key)) return false;
+  if (!j[key].is_boolean()) throw Error(where + ": field '" + key + "' must be true or false");
+  return j[key].get<bool>();
+}
+
+bool SequenceReader::cutAt(int index) const {
+  if (index < 0 || index >= frameCount()) return false;
+  const int n = frameNumber(index);
+  if (markedCut(index) || std::find(options_.cuts.begin(), options_.cuts.end(), n) != options_.cuts.end()) return true;
+  return index > 0 && !options_.continuous && !markedContinuous() && int64_t(n) != int64_t(frameNumber(index - 1)) + 1;
+}
+
+// rtd::Error unless 0 <= index < count.
+static void checkIndex(int index, int count, const fs::path& dir) {
+  if (index < 0 || index >= count)
+    throw Error("sequence '" + dir.string() + "': frame index " + std::to_string(index) + " is out of range (it has " +
+                std::to_string(count) + " frames)");
+}
+
+void writeFileAtomic(const fs::path& path, const std::string& data) {
+  TemporaryFile tmp(path);
+  {
+    std::ofstream out(tmp.path(), std::ios::binary);
+    out << data;
+    out.flush();
+    if (!out) throw Error("cannot write '" + path.string() + "'");
+  }
+  tmp.commit();
+}
+
+/// Frame number from a file name: the last run of digits (frame_0012.exr -> 12); none if the
+/// name has no digits; rtd::Error if they are not a number in [0, kMaxFrameNumber].
 static std::optional<int> frameNumberOf(const fs::path& p) {
   static const std::regex digits("(\\d+)(?!.*\\d)");
   std::smatch m;
   std::string stem = p.stem().string();
   if (!std::regex_search(stem, m, digits)) return std::nullopt;
-  return std::stoi(m[1]);
+  auto n = frameNumberFromText(m[1].str());
+  if (!n)
+    throw Error("file '" + p.string() + "': frame number " + m[1].str() + " is out of range [0, " +
+                std::to_string(kMaxFrameNumber) + "]");
+  return n;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -105,23 +161,43 @@ class NativeReader final : public SequenceReader {
     json j = readJson(manifest);
     const std::string where = "'" + manifest.string() + "'";
     try {
-      if (j.value("format", "") != "rtdenoise-sequence") throw Error(where + ": field 'format' must be \"rtdenoise-sequence\"");
-      width_ = j.at("width").get<int>();
-      height_ = j.at("height").get<int>();
-      for (const auto& name : j.at("buffers")) {
-        auto b = bufferFromName(name.get<std::string>());
-        if (!b) throw Error(where + ": unknown buffer '" + name.get<std::string>() + "' in field 'buffers'");
+      if (!j.is_object() || j.value("format", "") != "rtdenoise-sequence")
+        throw Error(where + ": field 'format' must be \"rtdenoise-sequence\"");
+      for (const char* key : {"width", "height"})
+        if (!j.at(key).is_number_integer()) throw Error(where + ": field '" + key + "' must be an integer");
+      const int64_t w = j["width"].get<int64_t>(), h = j["height"].get<int64_t>();
+      checkImageSize(where + ": the image", w, h);
+      width_ = int(w);
+      height_ = int(h);
+      if (!j.at("buffers").is_array()) throw Error(where + ": field 'buffers' must be a list of buffer names");
+      for (const auto& name : j["buffers"]) {
+        auto b = name.is_string() ? bufferFromName(name.get<std::string>()) : std::nullopt;
+        if (!b) throw Error(where + ": unknown buffer " + name.dump() + " in field 'buffers'");
+        if (std::find(buffers_.begin(), buffers_.end(), *b) != buffers_.end())
+          throw Error(where + ": buffer " + name.dump() + " is listed twice in field 'buffers'");
         buffers_.push_back(*b);
       }
-      for (const auto& f : j.at("frames")) {
+      continuous_ = boolField(j, "continuous", where);
+      if (!j.at("frames").is_array()) throw Error(where + ": field 'frames' must be a list");
+      for (const auto& f : j["frames"]) {
+        if (!f.is_object()) throw Error(where + ": every entry of 'frames' must be an object");
         Entry e;
-        e.number = f.at("number").get<int>();
-        e.file = f.at("file").get<std::string>();
+        e.number = frameNumberFromJson(f.at("number"), where);
+        const std::string at = where + ", frame " + std::to_string(e.number);
+        if (!frames_.empty() && e.number <= frames_.back().number)
+          throw Error(at + (e.number == frames_.back().number ? ": the frame number appears twice"
+                                                               : ": frames must be listed in increasing order of number"));
+        if (!f.at("file").is_string()) throw Error(at + ": field 'file' must be a file name");
+        e.file = f["file"].get<std::string>();
+        const fs::path file(e.file);
+        if (e.file.empty() || file.is_absolute() || std::find(file.begin(), file.end(), "..") != file.end())
+          throw Error(at + ": field 'file' must name a file inside the sequence directory");
         if (f.contains("camera")) {
-          e.camera.worldToCamera = matrixFromJson(f["camera"].at("worldToCamera"), where);
-          e.camera.projection = matrixFromJson(f["camera"].at("projection"), where);
+          e.camera.worldToCamera = matrixFromJson(f["camera"].at("worldToCamera"), at);
+          e.camera.projection = matrixFromJson(f["camera"].at("projection"), at);
           e.camera.valid = true;
         }
+        e.cut = boolField(f, "cut", at);
         frames_.push_back(e);
       }
     } catch (const json::exception& e) {
@@ -131,14 +207,21 @@ class NativeReader final : public SequenceReader {
   }
   SequenceKind kind() const override { return SequenceKind::Native; }
   int frameCount() const override { return int(frames_.size()); }
-  int frameNumber(int i) const override { return frames_.at(i).number; }
-  fs::path framePath(int i) const override { return dir_ / frames_.at(i).file; }
+  int frameNumber(int i) const override {
+    checkIndex(i, frameCount(), dir_);
+    return frames_[size_t(i)].number;
+  }
+  fs::path framePath(int i) const override {
+    checkIndex(i, frameCount(), dir_);
+    return dir_ / frames_[size_t(i)].file;
+  }
   int width() const override { return width_; }
   int height() const override { return height_; }
   std::vector<Buffer> buffers() const override { return buffers_; }
 
   Frame read(int index) const override {
-    const Entry& e = frames_.at(index);
+    checkIndex(index, frameCount(), dir_);
+    const Entry& e = frames_[size_t(index)];
     const fs::path path = framePath(index);
     const std::string context = "frame " + std::to_string(e.number);
     exr::Header h = exr::readHeader(path);
@@ -151,18 +234,25 @@ class NativeReader final : public SequenceReader {
     f.width = width_;
     f.height = height_;
     f.camera = e.camera;
+    f.cut = cutAt(index);
     for (Buffer b : buffers_)
       f[b] = interleave(exr::readChannels(path, nativeChannelNames(b), context), width_, height_);
     return f;
   }
+
+ protected:
+  bool markedCut(int index) const override { return frames_[size_t(index)].cut; }
+  bool markedContinuous() const override { return continuous_; }
 
  private:
   struct Entry {
     int number;
     std::string file;
     Camera camera;
+    bool cut = false;
   };
   fs::path dir_;
+  bool continuous_ = false;
   int width_ = 0, height_ = 0;
   std::vector<Buffer> buffers_;
   std::vector<Entry> frames_;
@@ -189,6 +279,19 @@ constexpr BlenderPass kBlenderPasses[] = {
     {Buffer::ObjectId, "IndexOB", "X"},
 };
 
+// Cycles' light passes (use_pass_diffuse_*, use_pass_glossy_*, use_pass_transmission_*,
+// use_pass_emit, use_pass_environment), already demodulated by their colour pass:
+//   Combined = (DiffDir + DiffInd) DiffCol + (GlossDir + GlossInd) GlossCol
+//            + (TransDir + TransInd) TransCol + Emit + Env.
+// With the glossy passes the frame is split into lobes: Specular = (GlossDir + GlossInd)
+// GlossCol with SpecularAlbedo = GlossCol, and Diffuse = Combined - Specular (the diffuse
+// lobe, transmission, emission and environment: Diffuse + Specular = Color exactly), with
+// DiffuseAlbedo = DiffCol; Emission = Emit + Env (the emitters and sky seen directly).
+struct BlenderLightPasses {
+  bool glossy = false, diffuseColor = false, emit = false, env = false;
+  bool any() const { return glossy || diffuseColor || emit || env; }
+};
+
 class BlenderReader final : public SequenceReader {
  public:
   BlenderReader(const fs::path& dir, std::vector<std::pair<int, fs::path>> files, const std::string& layer)
@@ -203,19 +306,43 @@ class BlenderReader final : public SequenceReader {
         passes_.push_back(&p);
       }
     }
+    auto has = [&](const char* pass) {
+      return std::find(h.channels.begin(), h.channels.end(), layer_ + "." + pass + ".R") != h.channels.end();
+    };
+    light_.glossy = has("GlossDir") && has("GlossInd") && has("GlossCol");
+    light_.diffuseColor = has("DiffCol");
+    light_.emit = has("Emit");
+    light_.env = has("Env");
+    auto add = [&](Buffer b) {
+      if (std::find(buffers_.begin(), buffers_.end(), b) == buffers_.end()) buffers_.push_back(b);
+    };
+    if (light_.glossy) {
+      add(Buffer::Diffuse);
+      add(Buffer::Specular);
+      add(Buffer::SpecularAlbedo);
+      if (light_.diffuseColor) add(Buffer::DiffuseAlbedo);
+    }
+    if (light_.emit || light_.env) add(Buffer::Emission);
     const fs::path cameras = dir / "cameras.json";
     if (fs::exists(cameras)) loadCameras(cameras);
   }
   SequenceKind kind() const override { return SequenceKind::Blender; }
   int frameCount() const override { return int(files_.size()); }
-  int frameNumber(int i) const override { return files_.at(i).first; }
-  fs::path framePath(int i) const override { return files_.at(i).second; }
+  int frameNumber(int i) const override {
+    checkIndex(i, frameCount(), dir_);
+    return files_[size_t(i)].first;
+  }
+  fs::path framePath(int i) const override {
+    checkIndex(i, frameCount(), dir_);
+    return files_[size_t(i)].second;
+  }
   int width() const override { return width_; }
   int height() const override { return height_; }
   std::vector<Buffer> buffers() const override { return buffers_; }
 
   Frame read(int index) const override {
-    const auto& [number, path] = files_.at(index);
+    checkIndex(index, frameCount(), dir_);
+    const auto& [number, path] = files_[size_t(index)];
     const std::string context = "frame " + std::to_string(number);
     exr::Header h = exr::readHeader(path);
     if (h.width != width_ || h.height != height_)
@@ -236,27 +363,99 @@ class BlenderReader final : public SequenceReader {
       }
       f[p->buffer] = interleave(planes, width_, height_);
     }
+    readLightPasses(path, context, f);
     auto cam = cameras_.find(number);
     if (cam != cameras_.end()) f.camera = cam->second;
+    f.cut = cutAt(index);
     return f;
   }
 
+ protected:
+  bool markedCut(int index) const override { return cutFrames_.count(files_[size_t(index)].first) > 0; }
+
  private:
+  // The lobes, their colours and the emission from the light passes (BlenderLightPasses), all
+  // channels read in one pass over the file.
+  void readLightPasses(const fs::path& path, const std::string& context, Frame& f) const {
+    std::vector<std::string> passes;
+    if (light_.glossy) passes.insert(passes.end(), {"GlossDir", "GlossInd", "GlossCol"});
+    if (light_.glossy && light_.diffuseColor) passes.push_back("DiffCol");
+    if (light_.emit) passes.push_back("Emit");
+    if (light_.env) passes.push_back("Env");
+    if (passes.empty()) return;
+    std::vector<std::string> names;
+    for (const auto& p : passes)
+      for (const char* c : {"R", "G", "B"}) names.push_back(layer_ + "." + p + "." + c);
+    const auto planes = exr::readChannels(path, names, context);
+    auto pass = [&](const std::string& name) {
+      const size_t k = size_t(std::find(passes.begin(), passes.end(), name) - passes.begin());
+      return std::vector<std::vector<float>>(planes.begin() + 3 * k, planes.begin() + 3 * k + 3);
+    };
+    const size_t n = size_t(width_) * height_;
+    if (light_.glossy) {
+      const auto dir = pass("GlossDir"), ind = pass("GlossInd"), col = pass("GlossCol");
+      std::vector<std::vector<float>> specular(3, std::vector<float>(n)), diffuse(3, std::vector<float>(n));
+      const Image& combined = f[Buffer::Color];
+      for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < n; ++i) {
+          specular[c][i] = (dir[c][i] + ind[c][i]) * col[c][i];
+          diffuse[c][i] = combined.pixels[i * combined.channels + c] - specular[c][i];
+        }
+      f[Buffer::Specular] = interleave(specular, width_, height_);
+      f[Buffer::Diffuse] = interleave(diffuse, width_, height_);
+      f[Buffer::SpecularAlbedo] = interleave(col, width_, height_);
+      if (light_.diffuseColor) f[Buffer::DiffuseAlbedo] = interleave(pass("DiffCol"), width_, height_);
+    }
+    if (light_.emit || light_.env) {
+      std::vector<std::vector<float>> e(3, std::vector<float>(n, 0.0f));
+      for (const auto& [name, present] : {std::pair{"Emit", light_.emit}, std::pair{"Env", light_.env}}) {
+        if (!present) continue;
+        const auto p = pass(name);
+        for (int c = 0; c < 3; ++c)
+          for (size_t i = 0; i < n; ++i) e[c][i] += p[c][i];
+      }
+      f[Buffer::Emission] = interleave(e, width_, height_);
+    }
+  }
+
   std::string channelName(const BlenderPass& p, size_t c) const {
     return layer_ + "." + p.pass + "." + std::string(1, p.channels[c]);
   }
   // cameras.json as tools/blender/make_fixture.py writes it: "cameras": {"<frame>":
-  // {"world_to_camera": 4x4, "projection": 4x4, ...}}, row-major (Blender's matrices).
+  // {"world_to_camera": 4x4, "projection": 4x4, ...}}, row-major (Blender's matrices); or the
+  // list form, "cameras": [{"frame": N, ...}, ...] (or the list alone), keyed by each entry's
+  // "frame". An entry may say "cut": true (history is reset at that frame).
   void loadCameras(const fs::path& path) {
     json j = readJson(path);
     const std::string where = "'" + path.string() + "'";
     try {
-      for (const auto& [frame, cam] : j.at("cameras").items()) {
+      const json& cams = j.is_array() ? j : j.at("cameras");
+      auto add = [&](int frame, const json& cam) {
+        const std::string at = where + ", camera of frame " + std::to_string(frame);
+        if (!cam.is_object()) throw Error(at + ": must be an object");
+        if (cameras_.count(frame)) throw Error(at + ": the frame has two cameras");
         Camera c;
-        c.worldToCamera = matrixFromJson(cam.at("world_to_camera"), where);
-        c.projection = matrixFromJson(cam.at("projection"), where);
+        c.worldToCamera = matrixFromJson(cam.at("world_to_camera"), at);
+        c.projection = matrixFromJson(cam.at("projection"), at);
         c.valid = true;
-        cameras_[std::stoi(frame)] = c;
+        cameras_[frame] = c;
+        if (boolField(cam, "cut", at)) cutFrames_.insert(frame);
+      };
+      if (cams.is_array()) {
+        for (const auto& cam : cams) {
+          if (!cam.is_object() || !cam.contains("frame"))
+            throw Error(where + ": every entry of the camera list needs a field 'frame' (the frame number)");
+          add(frameNumberFromJson(cam["frame"], where), cam);
+        }
+      } else if (cams.is_object()) {
+        for (const auto& [key, cam] : cams.items()) {
+          auto frame = frameNumberFromText(key);
+          if (!frame)
+            throw Error(where + ": camera key '" + key + "' is not a frame number in [0, " + std::to_string(kMaxFrameNumber) + "]");
+          add(*frame, cam);
+        }
+      } else {
+        throw Error(where + ": field 'cameras' must be an object keyed by frame number or a list");
       }
     } catch (const json::exception& e) {
       throw Error(where + ": " + e.what());
@@ -269,16 +468,27 @@ class BlenderReader final : public SequenceReader {
   int width_ = 0, height_ = 0;
   std::vector<Buffer> buffers_;
   std::vector<const BlenderPass*> passes_;
+  BlenderLightPasses light_;
   std::map<int, Camera> cameras_;
+  std::set<int> cutFrames_;
 };
 
 }  // namespace
 
-std::unique_ptr<SequenceReader> SequenceReader::open(const fs::path& dir) {
-  if (!fs::is_directory(dir)) throw Error("input '" + dir.string() + "' is not a directory");
-  if (fs::exists(dir / "sequence.json")) return std::make_unique<NativeReader>(dir);
+std::unique_ptr<SequenceReader> SequenceReader::open(const fs::path& dir, const SequenceOptions& options) {
+  auto reader = openKind(dir);
+  reader->options_ = options;
+  return reader;
+}
+
+std::unique_ptr<SequenceReader> SequenceReader::openKind(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error("input '" + dir.string() + "' is not a directory");
+  if (fs::exists(dir / "sequence.json", ec)) return std::make_unique<NativeReader>(dir);
   std::vector<std::pair<int, fs::path>> files;
-  for (const auto& entry : fs::directory_iterator(dir)) {
+  fs::directory_iterator it(dir, ec);
+  if (ec) throw Error("input '" + dir.string() + "': cannot list the directory (" + ec.message() + ")");
+  for (const auto& entry : it) {
     if (entry.path().extension() != ".exr") continue;
     auto n = frameNumberOf(entry.path());
     if (n) files.emplace_back(*n, entry.path());
@@ -302,7 +512,12 @@ std::unique_ptr<SequenceReader> SequenceReader::open(const fs::path& dir) {
 // ---------------------------------------------------------------------------------------------
 // Writer
 
-SequenceWriter::SequenceWriter(fs::path dir) : dir_(std::move(dir)) { fs::create_directories(dir_); }
+SequenceWriter::SequenceWriter(fs::path dir) : dir_(std::move(dir)) {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec) throw Error("cannot create the output directory '" + dir_.string() + "': " + ec.message());
+  removeStaleTemporaryFiles(dir_);
+}
 
 static std::string frameFileName(int number) {
   char name[32];
@@ -311,6 +526,11 @@ static std::string frameFileName(int number) {
 }
 
 void SequenceWriter::write(const Frame& frame) {
+  if (frame.number < 0)
+    throw Error("frame " + std::to_string(frame.number) + ": frame numbers must lie in [0, " + std::to_string(kMaxFrameNumber) + "]");
+  for (const Written& w : frames_)
+    if (w.number == frame.number)
+      throw Error("frame " + std::to_string(frame.number) + " was already written to '" + dir_.string() + "'");
   std::vector<Buffer> present;
   for (int i = 0; i < kBufferCount; ++i)
     if (frame.has(Buffer(i))) present.push_back(Buffer(i));
@@ -330,7 +550,7 @@ void SequenceWriter::write(const Frame& frame) {
     for (size_t c = 0; c < names.size(); ++c) channels.push_back({names[c], img.pixels.data() + c, size_t(img.channels)});
   }
   exr::writeChannels(dir_ / frameFileName(frame.number), frame.width, frame.height, channels);
-  frames_.emplace_back(frame.number, frame.camera);
+  frames_.push_back({frame.number, frame.camera, frame.cut});
 }
 
 void SequenceWriter::finish() const {
@@ -350,20 +570,24 @@ void SequenceWriter::finish() const {
   for (Buffer b : buffers_) names.push_back(std::string(bufferName(b)));
   j["buffers"] = names;
   json frames = json::array();
-  for (const auto& [number, cam] : frames_) {
-    json f = {{"number", number}, {"file", frameFileName(number)}};
-    if (cam.valid) f["camera"] = {{"worldToCamera", cam.worldToCamera}, {"projection", cam.projection}};
+  std::vector<Written> sorted = frames_;
+  std::sort(sorted.begin(), sorted.end(), [](const Written& a, const Written& b) { return a.number < b.number; });
+  for (const Written& w : sorted) {
+    json f = {{"number", w.number}, {"file", frameFileName(w.number)}};
+    if (w.camera.valid) f["camera"] = {{"worldToCamera", w.camera.worldToCamera}, {"projection", w.camera.projection}};
+    if (w.cut) f["cut"] = true;
     frames.push_back(f);
   }
   j["frames"] = frames;
   writeFileAtomic(dir_ / "sequence.json", j.dump(1));
 }
 
-void writeRgbExr(const fs::path& path, const Image& rgb) {
+void writeRgbExr(const fs::path& path, const Image& rgb, ExrPixels pixels) {
   if (rgb.channels < 3) throw Error("cannot write '" + path.string() + "': the image has fewer than 3 channels");
   const size_t s = size_t(rgb.channels);
   exr::writeChannels(path, rgb.width, rgb.height,
-                     {{"R", rgb.pixels.data(), s}, {"G", rgb.pixels.data() + 1, s}, {"B", rgb.pixels.data() + 2, s}});
+                     {{"R", rgb.pixels.data(), s}, {"G", rgb.pixels.data() + 1, s}, {"B", rgb.pixels.data() + 2, s}},
+                     pixels == ExrPixels::Half);
 }
 
 Image readRgbExr(const fs::path& path) {

@@ -18,8 +18,9 @@
 namespace rtd {
 
 /// A plane with a zero border of `pad` pixels on every side (and slack after the last row),
-/// rows `stride` floats apart; pad and stride are multiples of 8.
+/// rows `stride` floats apart; pad and stride are multiples of kAlignment (the widest vector).
 struct PaddedPlane {
+  static constexpr int kAlignment = 16;
   int width = 0, height = 0, pad = 0, stride = 0;
   PixelVector<float> data;
 
@@ -130,6 +131,10 @@ struct AtrousLevel {
   const PaddedPlane* indirectDistance = nullptr;
   const PaddedPlane* indirectDistanceScale = nullptr;
   const PaddedPlane* centreScale = nullptr;
+  /// Voorhuis Eq. 6 (glossy pixels): where this plane holds c(p) > 0, every tap's weight is
+  /// multiplied by exp(-c(p) |k|^2), k the tap's offset in kernel units (-2..2 per axis, not
+  /// pixels). glossySpatialFalloff() turns Eq. 6's sigma_spatial into c. Null: off.
+  const PaddedPlane* spatialFalloff = nullptr;
 };
 
 /// Gersthofer's glossy weight w_r = 0.01 + sqrt(roughness(p)) (Sec. 3.4.3).
@@ -138,6 +143,19 @@ inline float roughnessWeight(float roughness) { return 0.01f + std::sqrt(std::ma
 inline float indirectDistanceWeight(float zp, float zq, float roughnessP, float filteredVariance, float eps) {
   return std::exp(-std::abs(zp - zq) * (1.0f - roughnessP) / (std::sqrt(std::max(0.0f, filteredVariance)) + eps));
 }
+
+/// c(p) of AtrousLevel::spatialFalloff for Voorhuis' Eq. 6 bandwidth sigma (<= 1, kernel
+/// units): the B3 spline is close to a Gaussian of variance 1 in kernel units, and multiplying
+/// it by exp(-c |k|^2) with c = 1 / (2 sigma^2) - 1/2 narrows it to about a Gaussian of
+/// standard deviation sigma (down to sigma ~ 0.5; below, the integer taps fall off faster);
+/// sigma = 1 leaves the kernel unchanged.
+inline float glossySpatialFalloff(float sigma) {
+  const float s = std::clamp(sigma, 1e-3f, 1.0f);
+  return 0.5f / (s * s) - 0.5f;
+}
+/// Voorhuis Eq. 6: sigma_spatial = exp(-((|dP/dx| + |dP/dy|) / 2) / omega), from the mean
+/// footprint (Buffer::ReflectedFootprint).
+inline float glossySpatialSigma(float footprint, float omega) { return std::exp(-std::max(0.0f, footprint) / omega); }
 
 /// One level of the filter: out(p) = sum_q h(q) w(p,q) in(q) / sum_q h(q) w(p,q), with
 /// w = w_z w_n w_l; the centre tap always has w = 1. `in` and `out` must differ.

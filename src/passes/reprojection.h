@@ -2,11 +2,9 @@
 // consistency tests (Schied et al. 2017 Sec. 4.1; Higginson Sec. 1.3.1, Eq. 1.4).
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
-#ifdef __AVX2__
-#include <immintrin.h>
-#endif
 #include <vector>
 
 #include "core/frame_data.h"
@@ -73,84 +71,40 @@ struct Reprojection {
   float gather3x3(const Plane& h, size_t i) const;
 };
 
-#ifdef __AVX2__
-/// The bilinear taps of eight consecutive pixels in registers, for passes that gather history
-/// eight pixels at a time. Where the eight footprints are consecutive (a locally uniform
-/// integer motion, the common case) the taps are plain vector loads, otherwise gathers.
-struct Bilinear8 {
-  __m256i base;
-  __m256 weight[4];
-  int width;
-  bool consecutive;
 
-  /// Pixels i..i+7 if all are Bilinear; false otherwise (the caller takes them one by one).
-  bool load(const Reprojection& rp, size_t i) {
-    uint64_t kinds;
-    std::memcpy(&kinds, rp.kind.data() + i, 8);
-    if (kinds != 0x0101010101010101ull) return false;
-    width = rp.width;
-    base = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rp.base.data() + i));
-    consecutive = isConsecutive();
-    // {w0, w1, w2, w3} per pixel to one register per tap: an 8x4 transpose.
-    const float* wp = rp.weights[i].data();
-    const __m256 r0 = _mm256_loadu_ps(wp), r1 = _mm256_loadu_ps(wp + 8), r2 = _mm256_loadu_ps(wp + 16), r3 = _mm256_loadu_ps(wp + 24);
-    const __m256 a = _mm256_permute2f128_ps(r0, r2, 0x20), b = _mm256_permute2f128_ps(r0, r2, 0x31);
-    const __m256 c = _mm256_permute2f128_ps(r1, r3, 0x20), d = _mm256_permute2f128_ps(r1, r3, 0x31);
-    const __m256 t0 = _mm256_unpacklo_ps(a, b), t1 = _mm256_unpackhi_ps(a, b);
-    const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
-    weight[0] = _mm256_shuffle_ps(t0, t2, 0x44);
-    weight[1] = _mm256_shuffle_ps(t0, t2, 0xee);
-    weight[2] = _mm256_shuffle_ps(t1, t3, 0x44);
-    weight[3] = _mm256_shuffle_ps(t1, t3, 0xee);
-    return true;
-  }
-
-  /// The bilinear footprints of eight continuous previous positions (pixel units, centres at
-  /// i + 0.5) in a width x height frame, with the plain bilinear weights; false unless all
-  /// eight footprints lie inside the frame.
-  bool footprint(const float* prevX, const float* prevY, int w, int h) {
-    const __m256 fx = _mm256_sub_ps(_mm256_loadu_ps(prevX), _mm256_set1_ps(0.5f));
-    const __m256 fy = _mm256_sub_ps(_mm256_loadu_ps(prevY), _mm256_set1_ps(0.5f));
-    const __m256 flx = _mm256_floor_ps(fx), fly = _mm256_floor_ps(fy);
-    const __m256 zero = _mm256_setzero_ps();
-    const __m256 inside = _mm256_and_ps(
-        _mm256_and_ps(_mm256_cmp_ps(flx, zero, _CMP_GE_OQ), _mm256_cmp_ps(flx, _mm256_set1_ps(float(w - 1)), _CMP_LT_OQ)),
-        _mm256_and_ps(_mm256_cmp_ps(fly, zero, _CMP_GE_OQ), _mm256_cmp_ps(fly, _mm256_set1_ps(float(h - 1)), _CMP_LT_OQ)));
-    if (_mm256_movemask_ps(inside) != 0xff) return false;
-    const __m256 one = _mm256_set1_ps(1.0f);
-    const __m256 ax = _mm256_sub_ps(fx, flx), ay = _mm256_sub_ps(fy, fly);
-    const __m256 bx = _mm256_sub_ps(one, ax), by = _mm256_sub_ps(one, ay);
-    weight[0] = _mm256_mul_ps(bx, by);
-    weight[1] = _mm256_mul_ps(ax, by);
-    weight[2] = _mm256_mul_ps(bx, ay);
-    weight[3] = _mm256_mul_ps(ax, ay);
-    width = w;
-    base = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(fly), _mm256_set1_epi32(w)), _mm256_cvttps_epi32(flx));
-    consecutive = isConsecutive();
-    return true;
-  }
-
-  bool isConsecutive() const {
-    const __m256i first = _mm256_set1_epi32(_mm256_extract_epi32(base, 0));
-    return _mm256_movemask_epi8(_mm256_cmpeq_epi32(base, _mm256_add_epi32(first, _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)))) == -1;
-  }
-
-  /// Tap t (0: top left, 1: top right, 2: bottom left, 3: bottom right) of the eight pixels in
-  /// plane h: one vector load where the footprints are consecutive, a gather otherwise.
-  __m256 tap(const float* h, int t) const {
-    const float* p = h + (t & 1) + (t >> 1) * width;
-    return consecutive ? _mm256_loadu_ps(p + _mm256_extract_epi32(base, 0)) : _mm256_i32gather_ps(p, base, 4);
-  }
-
-  /// The bilinear history of the eight pixels in plane h (the sum in Reprojection::gatherBilinear's order).
-  __m256 gather(const float* h) const {
-    __m256 v = _mm256_mul_ps(weight[0], tap(h, 0));
-    v = _mm256_fmadd_ps(weight[1], tap(h, 1), v);
-    v = _mm256_fmadd_ps(weight[2], tap(h, 2), v);
-    return _mm256_fmadd_ps(weight[3], tap(h, 3), v);
-  }
-};
-#endif
+/// Makes pixel i of `out` a Bilinear record for the continuous previous position (px, py)
+/// (pixel units, centres at i + 0.5) of a frame of out's size, keeping the taps (tx, ty) for
+/// which valid(tx, ty) holds, renormalized; taps outside the frame weigh 0 and the 2x2 window
+/// is slid inside so gathers need no bounds checks. Returns false, leaving the record as it
+/// was, when no tap is valid (accepted weight <= 1e-4) or the frame is narrower than 2 pixels.
+template <class Valid> bool setBilinear(Reprojection& out, size_t i, float px, float py, Valid&& valid) {
+  const int w = out.width, h = out.height;
+  // Bilinear footprint: taps are pixel centres, so the top-left tap is floor(p - 0.5).
+  const float fx = px - 0.5f, fy = py - 0.5f;
+  if (!(std::abs(fx) < 1e6f && std::abs(fy) < 1e6f) || w < 2 || h < 2) return false;
+  const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+  const float ax = fx - x0, ay = fy - y0;
+  const float bw[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
+  const int tx[4] = {x0, x0 + 1, x0, x0 + 1}, ty[4] = {y0, y0, y0 + 1, y0 + 1};
+  float sum = 0.0f;
+  std::array<float, 4> wt{0, 0, 0, 0};
+  for (int t = 0; t < 4; ++t)
+    if (bw[t] > 0.0f && tx[t] >= 0 && ty[t] >= 0 && tx[t] < w && ty[t] < h && valid(tx[t], ty[t])) {
+      wt[t] = bw[t];
+      sum += bw[t];
+    }
+  if (!(sum > 1e-4f)) return false;
+  for (auto& v : wt) v /= sum;
+  int bx = x0, by = y0;
+  if (bx < 0) { bx = 0; wt = {wt[1], 0.0f, wt[3], 0.0f}; }
+  if (bx > w - 2) { bx = w - 2; wt = {0.0f, wt[0], 0.0f, wt[2]}; }
+  if (by < 0) { by = 0; wt = {wt[2], wt[3], 0.0f, 0.0f}; }
+  if (by > h - 2) { by = h - 2; wt = {0.0f, 0.0f, wt[0], wt[1]}; }
+  out.kind[i] = Reprojection::Bilinear;
+  out.base[i] = by * w + bx;
+  out.weights[i] = wt;
+  return true;
+}
 
 /// The 3x3 fallback kernel of Higginson Eq. 1.4 (a Gaussian with sigma ~ 1.04 px), row-major.
 extern const float kFallbackKernel3x3[9];

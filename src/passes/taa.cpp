@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/flush.h"
+#include "passes/taa_kernels.h"
 
 namespace rtd {
 
@@ -16,39 +16,6 @@ void Taa::resize(int w, int h) {
   windows_.clear();  // re-sized on first use per thread
   valid_ = false;
 }
-
-namespace {
-constexpr int kSlotRows = 9;  // Y Co Cg, min Y Co Cg, max Y Co Cg
-
-inline float fmin(float a, float b) { return a < b ? a : b; }
-inline float fmax(float a, float b) { return a > b ? a : b; }
-
-// YCoCg of row y and its horizontal 3-tap min/max (border pixel repeated) into `slot`.
-void buildSlot(const Plane3& color, int y, int w, float* slot) {
-  const float *r = color[0].row(y), *g = color[1].row(y), *b = color[2].row(y);
-  float* c[3] = {slot, slot + w, slot + 2 * w};
-#pragma GCC ivdep
-  for (int x = 0; x < w; ++x) {
-    c[0][x] = 0.25f * r[x] + 0.5f * g[x] + 0.25f * b[x];
-    c[1][x] = 0.5f * r[x] - 0.5f * b[x];
-    c[2][x] = -0.25f * r[x] + 0.5f * g[x] - 0.25f * b[x];
-  }
-  for (int k = 0; k < 3; ++k) {
-    const float* in = c[k];
-    float *lo = slot + (3 + k) * w, *hi = slot + (6 + k) * w;
-    if (w == 1) { lo[0] = hi[0] = in[0]; continue; }
-    lo[0] = fmin(in[0], in[1]);
-    hi[0] = fmax(in[0], in[1]);
-#pragma GCC ivdep
-    for (int x = 1; x < w - 1; ++x) {
-      lo[x] = fmin(fmin(in[x - 1], in[x]), in[x + 1]);
-      hi[x] = fmax(fmax(in[x - 1], in[x]), in[x + 1]);
-    }
-    lo[w - 1] = fmin(in[w - 2], in[w - 1]);
-    hi[w - 1] = fmax(in[w - 2], in[w - 1]);
-  }
-}
-}  // namespace
 
 const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, float alpha) {
   begin(color[0].width, color[0].height);
@@ -66,86 +33,15 @@ void Taa::begin(int w, int h) {
 }
 
 void Taa::runRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBegin, int rowEnd) {
-  const int w = color[0].width, h = color[0].height;
+  const int w = color[0].width;
   Plane3& next = history_[cur_];
   if (first_) {  // no history yet: the output is the current colour
     for (int c = 0; c < 3; ++c) std::copy(color[c].row(rowBegin), color[c].row(rowBegin) + size_t(rowEnd - rowBegin) * w, next[c].row(rowBegin));
     return;
   }
-  const Plane3& hist = history_[cur_ ^ 1];
   Window& win = windows_.local();
-  if (win.rows.size() != size_t(3 * kSlotRows + 3) * w) win.rows.assign(size_t(3 * kSlotRows + 3) * w, 0.0f);
-  auto slot = [&](int y) {
-    float* s = win.rows.data() + size_t(y % 3) * kSlotRows * w;
-    if (win.slotRow[y % 3] != y) { buildSlot(color, y, w, s); win.slotRow[y % 3] = y; }
-    return s;
-  };
-  float *hr = win.rows.data() + size_t(3 * kSlotRows) * w, *hg = hr + w, *hb = hg + w;
-  win.slotRow[0] = win.slotRow[1] = win.slotRow[2] = -1;  // colour changes every frame
-  for (int y = rowBegin; y != rowEnd; ++y) {
-    const float* a = slot(std::max(y - 1, 0));
-    const float* c = slot(y);
-    const float* b = slot(std::min(y + 1, h - 1));
-    // Bilinear history fetch with clamp-to-edge (eight pixels at a time inside). A pixel
-    // whose reprojected centre lies a pixel or more outside the frame has no history: its
-    // "history" is the current colour, which the blend then returns unchanged.
-    const float *prevX = rp.prevX.row(y), *prevY = rp.prevY.row(y);
-    const float *r = color[0].row(y), *g = color[1].row(y), *bl = color[2].row(y);
-    auto fetch = [&](int x) {
-      const float px = prevX[x] - 0.5f, py = prevY[x] - 0.5f;
-      if (!(px > -1.0f && py > -1.0f && px < float(w) && py < float(h))) {
-        hr[x] = r[x]; hg[x] = g[x]; hb[x] = bl[x];
-        return;
-      }
-      const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
-      const float ax = px - x0, ay = py - y0;
-      const float wt[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
-      float v[3] = {0, 0, 0};
-      if (x0 >= 0 && y0 >= 0 && x0 < w - 1 && y0 < h - 1) {
-        const size_t j = size_t(y0) * w + x0;
-        for (int k = 0; k < 3; ++k) {
-          const float* hp = hist[k].ptr() + j;
-          v[k] = wt[0] * hp[0] + wt[1] * hp[1] + wt[2] * hp[w] + wt[3] * hp[w + 1];
-        }
-      } else {
-        for (int t = 0; t < 4; ++t) {
-          const int tx = std::clamp(x0 + (t & 1), 0, w - 1), ty = std::clamp(y0 + (t >> 1), 0, h - 1);
-          for (int k = 0; k < 3; ++k) v[k] += wt[t] * hist[k](tx, ty);
-        }
-      }
-      hr[x] = v[0]; hg[x] = v[1]; hb[x] = v[2];
-    };
-    int x = 0;
-#ifdef __AVX2__
-    // Eight pixels at a time where all eight footprints are inside the frame.
-    Bilinear8 taps8;
-    for (; x + 8 <= w; x += 8)
-      if (taps8.footprint(prevX + x, prevY + x, w, h)) {
-        _mm256_storeu_ps(hr + x, taps8.gather(hist[0].ptr()));
-        _mm256_storeu_ps(hg + x, taps8.gather(hist[1].ptr()));
-        _mm256_storeu_ps(hb + x, taps8.gather(hist[2].ptr()));
-      } else {
-        for (int k = x; k < x + 8; ++k) fetch(k);
-      }
-#endif
-    for (; x < w; ++x) fetch(x);
-    // Clamp to the 3x3 YCoCg box and blend (vectorized over the row).
-    float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
-#pragma GCC ivdep  // outputs never alias the window rows: lets GCC vectorize
-    for (int x = 0; x < w; ++x) {
-      float hy = 0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x];
-      float hco = 0.5f * hr[x] - 0.5f * hb[x];
-      float hcg = -0.25f * hr[x] + 0.5f * hg[x] - 0.25f * hb[x];
-      hy = fmin(fmax(hy, fmin(fmin(a[3 * w + x], c[3 * w + x]), b[3 * w + x])), fmax(fmax(a[6 * w + x], c[6 * w + x]), b[6 * w + x]));
-      hco = fmin(fmax(hco, fmin(fmin(a[4 * w + x], c[4 * w + x]), b[4 * w + x])), fmax(fmax(a[7 * w + x], c[7 * w + x]), b[7 * w + x]));
-      hcg = fmin(fmax(hcg, fmin(fmin(a[5 * w + x], c[5 * w + x]), b[5 * w + x])), fmax(fmax(a[8 * w + x], c[8 * w + x]), b[8 * w + x]));
-      const float by = alpha * c[x] + (1 - alpha) * hy;
-      const float bco = alpha * c[w + x] + (1 - alpha) * hco;
-      const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hcg;
-      const float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
-      for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);  // history: never subnormal (core/flush.h)
-    }
-  }
+  if (win.rows.size() != size_t(3 * kTaaSlotRows + 3) * w) win.rows.assign(size_t(3 * kTaaSlotRows + 3) * w, 0.0f);
+  RTD_SIMD(taaRows)(rp, color, alpha, rowBegin, rowEnd, history_[cur_ ^ 1], next, win.rows.data(), win.slotRow);
 }
 
 }  // namespace rtd

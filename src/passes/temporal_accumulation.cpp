@@ -3,46 +3,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
 #include <cmath>
 
 #include "passes/demodulation.h"
+#include "passes/temporal_accumulation_kernels.h"
 
 namespace rtd {
-
-void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, const float* const current[3],
-                   const Plane3& history, Plane3& out, int y) {
-  const int w = rp.width;
-  const size_t row = size_t(y) * w;
-  auto pixel = [&](int x) {
-    const size_t i = row + x;
-    if (rp.kind[i] == Reprojection::None) {
-      for (int k = 0; k < 3; ++k) out[k].data[i] = flushTiny(current[k][x]);
-      return;
-    }
-    const float a = newSampleWeight(length.data[i], alpha);
-    for (int k = 0; k < 3; ++k) out[k].data[i] = flushTiny(a * current[k][x] + (1.0f - a) * rp.gather(history[k], i));
-  };
-  int x = 0;
-#ifdef __AVX2__
-  // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-  Bilinear8 taps8;
-  const __m256 one = _mm256_set1_ps(1.0f), vAlpha = _mm256_set1_ps(alpha);
-  const float* hPrev[3] = {history[0].ptr(), history[1].ptr(), history[2].ptr()};
-  for (; x + 8 <= w; x += 8) {
-    const size_t i = row + x;
-    if (!taps8.load(rp, i)) {
-      for (int k = 0; k < 8; ++k) pixel(x + k);
-      continue;
-    }
-    const __m256 a = _mm256_max_ps(_mm256_div_ps(one, _mm256_loadu_ps(length.ptr() + i)), vAlpha);
-    for (int k = 0; k < 3; ++k)
-      _mm256_storeu_ps(out[k].ptr() + i, flushTiny8(_mm256_fmadd_ps(a, _mm256_loadu_ps(current[k] + x),
-                                                                    _mm256_mul_ps(_mm256_sub_ps(one, a), taps8.gather(hPrev[k])))));
-  }
-#endif
-  for (; x < w; ++x) pixel(x);
-}
 
 void TemporalAccumulator::resize(int w, int h) {
   for (int k = 0; k < 2; ++k) {
@@ -89,127 +55,14 @@ void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* co
                                          int maxHistoryLength, const AccumulationOptions& options, int rowBegin,
                                          int rowEnd) {
   const int prev = cur_ ^ 1;
-  const int w = rp.width;
-  const bool moments = options.moments;
-  const float maxLength = float(maxHistoryLength);
-  const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
-  const Plane* albedo = options.albedo ? options.albedo->data() : nullptr;
-  const Plane* gradient = options.temporalGradient;
-  const int gradientStride = std::max(1, options.temporalGradientStride);
-  // One fused pass per pixel: history length, colour and both moments from the same taps.
-  auto pixel = [&](size_t i) {
-    float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
-    if (albedo)
-      for (int k = 0; k < 3; ++k) c[k] /= demodulationFactor(albedo[k].data[i]);
-    const float l = options.luminance == MomentLuminance::Rec709 ? luminance(c[0], c[1], c[2])
-                                                                 : momentLuminance(options.luminance, c[0], c[1], c[2]);
-    // The scalar path (borders, disocclusions, the 3x3 fallback): 0 where there is no history.
-    const float histLength = rp.gather(length_[prev], i);
-    const float hist1 = moments ? rp.gather(m1_[prev], i) : 0.0f, hist2 = moments ? rp.gather(m2_[prev], i) : 0.0f;
-    float hist[3];
-    for (int k = 0; k < 3; ++k) hist[k] = rp.gather(color_[prev][k], i);
-    // Disoccluded pixels have history length 0 here, hence n = 1 and weight 1.
-    const bool none = rp.kind[i] == Reprojection::None;
-    if (gradient) {
-      // A-SVGF: the history shrinks where the shading changed, N' = min(N (1-G)^e + 1, cap),
-      // and the new sample weighs mix(max(1/N', floor), 1, G).
-      const int x = int(i % size_t(w)), y = int(i / size_t(w));
-      const float g = std::clamp((*gradient)(x / gradientStride, y / gradientStride), 0.0f, 1.0f);
-      const float n = adaptiveHistoryLength(none ? 0.0f : histLength, g, options.historyExponent, maxLength);
-      const float a = adaptiveAlpha(n, g, alpha), am = adaptiveAlpha(n, g, momentsAlpha);
-      length_[cur_].data[i] = n;
-      for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = a * c[k] + (1.0f - a) * hist[k];
-      if (moments) {
-        m1_[cur_].data[i] = am * l + (1.0f - am) * hist1;
-        m2_[cur_].data[i] = am * l * l + (1.0f - am) * hist2;
-      }
-      return;
-    }
-    const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
-    // Fixed weights (Gersthofer): alpha wherever there is history, 1 where there is none
-    // (reprojection failed, or the taps hold no data yet: n = 1).
-    const bool fixed = !options.cumulativeColor;
-    const float a = fixed ? (n <= 1.0f ? 1.0f : alpha) : newSampleWeight(n, alpha);
-    // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
-    // wherever there is history (Schied et al. 2017).
-    const float am = fixed ? (n <= 1.0f ? 1.0f : momentsAlpha)
-                           : options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
-    if (mask && mask[i] == 0.0f) {
-      // No sample this frame (Dundr Sec. 5): the history carries over unchanged; without
-      // history the pixel stays missing (length 0).
-      length_[cur_].data[i] = none ? 0.0f : std::round(histLength);
-      for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = flushTiny(hist[k]);
-      if (moments) {
-        m1_[cur_].data[i] = flushTiny(hist1);
-        m2_[cur_].data[i] = flushTiny(hist2);
-      }
-      return;
-    }
-    length_[cur_].data[i] = n;
-    for (int k = 0; k < 3; ++k) color_[cur_][k].data[i] = flushTiny(a * c[k] + (1.0f - a) * hist[k]);
-    if (moments) {
-      m1_[cur_].data[i] = flushTiny(am * l + (1.0f - am) * hist1);
-      m2_[cur_].data[i] = flushTiny(am * squareOrZero(l) + (1.0f - am) * hist2);
-    }
-  };
-  // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-  // (CIE L* has no vector form here: its moments take the scalar path; without moments the
-  // luminance is not needed.)
-  const bool vectorized = !mask && !gradient && (options.luminance != MomentLuminance::CieLightness || !moments);
-  const bool fixedWeights = !options.cumulativeColor;
-  for (int y = rowBegin; y < rowEnd; ++y) {
-    int x = 0;
-#ifdef __AVX2__
-    if (vectorized) {
-      const float *lenPrev = length_[prev].ptr(), *m1Prev = m1_[prev].ptr(), *m2Prev = m2_[prev].ptr();
-      const float* cPrev[3] = {color_[prev][0].ptr(), color_[prev][1].ptr(), color_[prev][2].ptr()};
-      const __m256 one = _mm256_set1_ps(1.0f), half = _mm256_set1_ps(0.5f), maxLen = _mm256_set1_ps(maxLength);
-      const __m256 vAlpha = _mm256_set1_ps(alpha), vMomentsAlpha = _mm256_set1_ps(momentsAlpha);
-      const bool rec601 = options.luminance == MomentLuminance::Rec601;
-      const __m256 lr = _mm256_set1_ps(rec601 ? 0.299f : 0.2126f), lg = _mm256_set1_ps(rec601 ? 0.587f : 0.7152f),
-                   lb = _mm256_set1_ps(rec601 ? 0.114f : 0.0722f);
-      Bilinear8 taps8;
-      for (; x + 8 <= w; x += 8) {
-        const size_t i = size_t(y) * w + x;
-        if (!taps8.load(rp, i)) {
-          for (int k = 0; k < 8; ++k) pixel(i + k);
-          continue;
-        }
-        // n = min(round(history length) + 1, max), round half away from zero as std::round.
-        const __m256 len = taps8.gather(lenPrev);
-        __m256 rounded = _mm256_round_ps(len, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
-        rounded = _mm256_add_ps(rounded, _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(len, rounded), half, _CMP_GE_OQ), one));
-        const __m256 n = _mm256_min_ps(_mm256_add_ps(rounded, one), maxLen);
-        const __m256 invN = _mm256_div_ps(one, n);
-        // Fixed weights (Gersthofer): alpha, or 1 where the taps hold no data yet (n = 1).
-        const __m256 first = _mm256_cmp_ps(n, one, _CMP_LE_OQ);
-        const __m256 a = fixedWeights ? _mm256_blendv_ps(vAlpha, one, first) : _mm256_max_ps(invN, vAlpha);
-        const __m256 am = fixedWeights                ? _mm256_blendv_ps(vMomentsAlpha, one, first)
-                          : options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha)
-                                                      : vMomentsAlpha;
-        _mm256_storeu_ps(length_[cur_].ptr() + i, n);
-        __m256 c[3];
-        for (int k = 0; k < 3; ++k) {
-          c[k] = _mm256_loadu_ps(color[k].ptr() + i);
-          if (albedo) {
-            const __m256 a = _mm256_loadu_ps(albedo[k].ptr() + i);
-            c[k] = _mm256_div_ps(c[k], _mm256_blendv_ps(one, a, _mm256_cmp_ps(a, _mm256_set1_ps(kAlbedoEpsilon), _CMP_GT_OQ)));
-          }
-          const __m256 hist = taps8.gather(cPrev[k]);
-          _mm256_storeu_ps(color_[cur_][k].ptr() + i,
-                           flushTiny8(_mm256_fmadd_ps(a, c[k], _mm256_mul_ps(_mm256_sub_ps(one, a), hist))));
-        }
-        if (!moments) continue;
-        const __m256 l = _mm256_fmadd_ps(lb, c[2], _mm256_fmadd_ps(lg, c[1], _mm256_mul_ps(lr, c[0])));
-        const __m256 bm = _mm256_sub_ps(one, am);
-        _mm256_storeu_ps(m1_[cur_].ptr() + i, flushTiny8(_mm256_fmadd_ps(am, l, _mm256_mul_ps(bm, taps8.gather(m1Prev)))));
-        _mm256_storeu_ps(m2_[cur_].ptr() + i,
-                         flushTiny8(_mm256_fmadd_ps(am, squareOrZero8(l), _mm256_mul_ps(bm, taps8.gather(m2Prev)))));
-      }
-    }
-#endif
-    for (; x < w; ++x) pixel(size_t(y) * w + x);
-  }
+  const AccumulationHistory h{color_[prev], m1_[prev], m2_[prev], length_[prev],
+                              color_[cur_], m1_[cur_], m2_[cur_], length_[cur_]};
+  RTD_SIMD(accumulateRows)(rp, color, alpha, momentsAlpha, maxHistoryLength, options, h, rowBegin, rowEnd);
+}
+
+void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, const float* const current[3],
+                   const Plane3& history, Plane3& out, int y) {
+  RTD_SIMD(accumulateRow)(rp, length, alpha, current, history, out, y);
 }
 
 }  // namespace rtd

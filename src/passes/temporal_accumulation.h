@@ -87,6 +87,14 @@ struct AccumulationOptions {
   /// demodulationFactor of these three albedo planes, as demodulate() does) so the demodulated
   /// image is never stored. Methods that need it stored (SVGF's variance) demodulate first.
   const std::vector<Plane>* albedo = nullptr;
+  /// Per-pixel colour blend floor, replacing `alpha` (Voorhuis Sec. 7: 0.2 on diffuse and 0.1
+  /// on specular primary hits); the moments keep `momentsAlpha`.
+  const Plane* alphaPlane = nullptr;
+  /// Neighbourhood clipping (Voorhuis Sec. 4.2.3, passes/neighbourhood_clipping.h): the
+  /// reprojected colour history is clamped per channel to [clipLow, clipHigh] before the
+  /// blend (a box of -inf..inf leaves it). Both or neither.
+  const Plane3* clipLow = nullptr;
+  const Plane3* clipHigh = nullptr;
   /// false: the luminance moments are neither read nor written (moment1() and moment2() are
   /// then stale); for methods that do not use them (BMFR).
   bool moments = true;

@@ -1,6 +1,7 @@
 // Built-in procedural scenes, written in the same JSON scene description a user would write
 // (docs/renderer.md), so each doubles as an example: `rtdenoise render --print-scene NAME`.
 #include <map>
+#include <string>
 
 #include "render/scene.h"
 
@@ -148,9 +149,148 @@ constexpr const char* kDynamic = R"({
   ]}
 })";
 
-const std::map<std::string, const char*>& table() {
-  static const std::map<std::string, const char*> t = {
-      {"cornell", kCornell}, {"pillars", kPillars}, {"glossy", kGlossy}, {"dynamic", kDynamic}};
+// A light switch (A-SVGF's case, Schied et al. 2018): a still room lit by a ceiling lamp that
+// switches off at frame 16 and on again at frame 32, and a small warm lamp that stays on; a ball
+// rolls under the ceiling lamp, so its shadow moves. The camera is still, so every lag comes
+// from the lighting (rtdenoise render --scene lightswitch; scripts/asvgf-experiments.sh).
+constexpr const char* kLightswitch = R"({
+  "name": "lightswitch",
+  "frames": 48,
+  "resolution": [320, 180],
+  "materials": {
+    "floor": {"baseColor": [0.8, 0.78, 0.74], "roughness": 0.7, "checker": {"color": [0.35, 0.35, 0.38], "cells": 10}},
+    "wall":  {"baseColor": [0.75, 0.72, 0.68], "roughness": 0.9, "specular": 0.2},
+    "blue":  {"baseColor": [0.2, 0.35, 0.7], "roughness": 0.9, "specular": 0.2},
+    "ball":  {"baseColor": [0.85, 0.3, 0.2], "roughness": 0.4},
+    "box":   {"baseColor": [0.3, 0.6, 0.35], "roughness": 0.6},
+    "ceiling": {"baseColor": [1, 1, 1], "emissive": [30, 28, 24]},
+    "warm":  {"baseColor": [1, 1, 1], "emissive": [60, 36, 14]}
+  },
+  "objects": [
+    {"name": "floor", "shape": "quad", "material": "floor", "scale": [8, 1, 8]},
+    {"name": "back",  "shape": "quad", "material": "wall",  "translation": [0, 2, -2], "rotation": [90, 0, 0], "scale": [8, 1, 4]},
+    {"name": "left",  "shape": "quad", "material": "blue",  "translation": [-3, 2, 1], "rotation": [0, 0, -90], "scale": [4, 1, 6]},
+    {"name": "box",   "shape": "box",  "material": "box",   "translation": [1.3, 0.4, -0.8], "rotation": [0, 25, 0], "scale": 0.8},
+    {"name": "ceilingLamp", "shape": "quad", "material": "ceiling", "rotation": [180, 0, 0], "scale": [1.2, 1, 0.8],
+     "animation": [{"frame": 0, "translation": [0, 2.8, 0.2], "emission": 1}, {"frame": 15, "emission": 1},
+                   {"frame": 16, "emission": 0}, {"frame": 31, "emission": 0}, {"frame": 32, "emission": 1}]},
+    {"name": "warmLamp", "shape": "sphere", "material": "warm", "translation": [-2.4, 0.5, -1.4], "scale": 0.16},
+    {"name": "ball", "shape": "sphere", "material": "ball", "scale": 0.6, "animation": [
+      {"frame": 0,  "translation": [-1.6, 0.3, 0.6]},
+      {"frame": 47, "translation": [1.4, 0.3, 0.9]}
+    ]}
+  ],
+  "sky": {"color": 0.02},
+  "camera": {"fov": 50, "position": [0, 1.6, 4.6], "target": [0, 0.6, 0]}
+})";
+
+// Higginson Sec. 1.3.2's ghosting demo: a perfect mirror as the whole ground, a blue cube and a
+// light-emitting plane whose reflection slides across the floor as the camera turns around the
+// cube. Reflections have no motion vectors of their own, so history lags behind them.
+constexpr const char* kGhosting = R"({
+  "name": "ghosting",
+  "frames": 48,
+  "resolution": [320, 180],
+  "materials": {
+    "mirror": {"baseColor": [0.95, 0.95, 0.95], "mirror": true},
+    "cube":   {"baseColor": [0.1, 0.2, 0.8], "roughness": 0.5},
+    "panel":  {"baseColor": [1, 1, 1], "emissive": [6, 6, 6]}
+  },
+  "objects": [
+    {"name": "floor", "shape": "quad", "material": "mirror", "scale": [20, 1, 20]},
+    {"name": "cube",  "shape": "box",  "material": "cube", "translation": [0, 0.5, 0], "rotation": [0, 20, 0]},
+    {"name": "panel", "shape": "quad", "material": "panel", "translation": [0, 1.5, -3], "rotation": [90, 0, 0], "scale": [3, 1, 1.6]}
+  ],
+  "sky": {"zenith": [0.05, 0.07, 0.12], "horizon": [0.12, 0.12, 0.14], "ground": [0.05, 0.05, 0.05]},
+  "camera": {"fov": 50, "interpolation": "catmull-rom", "keyframes": [
+    {"frame": 0,  "position": [-3.0, 2.2, 2.6], "target": [0, 0.4, 0]},
+    {"frame": 16, "position": [-1.2, 2.4, 3.8], "target": [0, 0.4, 0]},
+    {"frame": 32, "position": [1.2, 2.4, 3.8],  "target": [0, 0.4, 0]},
+    {"frame": 47, "position": [3.0, 2.2, 2.6],  "target": [0, 0.4, 0]}
+  ]}
+})";
+
+
+// Voorhuis 2018's test cases (docs/methods/reflections.md): a mirror floor under a camera that
+// slides sideways (the virtual image of everything moves against the floor), and a corridor
+// flythrough past a mirror orb / a glossy orb, the only specular object (Sec. 7.4, CORRIDOR).
+constexpr const char* kMirrorFloor = R"({
+  "name": "mirrorfloor",
+  "frames": 48,
+  "resolution": [320, 180],
+  "materials": {
+    "mirror": {"baseColor": [0.9, 0.9, 0.9], "mirror": true},
+    "wall":   {"baseColor": [0.7, 0.62, 0.5], "roughness": 1, "specular": 0, "checker": {"color": [0.2, 0.3, 0.55], "cells": 14}},
+    "red":    {"baseColor": [0.8, 0.15, 0.1], "roughness": 1, "specular": 0},
+    "green":  {"baseColor": [0.15, 0.6, 0.2], "roughness": 1, "specular": 0, "checker": {"color": [0.9, 0.85, 0.3], "cells": 4}},
+    "white":  {"baseColor": [0.75, 0.75, 0.75], "roughness": 1, "specular": 0}
+  },
+  "objects": [
+    {"name": "floor", "shape": "quad", "material": "mirror", "scale": [30, 1, 30]},
+    {"name": "back",  "shape": "quad", "material": "wall", "translation": [0, 2.5, -4], "rotation": [90, 0, 0], "scale": [30, 1, 5]},
+    {"name": "box",   "shape": "box", "material": "red", "translation": [-1.4, 0.6, -1.6], "rotation": [0, 25, 0], "scale": 1.2},
+    {"name": "ball",  "shape": "sphere", "material": "green", "translation": [0.6, 0.55, -0.8], "scale": 1.1},
+    {"name": "post",  "shape": "cylinder", "material": "white", "translation": [2.2, 1.0, -2.4], "scale": [0.5, 2, 0.5]}
+  ],
+  "sun": {"direction": [-0.4, 0.75, 0.5], "irradiance": [2.6, 2.5, 2.3], "angle": 0.5},
+  "sky": {"zenith": [0.2, 0.35, 0.75], "horizon": [0.75, 0.8, 0.9], "ground": [0.25, 0.25, 0.25]},
+  "camera": {"fov": 50, "keyframes": [
+    {"frame": 0,  "position": [-2.0, 1.3, 4.0], "target": [-2.0, 0.5, -1.0]},
+    {"frame": 47, "position": [2.0, 1.3, 4.0],  "target": [2.0, 0.5, -1.0]}
+  ]}
+})";
+
+// The corridor: checkered diffuse walls, floor and ceiling, ceiling lamps, an orb in the
+// middle; the camera flies along it and passes the orb. `%ORB%` is the orb's material.
+constexpr const char* kCorridor = R"({
+  "name": "%NAME%",
+  "frames": 60,
+  "resolution": [320, 180],
+  "materials": {
+    "orb":     %ORB%,
+    "floor":   {"baseColor": [0.7, 0.68, 0.62], "roughness": 1, "specular": 0, "checker": {"color": [0.25, 0.22, 0.2], "cells": 20}},
+    "wallL":   {"baseColor": [0.75, 0.3, 0.2], "roughness": 1, "specular": 0, "checker": {"color": [0.85, 0.8, 0.6], "cells": 24}},
+    "wallR":   {"baseColor": [0.2, 0.4, 0.75], "roughness": 1, "specular": 0, "checker": {"color": [0.8, 0.85, 0.9], "cells": 24}},
+    "ceiling": {"baseColor": [0.8, 0.8, 0.8], "roughness": 1, "specular": 0},
+    "end":     {"baseColor": [0.3, 0.65, 0.3], "roughness": 1, "specular": 0, "checker": {"color": [0.9, 0.9, 0.5], "cells": 6}},
+    "lamp":    {"baseColor": [1, 1, 1], "emissive": [12, 11, 9]}
+  },
+  "objects": [
+    {"name": "floor",   "shape": "quad", "material": "floor", "translation": [0, 0, -6], "scale": [4, 1, 20]},
+    {"name": "ceiling", "shape": "quad", "material": "ceiling", "translation": [0, 3, -6], "rotation": [180, 0, 0], "scale": [4, 1, 20]},
+    {"name": "left",    "shape": "quad", "material": "wallL", "translation": [-2, 1.5, -6], "rotation": [0, 0, -90], "scale": [3, 1, 20]},
+    {"name": "right",   "shape": "quad", "material": "wallR", "translation": [2, 1.5, -6], "rotation": [0, 0, 90], "scale": [3, 1, 20]},
+    {"name": "end",     "shape": "quad", "material": "end", "translation": [0, 1.5, -16], "rotation": [90, 0, 0], "scale": [4, 1, 3]},
+    {"name": "lamp1",   "shape": "quad", "material": "lamp", "translation": [0, 2.99, -2], "rotation": [180, 0, 0], "scale": [1, 1, 0.6]},
+    {"name": "lamp2",   "shape": "quad", "material": "lamp", "translation": [0, 2.99, -8], "rotation": [180, 0, 0], "scale": [1, 1, 0.6]},
+    {"name": "lamp3",   "shape": "quad", "material": "lamp", "translation": [0, 2.99, -13], "rotation": [180, 0, 0], "scale": [1, 1, 0.6]},
+    {"name": "orb",     "shape": "sphere", "material": "orb", "translation": [0.3, 1.1, -7], "scale": 1.4}
+  ],
+  "camera": {"fov": 55, "interpolation": "catmull-rom", "keyframes": [
+    {"frame": 0,  "position": [-0.9, 1.5, 3.0],  "target": [0.2, 1.1, -7]},
+    {"frame": 30, "position": [0.6, 1.6, -1.5],  "target": [0.3, 1.1, -7]},
+    {"frame": 59, "position": [1.3, 1.4, -4.0],  "target": [-0.2, 1.0, -9]}
+  ]}
+})";
+
+std::string corridor(const char* name, const char* orb) {
+  std::string s = kCorridor;
+  s.replace(s.find("%NAME%"), 6, name);
+  s.replace(s.find("%ORB%"), 5, orb);
+  return s;
+}
+
+const std::map<std::string, std::string>& table() {
+  static const std::map<std::string, std::string> t = {
+      {"cornell", kCornell},
+      {"pillars", kPillars},
+      {"glossy", kGlossy},
+      {"dynamic", kDynamic},
+      {"lightswitch", kLightswitch},
+      {"ghosting", kGhosting},
+      {"mirrorfloor", kMirrorFloor},
+      {"corridor", corridor("corridor", R"({"baseColor": [0.95, 0.95, 0.95], "mirror": true})")},
+      {"corridorglossy", corridor("corridorglossy", R"({"baseColor": [0.95, 0.93, 0.9], "metallic": 1, "roughness": 0.2})")}};
   return t;
 }
 
@@ -159,7 +299,7 @@ const std::map<std::string, const char*>& table() {
 std::optional<std::string> builtinSceneJson(const std::string& name) {
   auto it = table().find(name);
   if (it == table().end()) return std::nullopt;
-  return std::string(it->second);
+  return it->second;
 }
 
 std::string Scene::builtinDescription(const std::string& name) { return builtinSceneJson(name).value_or(""); }

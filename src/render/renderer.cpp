@@ -23,12 +23,37 @@ namespace {
 
 constexpr float kSkyDepth = 1e4f;     // depth written where the primary ray escapes (as src/synthetic)
 constexpr int kMaxMirrorChain = 8;    // mirror bounces followed for the reflection features
+// Reflection features (reflected*, reflectedFootprint) are written below this roughness:
+// Voorhuis' threshold for reflection motion vectors and the Eq. 6 bandwidth (Sec. 4.2).
+constexpr float kReflectionFeatureRoughness = 0.4f;
 constexpr float kOffscreen = -1e4f;   // previous position of points that were behind the camera
 
 float powerHeuristic(float a, float b) {
   const float a2 = a * a, b2 = b * b;
   return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0f;
 }
+
+/// Ray differentials with respect to the pixel coordinates x and y (Igehy 1999): of the
+/// position on the ray and of its unit direction.
+struct RayDifferential {
+  V3 dPdx, dPdy, dDdx, dDdy;
+
+  /// Igehy Eq. 2-3 (transfer): the ray P + t D hits a surface of normal n at distance t.
+  void transfer(V3 d, float t, V3 n) {
+    const float dn = dot(d, n);
+    for (V3* dp : {&dPdx, &dPdy}) {
+      const V3 moved = *dp + (dp == &dPdx ? dDdx : dDdy) * t;
+      *dp = std::fabs(dn) > 1e-8f ? moved - d * (dot(moved, n) / dn) : moved;
+    }
+  }
+  /// Igehy Eq. 15 (reflection): D' = D - 2 (D.N) N, with dN the normal's derivatives.
+  void reflect(V3 d, V3 n, V3 dNdx, V3 dNdy) {
+    const float dN = dot(d, n);
+    dDdx = dDdx - (n * (dot(dDdx, n) + dot(d, dNdx)) + dNdx * dN) * 2.0f;
+    dDdy = dDdy - (n * (dot(dDdy, n) + dot(d, dNdy)) + dNdy * dN) * 2.0f;
+  }
+  float footprint() const { return 0.5f * (length(dPdx) + length(dPdy)); }
+};
 
 /// One frame's geometry in world space: the Embree scene plus what shading needs.
 struct FrameGeometry {
@@ -162,10 +187,13 @@ struct Renderer::Impl {
       rtcReleaseGeometry(geom);
 
       const Material& m = scene->materials[obj.material];
-      if (m.isEmissive() && g->emissionScale[o] > 0) {  // a switched-off light is not sampled
+      if (m.isEmissive()) {
+        // Lights are selected by their nominal power, whatever their switch (emissionScale): a
+        // switched-off lamp keeps its share of the light samples (they find no radiance), so a
+        // light switch does not reshuffle which light every other pixel's random numbers pick,
+        // and re-shaded gradient samples lit by other lights keep their values.
         g->lightOffset[o] = int(g->lights.size());
-        const V3 e = (m.emissiveTexture >= 0 ? m.emissive * scene->textures[m.emissiveTexture].mean : m.emissive) *
-                     g->emissionScale[o];
+        const V3 e = m.emissiveTexture >= 0 ? m.emissive * scene->textures[m.emissiveTexture].mean : m.emissive;
         for (size_t k = 0; k < tris; ++k) {
           const V3 a = P[mesh.indices[3 * k]], b = P[mesh.indices[3 * k + 1]], c = P[mesh.indices[3 * k + 2]];
           g->lights.push_back({int(o), uint32_t(k), 0.5f * length(cross(b - a, c - a)), e});
@@ -321,6 +349,35 @@ struct Renderer::Impl {
     s.emission = s.frontFacing ? m.emissive * g.emissionScale[s.object] : V3(0);
     if (s.frontFacing && hasUv && m.emissiveTexture >= 0) s.emission = s.emission * scene->textures[m.emissiveTexture].sample(tu, tv);
     return s;
+  }
+
+  /// The shading normal (without normal maps, unflipped) of surface s's primitive at a point
+  /// q near s.p, for the normal's derivatives along a ray differential.
+  V3 shadingNormalAt(const FrameGeometry& g, const Surface& s, V3 q) const {
+    const Object& obj = scene->objects[s.object];
+    const Mesh& mesh = scene->meshes[obj.mesh];
+    const uint32_t i0 = mesh.indices[3 * s.prim], i1 = mesh.indices[3 * s.prim + 1], i2 = mesh.indices[3 * s.prim + 2];
+    const auto& P = g.positions[s.object];
+    if (mesh.analyticSphere) return normalize(M4::normal(g.worldInverse[s.object], g.worldInverse[s.object].point(q)));
+    if (g.normals[s.object].empty()) return normalize(cross(P[i1] - P[i0], P[i2] - P[i0]));
+    const V3 e1 = P[i1] - P[i0], e2 = P[i2] - P[i0], r = q - P[i0];
+    const float d00 = dot(e1, e1), d01 = dot(e1, e2), d11 = dot(e2, e2), d20 = dot(r, e1), d21 = dot(r, e2);
+    const float den = d00 * d11 - d01 * d01;
+    if (std::fabs(den) < 1e-20f) return s.ns;
+    const float u = (d11 * d20 - d01 * d21) / den, v = (d00 * d21 - d01 * d20) / den;
+    const auto& N = g.normals[s.object];
+    return normalize(N[i0] * (1.0f - u - v) + N[i1] * u + N[i2] * v);
+  }
+
+  /// Derivatives of s's shading normal (as stored in s, facing the ray) along dP, by a
+  /// central difference of shadingNormalAt over a step of ~1e-3 of the surface's scale.
+  V3 normalDerivative(const FrameGeometry& g, const Surface& s, V3 dP) const {
+    const float len = length(dP);
+    if (len <= 0) return V3(0);
+    const float h = 1e-3f * std::max(1.0f, length(s.p)) / len;
+    const V3 a = shadingNormalAt(g, s, s.p + dP * h), b = shadingNormalAt(g, s, s.p - dP * h);
+    const float sign = dot(shadingNormalAt(g, s, s.p), s.ns) < 0 ? -1.0f : 1.0f;
+    return (a - b) * (sign * 0.5f / h);
   }
 
   // -------------------------------------------------------------------------------------------
@@ -796,7 +853,8 @@ struct Renderer::Impl {
     if (settings.allBuffers)
       for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::ReflectedPosition,
                        Buffer::ReflectedNormal, Buffer::ReflectedAlbedo, Buffer::SecondaryDistance,
-                       Buffer::MirrorDirection, Buffer::Seed, Buffer::SampleMask, Buffer::IndirectDiffuse})
+                       Buffer::MirrorDirection, Buffer::ReflectedFootprint, Buffer::Seed, Buffer::SampleMask,
+                       Buffer::IndirectDiffuse})
         list.push_back(b);
     if (gradients)
       for (Buffer b : {Buffer::GradientSample, Buffer::GradientPrevious, Buffer::GradientCurrent}) list.push_back(b);
@@ -921,8 +979,24 @@ struct Renderer::Impl {
     if (!all) return;
     const V3 mirrorDir = reflect(d, s->ns);
     put3(Buffer::MirrorDirection, mirrorDir);
-    if (!s->pureMirror()) return;
-    // Reflection features: follow the mirror chain to the first non-mirror hit.
+    if (!(s->roughness < kReflectionFeatureRoughness)) return;
+    // Reflection features: follow the perfect mirror ray (the representative ray of a glossy
+    // pixel) through any pure mirrors to the first non-mirror hit, carrying the ray
+    // differentials of the pixel (Igehy 1999) for Voorhuis' Eq. 6 footprint.
+    RayDifferential rd;
+    {
+      const float tx = 2.0f / float(w) * v.tanHalfFovY * v.aspect, ty = -2.0f / float(h) * v.tanHalfFovY;
+      const V3 D = v.forward + v.right * ((2.0f * (float(x) + 0.5f) / float(w) - 1.0f) * v.tanHalfFovY * v.aspect) +
+                   v.up * ((1.0f - 2.0f * (float(y) + 0.5f) / float(h)) * v.tanHalfFovY);
+      const float l = length(D);
+      auto unitDerivative = [&](V3 dD) { return (dD * (l * l) - D * dot(D, dD)) / (l * l * l); };
+      rd.dPdx = rd.dPdy = V3(0);
+      rd.dDdx = unitDerivative(v.right * tx);
+      rd.dDdy = unitDerivative(v.up * ty);
+    }
+    rd.transfer(d, s->t, s->ng);
+    rd.reflect(d, s->ns, normalDerivative(g, *s, rd.dPdx), normalDerivative(g, *s, rd.dPdy));
+    const bool mirror = s->pureMirror();
     Surface cur = *s;
     V3 dir = mirrorDir;
     for (int k = 0; k < kMaxMirrorChain; ++k) {
@@ -930,17 +1004,20 @@ struct Renderer::Impl {
       ++rays;
       if (!intersect(g, offsetOrigin(cur, dir), dir, 1e30f, rh)) {
         put3(Buffer::ReflectedAlbedo, V3(1.0f));  // sky seen in the mirror: nothing to demodulate
-        if (k == 0) f[Buffer::SecondaryDistance].at(x, y) = 0;
+        if (k == 0 && mirror) f[Buffer::SecondaryDistance].at(x, y) = 0;
         return;
       }
       const Surface next = surface(g, rh, dir);
-      if (k == 0) f[Buffer::SecondaryDistance].at(x, y) = length(next.p - cur.p);
+      rd.transfer(dir, next.t, next.ng);
+      if (k == 0 && mirror) f[Buffer::SecondaryDistance].at(x, y) = length(next.p - cur.p);
       if (!next.pureMirror() || k + 1 == kMaxMirrorChain) {
         put3(Buffer::ReflectedPosition, next.p);
         put3(Buffer::ReflectedNormal, next.ns);
         put3(Buffer::ReflectedAlbedo, next.baseColor);
+        f[Buffer::ReflectedFootprint].at(x, y) = rd.footprint();
         return;
       }
+      rd.reflect(dir, next.ns, normalDerivative(g, next, rd.dPdx), normalDerivative(g, next, rd.dPdy));
       dir = reflect(dir, next.ns);
       cur = next;
     }

@@ -66,10 +66,33 @@ V3 albedoAt(const Hit& h, V3 p) {
 
 V3 cameraPosition(const Scene& s, int index) { return {s.cameraSpeed * float(index), 1.0f, 5.0f}; }
 
+// Camera-to-world rotation of frame `index`: a yaw about +y, applied to a camera-space vector.
+struct Yaw {
+  float c = 1, s = 0;
+  Yaw(const Scene& scene, int index) {
+    if (scene.cameraYawSpeed != 0) c = std::cos(scene.cameraYawSpeed * index), s = std::sin(scene.cameraYawSpeed * index);
+  }
+  V3 toWorld(V3 v) const { return s == 0 ? v : V3{c * v.x + s * v.z, v.y, -s * v.x + c * v.z}; }
+  V3 toCamera(V3 v) const { return s == 0 ? v : V3{c * v.x - s * v.z, v.y, s * v.x + c * v.z}; }
+};
+
+// The radical inverse of i in base b (Halton sequence), in [0, 1).
+float radicalInverse(int i, int b) {
+  float f = 1, r = 0;
+  for (; i > 0; i /= b) {
+    f /= float(b);
+    r += f * float(i % b);
+  }
+  return r;
+}
+
 Camera cameraOf(const Scene& s, int index) {
   Camera c;
   V3 e = cameraPosition(s, index);
-  c.worldToCamera = {1, 0, 0, -e.x, 0, 1, 0, -e.y, 0, 0, 1, -e.z, 0, 0, 0, 1};
+  const Yaw yaw(s, index);
+  // worldToCamera = [R^T | -R^T e] for the camera-to-world rotation R.
+  const V3 ex = yaw.toCamera({1, 0, 0}), ey = yaw.toCamera({0, 1, 0}), ez = yaw.toCamera({0, 0, 1}), t = yaw.toCamera(e);
+  c.worldToCamera = {ex.x, ey.x, ez.x, -t.x, ex.y, ey.y, ez.y, -t.y, ex.z, ey.z, ez.z, -t.z, 0, 0, 0, 1};
   const float f = 1.0f / std::tan(s.verticalFov * 0.5f), aspect = float(s.width) / float(s.height);
   const float n = 0.1f, fa = 100.0f;
   c.projection = {f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, -(fa + n) / (fa - n), -2 * fa * n / (fa - n), 0, 0, -1, 0};
@@ -153,6 +176,11 @@ void writeGradientSamples(const Scene& s, int index, Frame& f) {
 
 }  // namespace
 
+std::array<float, 2> jitterOf(const Scene& s, int index) {
+  if (!s.jitter) return {0, 0};
+  return {radicalInverse(index + 1, 2) - 0.5f, radicalInverse(index + 1, 3) - 0.5f};
+}
+
 Frame makeFrame(const Scene& s, int index, Image* reference) {
   const int w = s.width, h = s.height;
   Frame f;
@@ -166,10 +194,14 @@ Frame makeFrame(const Scene& s, int index, Image* reference) {
   if (reference) *reference = Image(w, h, 3);
 
   const V3 eye = cameraPosition(s, index), prevEye = cameraPosition(s, index - 1);
+  const Yaw yaw(s, index), prevYaw(s, index - 1);
+  const auto jitter = jitterOf(s, index);
   const float tanHalf = std::tan(s.verticalFov * 0.5f), aspect = float(w) / float(h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const V3 d = rayDirection(s, x + 0.5f, y + 0.5f);
+      // The sample position (pixel centre plus jitter), in pixels.
+      const float fx = x + 0.5f + jitter[0], fy = y + 0.5f + jitter[1];
+      const V3 dc = rayDirection(s, fx, fy), d = yaw.toWorld(dc);
       const Hit hit = intersect(eye, d);
       const V3 p = eye + d * hit.t;
       const V3 radiance = radianceAt(s, index, hit, p);
@@ -181,18 +213,19 @@ Frame makeFrame(const Scene& s, int index, Image* reference) {
         f[Buffer::Normal].at(x, y, 0) = hit.n.x;
         f[Buffer::Normal].at(x, y, 1) = hit.n.y;
         f[Buffer::Normal].at(x, y, 2) = hit.n.z;
-        f[Buffer::Depth].at(x, y) = hit.t * -d.z;  // view depth along -z
+        f[Buffer::Depth].at(x, y) = hit.t * -dc.z;  // view depth along -z
         f[Buffer::Position].at(x, y, 0) = p.x;
         f[Buffer::Position].at(x, y, 1) = p.y;
         f[Buffer::Position].at(x, y, 2) = p.z;
         f[Buffer::ObjectId].at(x, y) = float(hit.id);
         f[Buffer::Roughness].at(x, y) = 1.0f;
-        // Motion: where p was on screen with the previous camera (static scene).
-        const V3 q = p - prevEye;
+        // Motion: where p was on screen with the previous (unjittered) camera, static scene,
+        // from where it is now (the sample position).
+        const V3 q = prevYaw.toCamera(p - prevEye);
         const float px = (q.x / -q.z / (tanHalf * aspect) * 0.5f + 0.5f) * w;
         const float py = (0.5f - q.y / -q.z / tanHalf * 0.5f) * h;
-        f[Buffer::Motion].at(x, y, 0) = px - (x + 0.5f);
-        f[Buffer::Motion].at(x, y, 1) = py - (y + 0.5f);
+        f[Buffer::Motion].at(x, y, 0) = px - fx;
+        f[Buffer::Motion].at(x, y, 1) = py - fy;
       } else {
         f[Buffer::Depth].at(x, y) = 1e4f;
       }

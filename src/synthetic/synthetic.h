@@ -3,6 +3,7 @@
 // reference and 1-spp-like noisy radiance (radiance times an exponential variate of mean 1),
 // with no renderer involved. Used by tests, benchmarks and `rtdenoise bench`.
 #pragma once
+#include <array>
 #include <cstdint>
 
 #include "rtd/sequence.h"
@@ -22,7 +23,16 @@ struct Scene {
   /// frame's brightest sample, forward-projected to this frame's camera and re-shaded with its
   /// noise variate (the synthetic "seed"), as `rtdenoise render` does.
   bool gradientSamples = true;
+  /// Camera rotation about the world's y axis per frame (radians), and a jittered camera: frame
+  /// i's sample of pixel (x, y) is at (x + 0.5, y + 0.5) + jitterOf(i) (Halton 2, 3 offsets in
+  /// [-0.5, 0.5)), motion staying the unjittered (native) motion. For the engine-convention
+  /// tests; the gradient samples do not follow them (turn gradientSamples off with either).
+  float cameraYawSpeed = 0.0f;
+  bool jitter = false;
 };
+
+/// Sub-pixel jitter of frame `index` (pixels, y down); zero unless scene.jitter.
+std::array<float, 2> jitterOf(const Scene& scene, int index);
 
 /// Frame `index` (0-based; its number is index + 1). Buffers: color, albedo, normal, depth,
 /// position, motion, objectId, roughness and, with gradientSamples, gradientSample,

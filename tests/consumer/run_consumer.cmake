@@ -1,6 +1,7 @@
 # Installs the build tree into a scratch prefix, then uses the installed package three ways:
-# the CMake consumer project (tests/consumer), a C++ and a C program built with plain compiler
-# commands through pkg-config, and the installed `rtdenoise` command (no LD_LIBRARY_PATH).
+# the CMake consumer project (tests/consumer: a C++ and a C program), the same two programs built
+# with plain compiler commands through pkg-config, and the installed `rtdenoise` command; no
+# LD_LIBRARY_PATH anywhere.
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 function(run what)
@@ -18,6 +19,7 @@ run("configure of the consumer" ${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}
     -DCMAKE_PREFIX_PATH=${prefix})
 run("build of the consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run("consumer" ${WORK_DIR}/build/consumer)
+run("C consumer" ${WORK_DIR}/build/c_consumer)
 
 # pkg-config: the .pc files of the scratch prefix only. The C++ API needs -std=c++20 (the
 # .pc file's cxx_standard variable says so); the C program needs nothing.
@@ -39,6 +41,9 @@ if(NOT pc_vulkan STREQUAL EXPECT_VULKAN)
 endif()
 run("pkg-config C++ consumer" sh -c
     "${CXX} -std=c++${pc_cxx_standard} -DCONSUMER_PACKAGE_VULKAN=${EXPECT_VULKAN_01} ${SOURCE_DIR}/main.cpp -o ${WORK_DIR}/pc_consumer \$(pkg-config --cflags --libs rtdenoise rtdenoise-eval ${EXTRA_PC}) -Wl,-rpath,${pc_libdir} && ${WORK_DIR}/pc_consumer")
+
+run("pkg-config C consumer" sh -c
+    "${CC} -std=c99 ${SOURCE_DIR}/consumer.c -o ${WORK_DIR}/pc_c_consumer \$(pkg-config --cflags --libs rtdenoise) -lm -Wl,-rpath,${pc_libdir} && ${WORK_DIR}/pc_c_consumer")
 
 run("installed rtdenoise --version" ${prefix}/bin/rtdenoise --version)
 run("installed rtdenoise methods" ${prefix}/bin/rtdenoise methods)

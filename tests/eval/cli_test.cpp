@@ -2,30 +2,18 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "rtd/rtd.h"
+#include "support/run_cli.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-struct Result {
-  int code;
-  std::string output;
-};
-Result runCli(const std::string& args) {
-  const std::string cmd = std::string(RTD_CLI) + " " + args + " 2>&1";
-  FILE* p = ::popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = ::pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using rtd::test::runCli;
 nlohmann::json readJson(const fs::path& p) {
   std::ifstream in(p);
   return nlohmann::json::parse(in);
@@ -35,7 +23,7 @@ nlohmann::json readJson(const fs::path& p) {
 TEST(EvalCli, DemoDenoiseEvalAndCompare) {
   const fs::path dir = fs::temp_directory_path() / ("rtd_cli_eval_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const auto demo = runCli("demo --out " + (dir / "demo").string() + " --scene synthetic --size 48x32 --frames 4 --warmup 1 --save-scene");
+  const auto demo = runCli("demo --output " + (dir / "demo").string() + " --scene synthetic --size 48x32 --frames 4 --warmup 1 --save-scene");
   ASSERT_EQ(demo.code, 0) << demo.output;
   EXPECT_NE(demo.output.find("report: "), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "demo" / "report.html"));
@@ -46,10 +34,11 @@ TEST(EvalCli, DemoDenoiseEvalAndCompare) {
   const auto den = runCli("denoise -m accumulate -i " + (scene / "input").string() + " -o " + (dir / "out").string());
   ASSERT_EQ(den.code, 0) << den.output;
   const auto ev = runCli("eval --reference " + (scene / "reference").string() + " --result " + (dir / "out").string() +
-                         " --input " + (scene / "input").string() + " --warmup 1");
+                         " --input " + (scene / "input").string() + " --warmup 1 --json " + (dir / "eval.json").string());
   ASSERT_EQ(ev.code, 0) << ev.output;
   EXPECT_NE(ev.output.find("PSNR"), std::string::npos);
-  const auto j = readJson(dir / "out" / "metrics.json");
+  EXPECT_FALSE(fs::exists(dir / "out" / "metrics.json"));  // nothing written into the result folder
+  const auto j = readJson(dir / "eval.json");
   ASSERT_EQ(j["streams"].size(), 2u);
   EXPECT_EQ(j["streams"][0]["frames"].size(), 4u);
   // The denoised result is closer to the reference than the input; numbers agree with the demo's.
@@ -57,7 +46,7 @@ TEST(EvalCli, DemoDenoiseEvalAndCompare) {
   EXPECT_NEAR(j["streams"][0]["steady"]["psnr"].get<double>(), demoJson["runs"][1]["steady"]["psnr"].get<double>(), 1e-3);
 
   const auto cmp = runCli("compare -i " + (scene / "input").string() + " -r " + (scene / "reference").string() +
-                          " -o " + (dir / "cmp").string() + " --warmup 1 --no-flip");
+                          " -o " + (dir / "cmp").string() + " --warmup 1 --flip none");
   ASSERT_EQ(cmp.code, 0) << cmp.output;
   EXPECT_TRUE(fs::exists(dir / "cmp" / "report.html"));
 

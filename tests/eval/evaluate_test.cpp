@@ -24,7 +24,7 @@ Image gradient(int w, int h, float shift) {
 EvalSettings fast(int warmup = 0) {
   EvalSettings s;
   s.warmupFrames = warmup;
-  s.computeFlip = false;
+  s.computeFlip = s.computeHdrFlip = false;
   s.toneMap.op = ToneMapSettings::Operator::Clamp;
   return s;
 }

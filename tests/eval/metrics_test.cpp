@@ -230,3 +230,115 @@ TEST(Flip, EdgesRaiseTheErrorLocally) {
   EXPECT_EQ(map.at(2, 16), 0.0f);
   EXPECT_GT(map.at(32, 16), map.at(28, 16));
 }
+
+// ---------------------------------------------------------------------------------------------
+// HDR-FLIP (Andersson et al. 2021): the sub-steps against hand-computed values, then its
+// behaviour (identical images 0, a noisier image worse, highlights the tone map hides).
+
+TEST(HdrFlip, ToneCurveAndItsInverse) {
+  // FLIP's ACES curve at x = 1: (0.36*2.51 + 0.6*0.03) / (0.36*2.43 + 0.6*0.59 + 0.14)
+  // = 0.9216 / 1.3688 (by hand).
+  EXPECT_NEAR(flipdetail::hdrToneMap(1.0f), 0.9216 / 1.3688, 1e-6);
+  EXPECT_EQ(flipdetail::hdrToneMap(0.0f), 0.0f);
+  EXPECT_EQ(flipdetail::hdrToneMap(-1.0f), 0.0f);
+  EXPECT_LE(flipdetail::hdrToneMap(1e6f), 1.0f);
+  // x_max: 0.16002 x^2 - 0.2829 x - 0.119 = 0 -> x = (0.2829 + sqrt(0.2829^2 + 4*0.16002*0.119)) / 0.32004
+  // = 2.11886 (by hand, 5 digits).
+  EXPECT_NEAR(flipdetail::hdrToneMapInverse(0.85), 2.11886, 5e-5);
+  EXPECT_NEAR(flipdetail::hdrToneMap(float(flipdetail::hdrToneMapInverse(0.85))), 0.85, 1e-6);
+}
+
+TEST(HdrFlip, ExposureRangeFromTheReference) {
+  // Grey pixels of luminance 0.25, 1 and 6 (BT.709 weights sum to 1): median 1, max 6.
+  Image ref(3, 1, 3);
+  const float lum[3] = {0.25f, 1.0f, 6.0f};
+  for (int x = 0; x < 3; ++x)
+    for (int c = 0; c < 3; ++c) ref.at(x, 0, c) = lum[x];
+  const auto r = flipdetail::exposureRange(ref);
+  const double xMax = flipdetail::hdrToneMapInverse(0.85);
+  EXPECT_NEAR(r.start, std::log2(xMax / 6.0), 1e-6);  // -1.5016: the maximum maps to 0.85
+  EXPECT_NEAR(r.stop, std::log2(xMax / 1.0), 1e-6);   // 1.0833: the median maps to 0.85
+  EXPECT_EQ(r.count, 3);                              // ceil(log2 6 = 2.585)
+  const auto e = r.exposures();
+  ASSERT_EQ(e.size(), 3u);
+  EXPECT_NEAR(e[1], 0.5 * (r.start + r.stop), 1e-9);
+  // A black reference: one exposure range at 0, and HDR-FLIP of black vs black is 0.
+  const auto black = flipdetail::exposureRange(Image(4, 4, 3, 0.0f));
+  EXPECT_EQ(black.start, 0.0);
+  EXPECT_EQ(black.stop, 0.0);
+  EXPECT_EQ(hdrFlip(Image(16, 16, 3, 0.0f), Image(16, 16, 3, 0.0f)), 0.0);
+}
+
+TEST(HdrFlip, IdenticalImagesGiveZeroAndNoiseRanksWorse) {
+  // An HDR test image: a gradient over three decades with a bright patch.
+  Image ref(48, 32, 3);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 48; ++x)
+      for (int c = 0; c < 3; ++c) ref.at(x, y, c) = 0.01f * std::pow(1000.0f, float(x) / 47.0f) * (1.0f + 0.1f * c);
+  Image map;
+  EXPECT_EQ(hdrFlip(ref, ref, {}, &map), 0.0);
+  for (float v : map.pixels) EXPECT_EQ(v, 0.0f);
+  const Image noise = pattern(48, 32, 3, 7);
+  Image mild = ref, strong = ref;
+  for (size_t i = 0; i < ref.pixels.size(); ++i) {
+    mild.pixels[i] *= 1.0f + 0.1f * (noise.pixels[i] - 0.5f);
+    strong.pixels[i] *= 1.0f + 0.8f * (noise.pixels[i] - 0.5f);
+  }
+  const double eMild = hdrFlip(mild, ref), eStrong = hdrFlip(strong, ref);
+  EXPECT_GT(eMild, 0.0);
+  EXPECT_GT(eStrong, eMild);
+  // The per-pixel error is the largest over the exposures, so it is never below LDR-FLIP of any
+  // one exposure of the bracket (here the middle one, computed by hand from the parts).
+  HdrFlipReference prepared(ref);
+  Image hdrMap;
+  prepared.compare(strong, &hdrMap);
+  const double c = prepared.exposures()[prepared.exposures().size() / 2];
+  Image refTm(48, 32, 3), testTm(48, 32, 3);
+  for (size_t i = 0; i < ref.pixels.size(); ++i) {
+    refTm.pixels[i] = flipdetail::hdrToneMap(ref.pixels[i] * float(std::exp2(c)));
+    testTm.pixels[i] = flipdetail::hdrToneMap(strong.pixels[i] * float(std::exp2(c)));
+  }
+  Image ldrMap;
+  FlipReference(refTm, {}, FlipInput::Linear).compare(testTm, &ldrMap);
+  for (size_t i = 0; i < ldrMap.pixels.size(); ++i) EXPECT_GE(hdrMap.pixels[i], ldrMap.pixels[i]);
+}
+
+TEST(HdrFlip, SeesHighlightsTheToneMapClips) {
+  // Highlights of 40 vs 80: after the ACES tone map at exposure 0 both are white, so LDR-FLIP on
+  // the tone-mapped images hardly differs; the bracket's darkest exposure (the maximum at 0.85)
+  // tells them apart.
+  Image ref(32, 32, 3, 0.2f), test = ref;
+  for (int y = 8; y < 24; ++y)
+    for (int x = 8; x < 24; ++x)
+      for (int c = 0; c < 3; ++c) ref.at(x, y, c) = 80.0f, test.at(x, y, c) = 40.0f;
+  Image tmRef(32, 32, 3), tmTest(32, 32, 3);
+  for (size_t i = 0; i < ref.pixels.size(); ++i) {
+    tmRef.pixels[i] = std::min(1.0f, flipdetail::hdrToneMap(ref.pixels[i]));
+    tmTest.pixels[i] = std::min(1.0f, flipdetail::hdrToneMap(test.pixels[i]));
+  }
+  const double ldr = FlipReference(tmRef, {}, FlipInput::Linear).compare(tmTest);
+  const double hdr = hdrFlip(test, ref);
+  EXPECT_LT(ldr, 0.01);
+  EXPECT_GT(hdr, 10 * ldr);
+}
+
+TEST(Flip, PixelsPerDegreeOptionAndErrorStatistics) {
+  FlipSettings s;
+  s.ppd = 30;
+  EXPECT_EQ(s.pixelsPerDegree(), 30.0);
+  int r = 0;
+  flipdetail::csfKernel(0, s.pixelsPerDegree(), &r);
+  EXPECT_EQ(r, 5);  // ceil(3 sqrt(0.04 / (2 pi^2)) 30) = ceil(4.05)
+  // Quartiles as numpy.percentile: {0..4} -> 1, 2, 3; {0..3} -> 0.75, 1.5, 2.25.
+  Image a(5, 1, 1), b(4, 1, 1);
+  for (int i = 0; i < 5; ++i) a.pixels[size_t(i)] = float(4 - i);
+  for (int i = 0; i < 4; ++i) b.pixels[size_t(i)] = float(i);
+  const auto sa = errorStatistics(a), sb = errorStatistics(b);
+  EXPECT_DOUBLE_EQ(sa.mean, 2.0);
+  EXPECT_DOUBLE_EQ(sa.q1, 1.0);
+  EXPECT_DOUBLE_EQ(sa.median, 2.0);
+  EXPECT_DOUBLE_EQ(sa.q3, 3.0);
+  EXPECT_DOUBLE_EQ(sb.q1, 0.75);
+  EXPECT_DOUBLE_EQ(sb.median, 1.5);
+  EXPECT_DOUBLE_EQ(sb.q3, 2.25);
+}

@@ -41,6 +41,16 @@ std::vector<BadFrame> badFrames() {
          m.assign(size_t(12 * kW + 2) * kH + 64, 0);
          in[Buffer::Color] = {m.data(), kW, kH, Format::Float3, 0, size_t(12 * kW + 2)};
        }},
+      {"half pixels with an odd stride", "multiples of 2",
+       [](FrameInputs& in, ImageView&, std::vector<char>& m) {
+         m.assign(size_t(7) * kW * kH + 64, 0);
+         in[Buffer::Color] = {m.data(), kW, kH, Format::Half3, 7};
+       }},
+      {"half pixels at an odd address", "not 2-byte aligned",
+       [](FrameInputs& in, ImageView&, std::vector<char>& m) {
+         m.assign(size_t(6) * kW * kH + 64, 0);
+         in[Buffer::Color] = {m.data() + 1, kW, kH, Format::Half3};
+       }},
       {"pixel stride smaller than the format", "smaller than a pixel",
        [](FrameInputs& in, ImageView&, std::vector<char>& m) {
          m.assign(size_t(8) * kW * kH + 64, 0);
@@ -90,7 +100,7 @@ std::vector<BadFrame> badFrames() {
        }},
       {"output of the wrong size", "output view is",
        [](FrameInputs&, ImageView& out, std::vector<char>&) { out.width = kW - 1; }},
-      {"output Float2", "Float3 or Float4",
+      {"output Float2", "Float3, Float4, Half3 or Half4",
        [](FrameInputs&, ImageView& out, std::vector<char>&) { out.format = Format::Float2; }},
       {"output with an odd pixel stride", "multiples of 4",
        [](FrameInputs&, ImageView& out, std::vector<char>& m) {

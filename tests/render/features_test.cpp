@@ -11,14 +11,6 @@
 namespace rtd::render::test {
 namespace {
 
-using Vec = std::array<double, 3>;
-Vec sub(Vec a, Vec b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-double dot(Vec a, Vec b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec scale(Vec a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-Vec add(Vec a, Vec b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec norm(Vec a) { return scale(a, 1.0 / std::sqrt(dot(a, a))); }
-Vec px3(const Image& img, int x, int y) { return {img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)}; }
-
 /// Camera basis and eye recovered from the stored matrices (independent of the renderer's code).
 struct CameraGeom {
   Vec eye, right, up, forward;
@@ -40,18 +32,6 @@ struct CameraGeom {
     return norm(add(forward, add(scale(right, sx), scale(up, sy))));
   }
 };
-
-/// Pixel position of world point p through the stored matrices (OpenGL clip -> pixels, y down).
-std::array<double, 2> projectWithMatrices(const Camera& c, Vec p, int w, int h) {
-  double cam[4], clip[4];
-  for (int r = 0; r < 4; ++r)
-    cam[r] = c.worldToCamera[r * 4] * p[0] + c.worldToCamera[r * 4 + 1] * p[1] + c.worldToCamera[r * 4 + 2] * p[2] +
-             c.worldToCamera[r * 4 + 3];
-  for (int r = 0; r < 4; ++r)
-    clip[r] = c.projection[r * 4] * cam[0] + c.projection[r * 4 + 1] * cam[1] + c.projection[r * 4 + 2] * cam[2] +
-              c.projection[r * 4 + 3] * cam[3];
-  return {(clip[0] / clip[3] * 0.5 + 0.5) * w, (0.5 - clip[1] / clip[3] * 0.5) * h};
-}
 
 TEST(RenderFeatures, DepthNormalPositionOfAFacingPlane) {
   auto scene = sceneFromJson(R"({

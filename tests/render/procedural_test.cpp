@@ -72,6 +72,33 @@ TEST(Procedural, LoadsByName) {
   EXPECT_THROW(sceneFromJson(R"({"objects": [{"shape": "box", "material": {"pattern": {"kind": "swirl"}}}]})"), Error);
 }
 
+// Checklist 33 (pixel-perfect data): an emissive disc tilted against a black sky. Without jitter
+// (the data set's setting) the pixels the albedo buffer marks as hit are exactly the pixels the
+// reference sees lit; with jitter the reference's edge pixels are fractional and the masks differ.
+TEST(Dataset, FeaturesAndReferenceArePixelAligned) {
+  const std::string text = R"({"objects": [{"shape": "sphere", "scale": 1.3, "translation": [0.1, 0, 0],
+      "material": {"baseColor": 0.5, "emissive": 2, "specular": 0}}],
+      "camera": {"position": [0, 0, 4], "target": [0, 0, 0], "fov": 40}})";
+  for (bool jitter : {false, true}) {
+    RenderSettings s = tiny(40, 30);
+    s.pixelJitter = jitter;
+    Renderer r(sceneFromJson(text), s);
+    const Frame f = r.render(0);
+    const Image ref = r.renderReference(0, 16);
+    int edges = 0, mismatches = 0;
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x) {
+        const bool hit = f[Buffer::Albedo].at(x, y, 0) > 0;
+        const float lit = ref.at(x, y, 0);
+        mismatches += hit != (lit > 0) || (hit && std::abs(lit - 2.0f) > 1e-4f);
+        edges += hit && x > 0 && !(f[Buffer::Albedo].at(x - 1, y, 0) > 0);
+      }
+    ASSERT_GT(edges, 10);
+    if (!jitter) EXPECT_EQ(mismatches, 0);
+    else EXPECT_GT(mismatches, 10) << "jittered references blur the edges (the test can fail)";
+  }
+}
+
 // The data set: two runs with one seed give byte-identical caches (on 1 and 2 threads), another
 // seed another one; dataset.json records the split and the convergence; the cache holds what
 // the sequence and its reference hold.

@@ -3,6 +3,7 @@
 #ifdef HAVE_RTDENOISE_RENDER
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -17,6 +18,27 @@ namespace rtd::render::test {
 
 inline std::shared_ptr<Scene> sceneFromJson(const std::string& text) {
   return Scene::fromJson(text, std::filesystem::current_path(), "test.json");
+}
+
+// Small double-precision vector helpers, independent of the renderer's code.
+using Vec = std::array<double, 3>;
+inline Vec sub(Vec a, Vec b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline double dot(Vec a, Vec b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Vec scale(Vec a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+inline Vec add(Vec a, Vec b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+inline Vec norm(Vec a) { return scale(a, 1.0 / std::sqrt(dot(a, a))); }
+inline Vec px3(const Image& img, int x, int y) { return {img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)}; }
+
+/// Pixel position of world point p through the stored matrices (OpenGL clip -> pixels, y down).
+inline std::array<double, 2> projectWithMatrices(const Camera& c, Vec p, int w, int h) {
+  double cam[4], clip[4];
+  for (int r = 0; r < 4; ++r)
+    cam[r] = c.worldToCamera[r * 4] * p[0] + c.worldToCamera[r * 4 + 1] * p[1] + c.worldToCamera[r * 4 + 2] * p[2] +
+             c.worldToCamera[r * 4 + 3];
+  for (int r = 0; r < 4; ++r)
+    clip[r] = c.projection[r * 4] * cam[0] + c.projection[r * 4 + 1] * cam[1] + c.projection[r * 4 + 2] * cam[2] +
+              c.projection[r * 4 + 3] * cam[3];
+  return {(clip[0] / clip[3] * 0.5 + 0.5) * w, (0.5 - clip[1] / clip[3] * 0.5) * h};
 }
 
 inline double luminanceOf(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }

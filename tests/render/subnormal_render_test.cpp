@@ -50,7 +50,9 @@ TEST(RendererSubnormal, BuiltinScenesComputeNoSubnormals) {
       EXPECT_EQ(frameFlags, 0u) << name << ": a subnormal in render()";
       EXPECT_EQ(refFlags, 0u) << name << ": a subnormal in renderReference()";
       for (int b = 0; b < kBufferCount; ++b)
-        if (f.has(Buffer(b))) EXPECT_EQ(subnormals(f.buffers[size_t(b)]), 0u) << name << " " << bufferName(Buffer(b));
+        if (f.has(Buffer(b))) {
+          EXPECT_EQ(subnormals(f.buffers[size_t(b)]), 0u) << name << " " << bufferName(Buffer(b));
+        }
       EXPECT_EQ(subnormals(ref), 0u) << name;
     });
   }

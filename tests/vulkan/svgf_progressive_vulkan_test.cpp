@@ -77,7 +77,7 @@ TEST(VulkanSvgfProgressive, MatchesCpuDundr) {
 TEST(VulkanSvgfProgressive, MatchesCpuVoorhuisWithSplitComponents) {
   // Two streams share the validity planes; feedback level 2, no variance filtering of indirect.
   RTD_REQUIRE_VULKAN();
-  runBoth({"variant=voorhuis", "feedbackLevel=2"}, true, 5, "voorhuis, diffuse/specular, sample mask");
+  runBoth({"variant=voorhuisRobustness", "feedbackLevel=2"}, true, 5, "voorhuis, diffuse/specular, sample mask");
 }
 
 // The mask is really used: the same sequence with useSampleMask off (every pixel taken as

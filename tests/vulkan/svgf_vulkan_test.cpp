@@ -63,7 +63,7 @@ TEST(VulkanSvgf, MatchesCpuSchied) {
 TEST(VulkanSvgf, MatchesCpuWithSeparatedEmission) {
   RTD_REQUIRE_VULKAN();
   runBoth({}, false, 4, "emission", true);
-  runBoth({"variant=voorhuis"}, true, 4, "emission, diffuse/specular", true);
+  runBoth({"variant=voorhuisRobustness"}, true, 4, "emission, diffuse/specular", true);
 }
 TEST(VulkanSvgf, MatchesCpuDundr) {
   RTD_REQUIRE_VULKAN();
@@ -77,7 +77,7 @@ TEST(VulkanSvgf, MatchesCpuGersthofer) {
 }
 TEST(VulkanSvgf, MatchesCpuVoorhuisWithSplitComponents) {
   RTD_REQUIRE_VULKAN();
-  runBoth({"variant=voorhuis"}, true, 5, "voorhuis, diffuse/specular");
+  runBoth({"variant=voorhuisRobustness"}, true, 5, "voorhuis, diffuse/specular");
 }
 TEST(VulkanSvgf, MatchesCpuWithoutTaaAndVarianceFiltering) {
   RTD_REQUIRE_VULKAN();

@@ -8,6 +8,17 @@ Run (Blender 3.4, Debian package `blender`):
 Writes <output>/frame_0001.exr .. frame_0005.exr (OPEN_EXR_MULTILAYER, 32-bit
 float, ZIP) and <output>/cameras.json (per-frame camera and object matrices).
 Nothing is loaded from a .blend file; everything is built below.
+
+The glossy fixture (tests/fixtures/blender_glossy: reflections, light passes, references):
+
+    blender -b --factory-startup -P tools/blender/make_fixture.py -- \
+        --output tests/fixtures/blender_glossy --scene glossy --light-passes \
+        --frames 8 --half --reference-samples 1024 --filter-width 0.01
+
+(a pixel filter of 0.01 px puts every sample at the pixel centre, so the reference is the
+expectation of the 1-spp frames, not an anti-aliased image) adds Cycles' light passes (DiffDir/DiffInd/DiffCol, GlossDir/GlossInd/GlossCol,
+TransDir/TransInd/TransCol, Emit, Env) and renders <output>/reference/frame_NNNN.exr
+(plain RGB EXR, `--reference-samples` samples, the same camera and scene).
 """
 
 import argparse
@@ -22,10 +33,9 @@ from mathutils import Euler, Vector
 
 WIDTH, HEIGHT = 64, 36
 FRAME_START, FRAME_END = 1, 5
-# Matrices are also exported for these neighbours so that the backward
-# (Vector.XY) and forward (Vector.ZW) motion of every rendered frame can be
-# checked, including frames 1 and 5.
-EXPORT_FRAMES = list(range(FRAME_START - 1, FRAME_END + 2))
+# Matrices are also exported for the neighbours of the rendered frames (frame 0
+# and the one after the last) so that the backward (Vector.XY) and forward
+# (Vector.ZW) motion of every rendered frame can be checked.
 
 
 def parse_args():
@@ -36,6 +46,15 @@ def parse_args():
                    help="Cycles pixel filter width in pixels (default: Blender's 1.5)")
     p.add_argument("--frames", type=int, default=FRAME_END,
                    help="last frame to render (default 5)")
+    p.add_argument("--scene", choices=["diffuse", "glossy"], default="diffuse",
+                   help="diffuse: the original fixture; glossy: a dark glossy floor, a wall mirror, "
+                        "a glossy metal sphere and bright moving objects")
+    p.add_argument("--light-passes", action="store_true",
+                   help="also write the light passes (diffuse, glossy, transmission, emission, environment)")
+    p.add_argument("--half", action="store_true", help="16-bit half float instead of 32-bit")
+    p.add_argument("--size", default=None, help="WxH (default 64x36)")
+    p.add_argument("--reference-samples", type=int, default=0,
+                   help="also render <output>/reference/frame_NNNN.exr with this many samples")
     return p.parse_args(argv)
 
 
@@ -68,6 +87,18 @@ def diffuse_material(name, color, checker=None):
         coord = nt.nodes.new("ShaderNodeTexCoord")
         nt.links.new(coord.outputs["Object"], tex.inputs["Vector"])
         nt.links.new(tex.outputs["Color"], bsdf.inputs["Color"])
+    return mat
+
+
+def principled_material(name, color, roughness, metallic=0.0, specular=0.5):
+    """Principled BSDF: roughness 0 with metallic 1 is a perfect mirror."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    bsdf = mat.node_tree.nodes.get("Principled BSDF")
+    bsdf.inputs["Base Color"].default_value = (*color, 1.0)
+    bsdf.inputs["Roughness"].default_value = roughness
+    bsdf.inputs["Metallic"].default_value = metallic
+    bsdf.inputs["Specular"].default_value = specular
     return mat
 
 
@@ -167,7 +198,78 @@ def build_scene():
     return scene, cam, [floor, wall, cube, sphere, cyl]
 
 
-def configure_render(scene, output, filter_width, last_frame):
+def build_glossy_scene():
+    """A dark glossy floor reflecting brightly coloured objects (one moving), a mirror on the
+    left wall, a glossy gold sphere; sun, area light and a dim sky; the camera slides right."""
+    scene = bpy.context.scene
+    world = bpy.data.worlds.new("World") if scene.world is None else scene.world
+    scene.world = world
+    world.use_nodes = True
+    bg = world.node_tree.nodes.get("Background")
+    bg.inputs["Color"].default_value = (0.20, 0.25, 0.35, 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+
+    floor = add(bpy.ops.mesh.primitive_plane_add, "Floor",
+                principled_material("FloorMat", (0.03, 0.03, 0.035), roughness=0.15, specular=0.8),
+                4, size=16.0, location=(0.0, 2.0, 0.0))
+    wall = add(bpy.ops.mesh.primitive_plane_add, "Wall",
+               diffuse_material("WallMat", (0.70, 0.68, 0.62), checker=((0.25, 0.30, 0.45), 1.5)),
+               5, size=16.0, location=(0.0, 6.0, 1.5), rotation=(math.pi / 2, 0.0, 0.0))
+    wall.scale = (1.0, 3.0 / 16.0, 1.0)
+    mirror = add(bpy.ops.mesh.primitive_plane_add, "Mirror",
+                 principled_material("MirrorMat", (0.95, 0.95, 0.95), roughness=0.0, metallic=1.0),
+                 6, size=3.0, location=(-3.4, 3.2, 1.3), rotation=(math.pi / 2, 0.0, math.radians(60)))
+    red = add(bpy.ops.mesh.primitive_cube_add, "RedCube",
+              diffuse_material("RedMat", (0.95, 0.10, 0.05)), 1, size=1.2, location=(-1.2, 3.0, 0.6),
+              rotation=(0.0, 0.0, math.radians(25)))
+    green = add(bpy.ops.mesh.primitive_uv_sphere_add, "GreenSphere",
+                diffuse_material("GreenMat", (0.10, 0.90, 0.15)), 2, radius=0.6, segments=32, ring_count=16,
+                location=(0.4, 2.2, 0.6))
+    bpy.ops.object.shade_smooth()
+    blue = add(bpy.ops.mesh.primitive_cylinder_add, "BlueCylinder",
+               diffuse_material("BlueMat", (0.10, 0.25, 0.95)), 3, radius=0.45, depth=1.8, vertices=24,
+               location=(2.2, 3.4, 0.9))
+    gold = add(bpy.ops.mesh.primitive_uv_sphere_add, "GoldSphere",
+               principled_material("GoldMat", (1.0, 0.75, 0.30), roughness=0.2, metallic=1.0),
+               7, radius=0.5, segments=32, ring_count=16, location=(1.3, 1.0, 0.5))
+    bpy.ops.object.shade_smooth()
+
+    # The green sphere moves right; the camera slides right and pans a little.
+    for f, loc in ((0, (-0.4, 2.2, 0.6)), (12, (1.6, 2.0, 0.6))):
+        green.location = loc
+        green.keyframe_insert("location", frame=f)
+    set_linear(green)
+    cam_data = bpy.data.cameras.new("Camera")
+    cam_data.lens = 30.0
+    cam_data.sensor_fit = "AUTO"
+    cam = bpy.data.objects.new("Camera", cam_data)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    cam.rotation_mode = "XYZ"
+    for f, loc, rot_deg in ((0, (-1.0, -5.5, 2.2), (75.0, 0.0, -6.0)), (12, (0.6, -5.4, 2.2), (75.0, 0.0, 4.0))):
+        cam.location = loc
+        cam.rotation_euler = Euler([math.radians(a) for a in rot_deg], "XYZ")
+        cam.keyframe_insert("location", frame=f)
+        cam.keyframe_insert("rotation_euler", frame=f)
+    set_linear(cam)
+
+    sun_data = bpy.data.lights.new("Sun", type="SUN")
+    sun_data.energy = 2.5
+    sun_data.angle = math.radians(3.0)
+    sun = bpy.data.objects.new("Sun", sun_data)
+    sun.rotation_euler = Euler((math.radians(45), math.radians(-15), math.radians(20)), "XYZ")
+    scene.collection.objects.link(sun)
+    area_data = bpy.data.lights.new("Area", type="AREA")
+    area_data.energy = 250.0
+    area_data.size = 2.0
+    area = bpy.data.objects.new("Area", area_data)
+    area.location = (2.0, -2.0, 4.5)
+    area.rotation_euler = (Vector((0.0, 2.5, 0.5)) - area.location).to_track_quat("-Z", "Y").to_euler()
+    scene.collection.objects.link(area)
+    return scene, cam, [floor, wall, mirror, red, green, blue, gold], ["GreenSphere"]
+
+
+def configure_render(scene, output, filter_width, last_frame, light_passes=False, half=False):
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
     scene.render.resolution_x = WIDTH
@@ -201,10 +303,16 @@ def configure_render(scene, output, filter_width, last_frame):
     vl.use_pass_object_index = True
     vl.use_pass_diffuse_color = True
     vl.cycles.denoising_store_passes = True
+    if light_passes:
+        for lobe in ("diffuse", "glossy", "transmission"):
+            for part in ("direct", "indirect", "color"):
+                setattr(vl, "use_pass_%s_%s" % (lobe, part), True)
+        vl.use_pass_emit = True
+        vl.use_pass_environment = True
 
     img = scene.render.image_settings
     img.file_format = "OPEN_EXR_MULTILAYER"
-    img.color_depth = "32"
+    img.color_depth = "16" if half else "32"
     img.exr_codec = "ZIP"
     scene.render.use_file_extension = True
     scene.render.filepath = os.path.join(output, "frame_####")
@@ -214,9 +322,10 @@ def rowmajor(m):
     return [[float(m[r][c]) for c in range(4)] for r in range(4)]
 
 
-def export_matrices(scene, cam, objects, output):
+def export_matrices(scene, cam, objects, output, moving=("Sphere",)):
     frames = {}
-    for f in EXPORT_FRAMES:
+    export_frames = list(range(FRAME_START - 1, scene.frame_end + 2))
+    for f in export_frames:
         scene.frame_set(f)
         depsgraph = bpy.context.evaluated_depsgraph_get()
         cam_eval = cam.evaluated_get(depsgraph)
@@ -233,14 +342,14 @@ def export_matrices(scene, cam, objects, output):
         "width": WIDTH,
         "height": HEIGHT,
         "frames": list(range(FRAME_START, scene.frame_end + 1)),
-        "matrix_frames": EXPORT_FRAMES,
+        "matrix_frames": export_frames,
         "files": ["frame_%04d.exr" % f for f in range(FRAME_START, scene.frame_end + 1)],
         "cameras": frames,
         "camera": {"lens_mm": cam.data.lens, "sensor_width_mm": cam.data.sensor_width,
                    "sensor_fit": cam.data.sensor_fit, "clip_start": cam.data.clip_start,
                    "clip_end": cam.data.clip_end},
         "pass_index": {o.name: o.pass_index for o in objects},
-        "moving_objects": ["Sphere"],
+        "moving_objects": list(moving),
         "conventions": (
             "Matrices are row-major 4x4 (m[row][col]), Blender world space (Z up), "
             "column vectors: p_cam = world_to_camera @ [P,1]. Camera looks down -Z, +Y up. "
@@ -273,13 +382,30 @@ def export_matrices(scene, cam, objects, output):
 
 def main():
     args = parse_args()
+    global WIDTH, HEIGHT
+    if args.size:
+        WIDTH, HEIGHT = (int(v) for v in args.size.lower().split("x"))
     output = os.path.abspath(args.output)
     os.makedirs(output, exist_ok=True)
     clear_scene()
-    scene, cam, objects = build_scene()
-    configure_render(scene, output, args.filter_width, args.frames)
-    export_matrices(scene, cam, objects, output)
+    if args.scene == "glossy":
+        scene, cam, objects, moving = build_glossy_scene()
+    else:
+        (scene, cam, objects), moving = build_scene(), ["Sphere"]
+    configure_render(scene, output, args.filter_width, args.frames, args.light_passes, args.half)
+    export_matrices(scene, cam, objects, output, moving)
     bpy.ops.render.render(animation=True)
+    if args.reference_samples > 0:
+        # The reference: the same frames with many samples (animated seed, no denoising), as a
+        # plain RGB EXR that `rtdenoise eval --reference` reads.
+        scene.cycles.samples = args.reference_samples
+        img = scene.render.image_settings
+        img.file_format = "OPEN_EXR"
+        img.color_mode = "RGB"
+        img.color_depth = "16" if args.half else "32"
+        os.makedirs(os.path.join(output, "reference"), exist_ok=True)
+        scene.render.filepath = os.path.join(output, "reference", "frame_####")
+        bpy.ops.render.render(animation=True)
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ namespace rtd::eval {
 struct FrameSource {
   std::string description;
   int frameCount = 0;
+  int width = 0, height = 0;  ///< frame size when known before loading (0: unknown)
   std::function<Frame(int index, Image& reference)> load;
 };
 
@@ -27,22 +28,47 @@ struct FrameSource {
 FrameSource directorySource(const std::filesystem::path& inputDir, const std::filesystem::path& referenceDir,
                             int maxFrames = 0);
 
+/// One configuration of a comparison: a method, optionally on one backend, with settings.
+/// Written "method[@backend][:key=value]...", e.g. "svgf", "svgf:variant=dundr",
+/// "bmfr:blockSize=64", "svgf@vulkan", "svgf@vulkan:variant=dundr:sigmaNormal=32".
+struct RunConfig {
+  std::string method;
+  bool hasBackend = false;  ///< "@backend" given; else the run uses each of CompareSettings::backends
+  Backend backend = Backend::Cpu;
+  std::vector<SettingAssignment> settings;  ///< in the order given (presets are applied first)
+};
+/// Parses a configuration; throws rtd::Error naming the text when it is malformed (the method
+/// and setting names are checked when the comparison starts).
+RunConfig parseRunConfig(const std::string& text);
+/// The configuration as text, in the form parseRunConfig() reads.
+std::string configText(const RunConfig& c);
+
 struct CompareSettings {
-  std::vector<std::string> methods;           ///< method names; empty: every method with a CPU implementation
+  /// The configurations; empty: every method with a CPU implementation, default settings.
+  std::vector<RunConfig> configs;
+  /// Backends of the configurations that name none (each such configuration runs on each).
   std::vector<Backend> backends{Backend::Cpu};
-  /// "method.setting=value" (or "setting=value" for every method that has it).
+  std::string vulkanDevice;  ///< Vulkan device index or name substring (empty: the best)
+  /// Settings for every run: "method.setting=value" for the runs of that method, or
+  /// "setting=value" for every run whose method has the setting. A configuration's own
+  /// settings override these. A setting no run has is an error.
   std::vector<std::string> settings;
   int threads = 0;
   EvalSettings eval;
   bool includeInput = true;  ///< evaluate the noisy input as a row too
   int shownFrame = -1;       ///< frame index shown in the report's images; -1: the last
-  /// Crop shown enlarged in the report (pixels); width 0: an automatic centred crop.
+  /// Crop shown enlarged in the report (pixels, inside the image); width 0: an automatic
+  /// centred crop.
   int cropX = 0, cropY = 0, cropWidth = 0, cropHeight = 0;
 };
 
 /// One evaluated stream: the input, or one method on one backend.
 struct MethodRun {
-  std::string label;    ///< "input", "svgf", "svgf (vulkan)"
+  /// "input", or the configuration named by what tells it apart from the other runs: its
+  /// method, its own settings ("svgf variant=dundr") and, when the runs use several
+  /// backends, its backend ("svgf (vulkan)").
+  std::string label;
+  std::string config;   ///< the configuration as text (configText()); empty for the input
   std::string method;   ///< empty for the input
   std::string backend;  ///< empty for the input
   std::string device;
@@ -71,6 +97,10 @@ struct Comparison {
   std::string machine; ///< CPU model
   std::vector<std::string> skipped;  ///< method/backend pairs not run (not implemented there)
 };
+
+/// Checks the configurations and settings (method and setting names, backends, labels) without
+/// running anything; throws rtd::Error naming the first problem. runComparison() checks the same.
+void checkCompareSettings(const CompareSettings& settings);
 
 /// Runs every method over the source frame by frame (one denoiser per method and backend),
 /// evaluating each output as it comes. `progress(done, total, detail)` after each frame.

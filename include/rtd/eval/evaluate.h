@@ -20,7 +20,8 @@ struct EvalSettings {
   /// The first `warmupFrames` frames of a sequence (history still filling) are averaged
   /// separately from the rest.
   int warmupFrames = 0;
-  bool computeFlip = true;
+  bool computeFlip = true;     ///< LDR-FLIP of the tone-mapped images
+  bool computeHdrFlip = true;  ///< HDR-FLIP of the linear images (exposure bracket from the reference)
   double relMseEpsilon = 0.01;
 };
 
@@ -31,6 +32,7 @@ struct FrameMetrics {
   double psnr = 0;    ///< dB, tone-mapped sRGB
   double ssim = 0;    ///< tone-mapped sRGB
   double flip = 0;    ///< LDR-FLIP mean, tone-mapped sRGB
+  double hdrFlip = 0; ///< HDR-FLIP mean, linear HDR (exposure bracket from the reference)
   double relMse = 0;  ///< linear HDR
   double rmse = 0;    ///< linear HDR
   /// Mean |L_t - L_{t-1}| of the result's luma (tone-mapped sRGB): Schied et al. 2017.
@@ -43,6 +45,8 @@ struct FrameMetrics {
   /// NaN/Inf values in the result (replaced by 0 before computing the metrics, so they count
   /// as errors instead of vanishing from the means).
   uint64_t nonFiniteValues = 0;
+  /// The distribution of the per-pixel FLIP and HDR-FLIP errors (NaN where not computed).
+  ErrorStatistics flipPixels, hdrFlipPixels;
 };
 
 /// One metric: its JSON key, label, colour space, direction and field, so that tables, JSON and
@@ -54,13 +58,20 @@ struct MetricInfo {
   bool higherIsBetter;
   double FrameMetrics::*field;
   bool temporal;  ///< undefined on the first frame
+  /// Whether a lower (higher) value means a better result, so tables highlight the best. Not
+  /// for the raw temporal change (a frozen image would win) nor the reference's own change:
+  /// those are shown as information.
+  bool ranked = true;
 };
 const std::vector<MetricInfo>& metricList();
 
-/// Mean of each metric over a set of frames (NaN where no frame has it).
+/// Mean, median and quartiles of each metric over a set of frames (NaN where no frame has
+/// it; quartiles interpolated between ranks as numpy.percentile).
 struct MetricSummary {
   int frames = 0;
+  int firstFrame = 0, lastFrame = 0;  ///< frame numbers the summary covers (0 when none)
   FrameMetrics mean;  ///< number/warmup unused
+  FrameMetrics q1, median, q3;
 };
 MetricSummary summarize(const std::vector<FrameMetrics>& frames, bool warmup);
 
@@ -72,6 +83,7 @@ struct PreparedReference {
   Image ldr;     ///< tone-mapped sRGB
   Image luma;    ///< luma of ldr
   FlipReference flip;
+  HdrFlipReference hdrFlip;
 };
 PreparedReference prepareReference(int number, const Image& reference, const EvalSettings& settings);
 
@@ -79,11 +91,13 @@ PreparedReference prepareReference(int number, const Image& reference, const Eva
 class SequenceEvaluator {
  public:
   explicit SequenceEvaluator(EvalSettings settings = {});
-  /// `result` and `reference` are linear HDR RGB of frame `number`. `flipMap`, if not null,
-  /// receives the FLIP error map; `resultLdr`, the tone-mapped result.
-  const FrameMetrics& add(int number, const Image& result, const Image& reference, Image* flipMap = nullptr);
+  /// `result` and `reference` are linear HDR RGB of frame `number`. `flipMap` and `hdrFlipMap`,
+  /// if not null, receive the FLIP and HDR-FLIP error maps.
+  const FrameMetrics& add(int number, const Image& result, const Image& reference, Image* flipMap = nullptr,
+                          Image* hdrFlipMap = nullptr);
   /// Same, with the reference prepared by prepareReference() with the same settings.
-  const FrameMetrics& add(const Image& result, const PreparedReference& reference, Image* flipMap = nullptr);
+  const FrameMetrics& add(const Image& result, const PreparedReference& reference, Image* flipMap = nullptr,
+                          Image* hdrFlipMap = nullptr);
   /// Forget the previous frame (camera cut): the next frame has no temporal error.
   void resetTemporal();
   const std::vector<FrameMetrics>& frames() const { return frames_; }
@@ -121,14 +135,21 @@ struct StreamMetrics {
 };
 
 /// Evaluates `resultDir` (and `inputDir`, when given, as a second stream named "input")
-/// against `referenceDir`. Frames are matched by number; the result's frames must be
-/// consecutive and each must exist in the reference (and input). Throws rtd::Error naming the
-/// missing or mismatched file. `progress(done, total)` is called after each frame.
+/// against `referenceDir`. Frames are matched by number. The result's frames must be the
+/// reference's frames, or the first N of them (a shorter run): a frame the reference lacks, a
+/// gap, or a result that starts later throws. Where the result directory has `timings.json`
+/// (as `rtdenoise denoise` writes), its frames must be exactly the frames listed there, so the
+/// leftovers of an earlier run are never scored. Input frames must exist for every result frame.
+/// Errors (rtd::Error) name the missing or mismatched file. `progress(done, total)` is called
+/// after each frame.
 std::vector<StreamMetrics> evaluateDirectories(const std::filesystem::path& referenceDir,
                                                const std::filesystem::path& resultDir,
                                                const std::optional<std::filesystem::path>& inputDir,
                                                const EvalSettings& settings,
                                                const std::function<void(int, int)>& progress = {});
+
+/// "frames 9-32 (24)": the frames a summary covers.
+std::string coverage(const MetricSummary& s);
 
 /// A fixed-width text table of the steady-state (and, if any, warm-up) means of each stream.
 std::string summaryTable(const std::vector<StreamMetrics>& streams, const EvalSettings& settings);

@@ -60,8 +60,14 @@ struct FlipSettings {
   double monitorDistance = 0.7;  ///< metres
   double monitorWidth = 0.7;     ///< metres
   double monitorResolutionX = 3840;
+  /// Pixels per degree given directly; 0: from the monitor above.
+  double ppd = 0;
   double pixelsPerDegree() const;
 };
+
+/// How FLIP's input images are encoded: sRGB-encoded display values (LDR-FLIP on a tone-mapped
+/// image) or display-linear values in [0,1] (HDR-FLIP's exposures: tone-mapped, not encoded).
+enum class FlipInput { Srgb, Linear };
 
 /// LDR-FLIP (Andersson et al. 2020) of two tone-mapped sRGB images in [0,1] (3 channels).
 /// Returns the mean of the per-pixel error; `errorMap`, if not null, receives the per-pixel
@@ -74,8 +80,8 @@ double flip(const Image& test, const Image& reference, const FlipSettings& setti
 class FlipReference {
  public:
   FlipReference() = default;
-  FlipReference(const Image& reference, const FlipSettings& settings = {});
-  /// Same as flip(test, reference, settings, errorMap).
+  FlipReference(const Image& reference, const FlipSettings& settings = {}, FlipInput input = FlipInput::Srgb);
+  /// Same as flip(test, reference, settings, errorMap); `test` encoded as the reference was.
   double compare(const Image& test, Image* errorMap = nullptr) const;
   bool empty() const { return !prepared_; }
   struct Prepared;
@@ -83,8 +89,41 @@ class FlipReference {
  private:
   std::shared_ptr<const Prepared> prepared_;
   FlipSettings settings_;
+  FlipInput input_ = FlipInput::Srgb;
   int width_ = 0, height_ = 0;
 };
+
+/// HDR-FLIP (Andersson et al. 2021, "Visualizing Errors in Rendered High Dynamic Range Images")
+/// of linear HDR RGB images: LDR-FLIP at several exposures c (image x 2^c, FLIP's ACES tone
+/// curve, clamped to [0,1], not sRGB-encoded), spaced evenly from the exposure at which the
+/// reference's largest luminance maps to 0.85 to the one at which its median luminance does;
+/// the per-pixel error is the largest over the exposures. docs/evaluation.md has the details.
+double hdrFlip(const Image& test, const Image& reference, const FlipSettings& settings = {},
+               Image* errorMap = nullptr);
+
+/// The reference half of HDR-FLIP: its exposures, each prepared as a FlipReference.
+class HdrFlipReference {
+ public:
+  HdrFlipReference() = default;
+  explicit HdrFlipReference(const Image& referenceHdr, const FlipSettings& settings = {});
+  /// Same as hdrFlip(test, reference, settings, errorMap). `exposureMap`, if not null, receives
+  /// per pixel the index of the exposure that gave the largest error, over (count - 1).
+  double compare(const Image& testHdr, Image* errorMap = nullptr, Image* exposureMap = nullptr) const;
+  bool empty() const { return exposures_.empty(); }
+  /// The exposures c (stops), from the start exposure to the stop exposure.
+  const std::vector<double>& exposures() const { return exposures_; }
+
+ private:
+  std::vector<double> exposures_;
+  std::vector<FlipReference> references_;
+};
+
+/// The distribution of a per-pixel error map (one channel): mean, and the first quartile,
+/// median and third quartile (linearly interpolated between ranks, as numpy.percentile).
+struct ErrorStatistics {
+  double mean = 0, q1 = 0, median = 0, q3 = 0;
+};
+ErrorStatistics errorStatistics(const Image& map);
 
 /// The magma colour map (as the FLIP paper shows error maps), v in [0,1] -> sRGB-encoded RGB.
 void magma(float v, float rgb[3]);
@@ -113,6 +152,24 @@ double maxColorDistance();
 std::vector<float> csfKernel(int channel, double ppd, int* radius);
 /// Feature detector standard deviation in pixels: 0.5 * 0.082 deg * ppd (Sec. 4.2).
 double featureSigma(double ppd);
+
+/// HDR-FLIP's tone curve: the ACES fit of Narkowicz applied to 0.6 x (as the FLIP paper's
+/// implementation does), (0.36*2.51 x^2 + 0.6*0.03 x) / (0.36*2.43 x^2 + 0.6*0.59 x + 0.14),
+/// clamped to [0, 1].
+float hdrToneMap(float x);
+/// The x >= 0 with hdrToneMap(x) = y, for y in (0, 1): the positive root of the quadratic.
+double hdrToneMapInverse(double y);
+/// Start and stop exposures and their count (HDR-FLIP): with x_max = hdrToneMapInverse(0.85),
+/// start = log2(x_max / L_max), stop = log2(x_max / L_median) over the reference's luminances
+/// L (BT.709 weights of linear RGB), count = max(2, ceil(stop - start)). A median of 0 is
+/// replaced by 2^-12 L_max (at most 12 stops; a choice where the paper is silent); an all-black
+/// reference gives start = stop = 0.
+struct ExposureRange {
+  double start = 0, stop = 0;
+  int count = 2;
+  std::vector<double> exposures() const;  ///< evenly spaced, start and stop included
+};
+ExposureRange exposureRange(const Image& referenceHdr);
 }  // namespace flipdetail
 
 inline constexpr double kInfinity = std::numeric_limits<double>::infinity();

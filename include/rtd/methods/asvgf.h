@@ -16,9 +16,11 @@ enum class AsvgfGradientSource {
   /// GradientCurrent), one re-shaded sample per 3x3 stratum. A frame without them is an error.
   samples,
   /// NOT A-SVGF: for inputs that cannot re-shade (Blender, most engines), an anti-lag estimate
-  /// in the spirit of NRD ReLAX: per 3x3 stratum the current frame's mean luminance against the
-  /// reprojected history's, less the noise expected of a 9-sample mean. It needs no extra
-  /// buffers; it detects only changes larger than the noise, and is noisier than re-shading.
+  /// in the spirit of NRD ReLAX: the current frame's mean luminance against the reprojected
+  /// history's, both averaged per 3x3 stratum and then over each surface by the gradient's
+  /// a-trous levels, less the noise expected of that average. It needs no extra buffers; it
+  /// detects only changes larger than the noise of the average, so it is slower and blurrier
+  /// than re-shading.
   historyAntilag,
 };
 
@@ -33,8 +35,8 @@ struct AsvgfSettings {
   /// G' = clamp(scale * G, 0, 1) before the history is shortened (Q2RTX flt_antilag_hf = 1;
   /// the thesis omits the factor, i.e. 1).
   float antilagScale = 1.0f;
-  /// historyAntilag only: stratum differences below this many standard deviations of a
-  /// 9-sample mean count as noise (our choice; see docs/methods/asvgf.md).
+  /// historyAntilag only: differences below this many standard deviations of the filtered
+  /// current mean count as noise (our choice; see docs/methods/asvgf.md).
   float antilagNoiseSigmas = 3.0f;
 
   // --- adaptive temporal accumulation (Higginson Sec. 2.3.1, "Temporal Accumulation") ---
@@ -82,7 +84,7 @@ struct AsvgfSettings {
       {"samples", "historyAntilag"});
     v("gradientIterations", gradientIterations, "a-trous levels of the 1/3-res gradient (Schied 2018 code: 5)", Range{0, 8});
     v("antilagScale", antilagScale, "G' = clamp(scale G, 0, 1) (Q2RTX flt_antilag_hf 1)", Range{0, 1e9});
-    v("antilagNoiseSigmas", antilagNoiseSigmas, "historyAntilag: differences below k std devs of a 9-pixel mean are noise",
+    v("antilagNoiseSigmas", antilagNoiseSigmas, "historyAntilag: differences below k std devs of the filtered mean are noise",
       Range{0, 1e9});
     v("maxHistoryLength", maxHistoryLength, "cap of N' = min(N (1-G)^e + 1, cap) (thesis 256)", Range{1, 65535});
     v("historyExponent", historyExponent, "e of the history shrink (1-G)^e (thesis 10)", Range{0, 1e9});

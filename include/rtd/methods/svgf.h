@@ -9,8 +9,10 @@
 
 namespace rtd {
 
-/// Which paper's choices the variant-controlled settings start from.
-enum class SvgfVariant { schied, dundr, gersthofer, voorhuis };
+/// Which paper's choices the variant-controlled settings start from. voorhuis is the whole
+/// method of Voorhuis 2018 ("Ours"); voorhuisBase and voorhuisNoSpecReproj are the paper's two
+/// baselines (Sec. 7.1); voorhuisRobustness only its Sec. 6 robustness changes.
+enum class SvgfVariant { schied, dundr, gersthofer, voorhuis, voorhuisBase, voorhuisNoSpecReproj, voorhuisRobustness };
 /// A-trous kernel: 5x5 B3 spline (Schied, Dammertz) or 3x3 binomial (Dundr Fig. 4).
 enum class SvgfKernel { b3spline5x5, binomial3x3 };
 /// Which radiance streams are filtered separately and summed; `composite` (Gersthofer Sec.
@@ -33,6 +35,15 @@ enum class SvgfLuminance { rec709, rec601, cieLightness };
 /// When the 3x3 Gaussian prefilter g3x3 of the variance runs: before every level (Schied Eq. 5),
 /// once before the first level (Dundr Sec. 4.3), or never.
 enum class SvgfVariancePrefilter { everyLevel, once, off };
+/// A part of Voorhuis' pipeline that reads buffers some inputs lack (reflection features,
+/// roughness): off; on (an error naming the buffer when the frame lacks one); auto (on where
+/// the frame has the buffers, otherwise off, said in FrameStats::notes).
+enum class SvgfPart { off, on, automatic };
+/// What specular pixels (roughness < diffuseRoughness) reproject with: the primary hit's
+/// motion (Base), nothing, with no TAA either (NoSpecReproj), the reflected geometry's motion
+/// by diamond search (Voorhuis Sec. 4; an error without its buffers), or reflection where the
+/// buffers allow and the primary motion elsewhere (auto).
+enum class SvgfSpecularMotion { primary, none, reflection, automatic };
 
 struct SvgfSettings {
   static constexpr const char* kMethod = "svgf";
@@ -100,6 +111,46 @@ struct SvgfSettings {
   /// displayed frame only. [variant]
   bool fireflyMedian = false;
 
+  // --- Voorhuis 2018: reflections (Sec. 4), per-material blend (Sec. 7) ---
+  // Pixels are classed by the roughness of their primary hit (Buffer::Roughness): mirrors
+  // (< pureSpecularRoughness), glossy with reflection motion (< reflectionRoughness), glossy
+  // (< diffuseRoughness) and diffuse; see docs/methods/reflections.md.
+  /// components = auto prefers the diffuse / specular lobes (Diffuse+Specular) over
+  /// Direct+Indirect: the specular lobe alone follows the reflections. [variant]
+  bool preferLobes = false;
+  /// Motion of specular pixels: Base primary, NoSpecReproj none, Ours reflection (auto). [variant]
+  SvgfSpecularMotion specularMotion = SvgfSpecularMotion::primary;
+  /// Mirror pixels demodulated by primary x reflected albedo and edge-stopped on the
+  /// reflected normal and virtual depth (Sec. 4.1). [variant]
+  SvgfPart reflectedFeatures = SvgfPart::off;
+  /// Eq. 6 spatial bandwidth from the reflected ray footprint for glossy pixels below
+  /// reflectionRoughness (Sec. 4.2.2). [variant]
+  SvgfPart glossyBandwidth = SvgfPart::off;
+  /// omega of Eq. 6, world units (Voorhuis 0.5).
+  float bandwidthOmega = 0.5f;
+  /// Neighbourhood clipping of the history of non-diffuse pixels (Sec. 4.2.3). [variant]
+  SvgfPart neighbourhoodClipping = SvgfPart::off;
+  /// sigma of the separable 7x7 Gaussian prefilter of the clipping neighbourhood, pixels (not given).
+  float clipSigma = 1.5f;
+  /// Radius of the clipping window: 2 = 5x5 (Voorhuis).
+  int clipWindowRadius = 2;
+  /// Blend floor alphaSpecular on specular pixels, alphaColor on diffuse ones (Sec. 7). [variant]
+  SvgfPart materialAlpha = SvgfPart::off;
+  /// Colour blend floor of specular pixels (Voorhuis 0.1).
+  float alphaSpecular = 0.1f;
+  /// Roughness below which a (metallic) primary hit is a pure mirror (the renderer's 0.02).
+  float pureSpecularRoughness = 0.02f;
+  /// Roughness below which glossy pixels get reflection motion and Eq. 6 (Voorhuis 0.4, Beckmann).
+  float reflectionRoughness = 0.4f;
+  /// Roughness at and above which a hit is diffuse: no clipping, alphaColor, firefly median (Voorhuis 0.9).
+  float diffuseRoughness = 0.9f;
+  /// Algorithm 1's LDSP scaled by the step size 4-2-1 (Voorhuis); off: the plain LDSP.
+  bool ldspScaling = true;
+  /// Cap on the diamond search's LDSP iterations per pixel (not in the paper).
+  int searchIterations = 64;
+  /// Subpixel refinement of the reflection motion (Eqs. 2-3).
+  bool subpixelMotion = true;
+
   /// Dundr Sec. 5, progressive rendering below 1 spp: where the frame has Buffer::SampleMask,
   /// unsampled pixels keep their history, pixels without any data weigh 0 in the filter and
   /// are filled by it, and the fed-back level replaces only this frame's sampled pixels.
@@ -147,8 +198,10 @@ struct SvgfSettings {
   /// Setting "variant" by name is a preset: it resets the [variant] fields to that paper's
   /// defaults (fields set afterwards override them). Called by every backend's set().
   void settingSet(std::string_view name) {
-    if (name == "variant") applyVariant(variant);
+    if (isPreset(name)) applyVariant(variant);
   }
+  /// The settings that are presets (SettingInfo::preset): "variant".
+  static bool isPreset(std::string_view name) { return name == "variant"; }
 
   /// Resets the [variant] fields to the papers' defaults.
   void applyVariant(SvgfVariant v) {
@@ -181,6 +234,12 @@ struct SvgfSettings {
     spatialVarianceObjectId = base.spatialVarianceObjectId;
     fxaa = base.fxaa;
     taa.taa = TaaSettings{}.taa;
+    preferLobes = base.preferLobes;
+    specularMotion = base.specularMotion;
+    reflectedFeatures = base.reflectedFeatures;
+    glossyBandwidth = base.glossyBandwidth;
+    neighbourhoodClipping = base.neighbourhoodClipping;
+    materialAlpha = base.materialAlpha;
     taa.taaAlpha = TaaSettings{}.taaAlpha;
     switch (v) {
       case SvgfVariant::schied: break;
@@ -211,7 +270,8 @@ struct SvgfSettings {
         fxaa = true;                             // FXAA instead of TAA (Sec. 3.5)
         taa.taa = false;
         break;
-      case SvgfVariant::voorhuis:  // Voorhuis, Sec. 6 and 7
+      case SvgfVariant::voorhuisRobustness:  // Voorhuis Sec. 6 only (with the Sec. 7 sigmas)
+      case SvgfVariant::voorhuis:            // Voorhuis "Ours": Sec. 4, 6 and 7
         momentsTrueAverage = true;
         spatialVarianceFromMoments = true;
         sigmaNormal = 64.0f;
@@ -219,6 +279,17 @@ struct SvgfSettings {
         indirectVarianceFiltering = false;
         shortHistoryBandwidth = true;
         fireflyMedian = true;
+        if (v == SvgfVariant::voorhuisRobustness) break;
+        preferLobes = true;
+        specularMotion = SvgfSpecularMotion::automatic;
+        reflectedFeatures = glossyBandwidth = neighbourhoodClipping = materialAlpha = SvgfPart::automatic;
+        break;
+      case SvgfVariant::voorhuisNoSpecReproj:  // Sec. 7.1: Base without history and TAA on specular pixels
+        specularMotion = SvgfSpecularMotion::none;
+        [[fallthrough]];
+      case SvgfVariant::voorhuisBase:  // Sec. 7: the author's SVGF with sigma_n 64, sigma_l 5
+        sigmaNormal = 64.0f;
+        sigmaLuminance = 5.0f;
         break;
     }
   }
@@ -229,8 +300,10 @@ struct SvgfSettings {
   }
 
   template <class V> void visit(V& v) {
-    v("variant", variant, "preset of the [variant] settings: schied, dundr, gersthofer, voorhuis (set it first)",
-      {"schied", "dundr", "gersthofer", "voorhuis"});
+    v("variant", variant,
+      "preset of the [variant] settings (applied before the other settings): schied, dundr, gersthofer; voorhuis = Voorhuis' whole method "
+      "(Ours), voorhuisBase / voorhuisNoSpecReproj = its baselines, voorhuisRobustness = its Sec. 6 changes only",
+      {"schied", "dundr", "gersthofer", "voorhuis", "voorhuisBase", "voorhuisNoSpecReproj", "voorhuisRobustness"});
     v("components", components, "[variant] radiance streams filtered separately and summed; composite (Gersthofer): "
       "indirectDiffuse and the rest of color accumulated apart, added, filtered as one",
       {"auto", "color", "directIndirect", "diffuseSpecular", "composite"});
@@ -264,6 +337,30 @@ struct SvgfSettings {
     v("indirectVarianceFiltering", indirectVarianceFiltering, "[variant] per-level variance filtering for the indirect component (Voorhuis: off)");
     v("shortHistoryBandwidth", shortHistoryBandwidth, "[variant] sigma_l * (8 - min(7, h)) (Voorhuis Eq. 8)");
     v("fireflyMedian", fireflyMedian, "[variant] 3x3 median on diffuse pixels, display only (Voorhuis)");
+    v("preferLobes", preferLobes, "[variant] components=auto prefers diffuse+specular over direct+indirect (Voorhuis)");
+    v("specularMotion", specularMotion,
+      "[variant] motion of specular pixels: primary (Base), none (NoSpecReproj, no TAA either), reflection (diamond "
+      "search, Voorhuis Sec. 4; needs the reflection buffers), auto (reflection where possible)",
+      {"primary", "none", "reflection", "auto"});
+    v("reflectedFeatures", reflectedFeatures,
+      "[variant] mirrors demodulated by primary x reflected albedo, edge-stopped on reflected features (Voorhuis Sec. 4.1)",
+      {"off", "on", "auto"});
+    v("glossyBandwidth", glossyBandwidth, "[variant] Eq. 6 spatial bandwidth from the reflected footprint, glossy < reflectionRoughness",
+      {"off", "on", "auto"});
+    v("bandwidthOmega", bandwidthOmega, "omega of Eq. 6, world units (Voorhuis 0.5)", Range{1e-6, 1e9});
+    v("neighbourhoodClipping", neighbourhoodClipping, "[variant] clip the history of non-diffuse pixels (Voorhuis Sec. 4.2.3)",
+      {"off", "on", "auto"});
+    v("clipSigma", clipSigma, "sigma of the 7x7 Gaussian prefilter of the clipping neighbourhood, pixels", Range{0.1, 100});
+    v("clipWindowRadius", clipWindowRadius, "clipping window radius (Voorhuis 2 = 5x5)", Range{0, 7});
+    v("materialAlpha", materialAlpha, "[variant] blend floor alphaSpecular on specular, alphaColor on diffuse pixels (Voorhuis)",
+      {"off", "on", "auto"});
+    v("alphaSpecular", alphaSpecular, "colour blend floor of specular pixels (Voorhuis 0.1)", Range{0.001, 1});
+    v("pureSpecularRoughness", pureSpecularRoughness, "roughness below which a hit is a mirror (renderer 0.02)", Range{0, 1});
+    v("reflectionRoughness", reflectionRoughness, "roughness below which glossy pixels get reflection motion (Voorhuis 0.4)", Range{0, 1});
+    v("diffuseRoughness", diffuseRoughness, "roughness from which a hit is diffuse (Voorhuis 0.9)", Range{0, 1.01});
+    v("ldspScaling", ldspScaling, "diamond search LDSP scaled 4-2-1 (Voorhuis); off: plain LDSP");
+    v("searchIterations", searchIterations, "cap on diamond-search iterations per pixel", Range{1, 4096});
+    v("subpixelMotion", subpixelMotion, "subpixel refinement of reflection motion (Voorhuis Eqs. 2-3)");
     v("useSampleMask", useSampleMask, "progressive sub-1-spp mode when the frame has sampleMask (Dundr Sec. 5)");
     v("fixedAlpha", fixedAlpha, "[variant] blend exactly alphaColor/alphaMoments where reprojection succeeded (Gersthofer 3.4.1)");
     v("maskBoost", maskBoost, "[variant] sampleMask: sampled pixels without history scaled by 1/c, empty ones black (Gersthofer Eq. 3.1)");

@@ -7,6 +7,8 @@
 
 #include <tbb/task_arena.h>
 
+#include "core/api_guard.h"
+#include "core/conventions.h"
 #include "core/frame_data.h"
 #include "core/settings_reflect.h"
 #include "core/validate.h"
@@ -49,6 +51,11 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
   }
 
   void denoise(const FrameInputs& frame, const ImageView& output) final {
+    guarded("denoise", [&] { denoiseFrame(frame, output); });
+  }
+
+ private:
+  void denoiseFrame(const FrameInputs& frame, const ImageView& output) {
     FrameStats stats;
     auto start = std::chrono::steady_clock::now();
     // Recomputed per frame: the lists may depend on the settings.
@@ -56,10 +63,17 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
     // Everything is checked before history is touched (the Vulkan backend checks the same).
     checkInputViews(frame, this->requiredBuffers());
     checkOutputView(output, frame[Buffer::Color].width, frame[Buffer::Color].height);
+    const ConventionTransform conventions =
+        conventionTransform(frame.conventions, frame.camera, frame[Buffer::Color].width,
+                            frame[Buffer::Color].height, frame.has(Buffer::Normal));
     arena_.execute([&] {
       {
         PassTimer t(stats, "import");
         stats.sanitizedValues = importFrame(frame, this->requiredBuffers(), current_, &used_, &stats.sanitized);
+      }
+      if (conventions.convertsPlanes()) {
+        PassTimer t(stats, "conventions");
+        applyConventions(conventions, current_);
       }
       const int w = current_.width, h = current_.height;
       if (w != width_ || h != height_) {
@@ -71,6 +85,7 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
       } else if (frame.cameraCut) {
         reset();
       }
+      if (hasPrevious_) previous_.camera = jitterCompensated(previous_.camera, conventions, w, h);
       const Plane3& result = process(current_, hasPrevious_ ? &previous_ : nullptr, output_, stats);
       {
         PassTimer t(stats, "export");

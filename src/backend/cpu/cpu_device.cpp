@@ -5,6 +5,8 @@
 #include <mutex>
 #include <tbb/task_arena.h>
 
+#include "core/api_guard.h"
+#include "core/cpu_path.h"
 #include "core/registry.h"
 #include "core/stereo_pair.h"
 #include "rtd/denoiser.h"
@@ -30,7 +32,9 @@ class CpuDevice final : public Device {
   explicit CpuDevice(int threads)
       : threads_(threads > 0 ? threads : tbb::info::default_concurrency()), arena_(arenaFor(threads_)) {}
   Backend backend() const override { return Backend::Cpu; }
-  std::string name() const override { return "CPU (" + std::to_string(threads_) + " threads, oneTBB)"; }
+  std::string name() const override {
+    return "CPU (" + std::to_string(threads_) + " threads, oneTBB, " + cpuPathName(cpuPath()) + ")";
+  }
   std::unique_ptr<Denoiser> createDenoiser(std::string_view method) override {
     const MethodEntry* e = findMethod(method);
     if (!e) throw Error("unknown method '" + std::string(method) + "' (see `rtdenoise methods`)");
@@ -57,7 +61,7 @@ std::vector<DeviceInfo> listVulkanDevices();
 std::vector<DeviceInfo> listDevices(std::string* vulkanError) {
   std::vector<DeviceInfo> out;
   const int threads = tbb::info::default_concurrency();
-  out.push_back({Backend::Cpu, 0, "CPU", std::to_string(threads) + " threads, oneTBB"});
+  out.push_back({Backend::Cpu, 0, "CPU", std::to_string(threads) + " threads, oneTBB, SIMD path " + describeCpuPath()});
 #ifdef RTD_HAS_VULKAN
   try {
     for (auto& d : listVulkanDevices()) out.push_back(std::move(d));
@@ -71,12 +75,21 @@ std::vector<DeviceInfo> listDevices(std::string* vulkanError) {
 }
 
 std::unique_ptr<Device> Device::create(const DeviceDesc& desc) {
-  if (desc.backend == Backend::Cpu) return std::make_unique<CpuDevice>(desc.threads);
+  if (desc.threads < 0 || desc.threads > 4096)
+    throw Error("DeviceDesc::threads is " + std::to_string(desc.threads) + ", expected 0 (all cores) to 4096");
+  if (desc.backend != Backend::Cpu && desc.backend != Backend::Vulkan)
+    throw Error("DeviceDesc::backend " + std::to_string(int(desc.backend)) + " is not a backend");
+  return guarded("Device::create", [&]() -> std::unique_ptr<Device> {
+    if (desc.backend == Backend::Cpu) {
+      checkCpuPathSetting();  // a bad RTD_CPU_PATH is an error here rather than silently ignored
+      return std::make_unique<CpuDevice>(desc.threads);
+    }
 #ifdef RTD_HAS_VULKAN
-  return createVulkanDevice(desc);
+    return createVulkanDevice(desc);
 #else
-  throw Error("this build of rtdenoise has no Vulkan backend (configure with -DRTD_VULKAN=ON)");
+    throw Error("this build of rtdenoise has no Vulkan backend (configure with -DRTD_VULKAN=ON)");
 #endif
+  });
 }
 
 }  // namespace rtd

@@ -73,22 +73,23 @@ struct AccumulationPC {
   uint32_t luminanceMode, cumulativeMoments;
   uint32_t gradientWidth = 0, gradientStride = 1;
   float historyExponent = 0;
-  uint32_t cumulativeColor = 1;  // 0: Gersthofer's fixed weights
+  uint32_t options = 0;  // 1: per-pixel alpha (binding 5); 2: clip box (binding 6); 4: fixed weights (Gersthofer)
 };
 }  // namespace
 
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
                                  int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments,
-                                 const Planes* sampleMask, bool cumulativeColor) {
+                                 const Planes* sampleMask, const Planes* alphaPlane, const Planes* clipBox,
+                                 bool cumulativeColor) {
   const Planes& prev = advance(rec);
   AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
                     luminanceMode, cumulativeMoments};
-  pc.cumulativeColor = cumulativeColor;
-  if (sampleMask)
-    rec.dispatch("temporal_accumulation_masked", {rp, color, prev, history_[cur_], *sampleMask}, pc, color.width,
-                 color.height);
-  else
-    rec.dispatch("temporal_accumulation", {rp, color, prev, history_[cur_]}, pc, color.width, color.height);
+  pc.options = (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u) | (cumulativeColor ? 0u : 4u);
+  const Binding dummy(rec.context().dummy());
+  const Binding a = alphaPlane ? Binding(*alphaPlane) : dummy, c = clipBox ? Binding(*clipBox) : dummy;
+  rec.dispatch(sampleMask ? "temporal_accumulation_masked" : "temporal_accumulation",
+               {rp, color, prev, history_[cur_], sampleMask ? Binding(*sampleMask) : dummy, a, c}, pc, color.width,
+               color.height);
 }
 
 void GpuTemporalAccumulator::runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha,
@@ -97,8 +98,9 @@ void GpuTemporalAccumulator::runAdaptive(Recorder& rec, const Planes& rp, const 
   const Planes& prev = advance(rec);
   AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
                     luminanceMode, 1, uint32_t(gradient.width), uint32_t(stride), historyExponent};
-  rec.dispatch("temporal_accumulation_gradient", {rp, color, prev, history_[cur_], gradient}, pc, color.width,
-               color.height);
+  const Binding dummy(rec.context().dummy());
+  rec.dispatch("temporal_accumulation_gradient", {rp, color, prev, history_[cur_], gradient, dummy, dummy}, pc,
+               color.width, color.height);
 }
 
 const Planes& GpuTemporalAccumulator::advance(Recorder& rec) {
@@ -112,13 +114,18 @@ const Planes& GpuTemporalAccumulator::advance(Recorder& rec) {
 }
 
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient) {
+  atrousGuide(rec, frame[Buffer::Depth], frame.has(Buffer::DepthGradient) ? &frame[Buffer::DepthGradient] : nullptr,
+              maxDepthSlope, gradient);
+}
+
+void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient, float maxDepthSlope, Planes& gradient) {
   struct PC {
     uint32_t width, height, hasGradient;
     float maxDepthSlope;
-  } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::DepthGradient), maxDepthSlope};
+  } pc{uint32_t(depth.width), uint32_t(depth.height), depthGradient != nullptr, maxDepthSlope};
   rec.dispatch("atrous_guide",
-               {frame[Buffer::Depth], frame.bindingOf(Buffer::DepthGradient, rec.context()), gradient}, pc,
-               frame.width, frame.height);
+               {depth, depthGradient ? Binding(*depthGradient) : Binding(rec.context().dummy()), gradient}, pc,
+               depth.width, depth.height);
 }
 
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& lv,
@@ -138,10 +145,12 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
   } pc{uint32_t(in.width), uint32_t(in.height), lv.step, lv.radius, lv.sigmaDepth, lv.depthEpsilon,
        std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
-           (lv.propagateVariance ? 8u : 0u) | (lv.indirectDistance ? 16u : 0u) | (lv.centreScale ? 32u : 0u),
+           (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u) | (lv.indirectDistance ? 32u : 0u) |
+           (lv.centreScale ? 64u : 0u),
        lv.luminanceMode, uint32_t(lv.validInPlane)};
-  std::vector<Binding> bindings{depth, normal, gradient, in, out,
-                                lv.sigmaScale ? Binding(*lv.sigmaScale) : Binding(rec.context().dummy())};
+  const Binding dummy(rec.context().dummy());
+  std::vector<Binding> bindings{depth, normal, gradient, in, out, lv.sigmaScale ? Binding(*lv.sigmaScale) : dummy,
+                                lv.spatialFalloff ? Binding(*lv.spatialFalloff) : dummy};
   // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
   constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);
   const bool tiled = lv.sharedTile && rec.context().limits().maxComputeSharedMemorySize >= kTileBytes;

@@ -46,11 +46,13 @@ class GpuTemporalAccumulator {
   /// weighted max(1/n, momentsAlpha) like the colour, else a plain EMA (AccumulationOptions).
   /// sampleMask (Buffer::SampleMask, AccumulationOptions::sampleMask): where it is 0 the
   /// history carries over unchanged (shader variant temporal_accumulation_masked).
-  /// cumulativeColor false: fixed weights alpha / momentsAlpha wherever there is history
-  /// (AccumulationOptions::cumulativeColor).
+  /// alphaPlane (AccumulationOptions::alphaPlane): per-pixel colour blend floor; clipBox (6
+  /// planes: low RGB, high RGB; AccumulationOptions::clipLow/clipHigh): the colour history is
+  /// clamped to it before the blend (Voorhuis). cumulativeColor false: fixed weights alpha /
+  /// momentsAlpha wherever there is history (AccumulationOptions::cumulativeColor).
   void run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha, int maxHistoryLength,
            uint32_t luminanceMode = 0, bool cumulativeMoments = true, const Planes* sampleMask = nullptr,
-           bool cumulativeColor = true);
+           const Planes* alphaPlane = nullptr, const Planes* clipBox = nullptr, bool cumulativeColor = true);
   /// A-SVGF's adaptive accumulation (AccumulationOptions::temporalGradient; shader variant
   /// temporal_accumulation_gradient): G in the first plane of `gradient`, one texel per
   /// stride x stride pixels; alpha and momentsAlpha are the weights' floors.
@@ -93,6 +95,8 @@ struct GpuAtrousLevel {
   const Planes* indirectDistance = nullptr;
   const Planes* indirectDistanceScale = nullptr;
   const Planes* centreScale = nullptr;
+  /// Voorhuis Eq. 6 (AtrousLevel::spatialFalloff): per-pixel c(p) (1 plane), or null.
+  const Planes* spatialFalloff = nullptr;
   /// Read small-step taps through the shared-memory tile where the device has the 18 KiB it
   /// needs; false forces the untiled variant (tests).
   bool sharedTile = true;
@@ -100,6 +104,8 @@ struct GpuAtrousLevel {
 
 /// The a-trous guide's depth gradient (2 planes) from the frame's depth (AtrousGuide::build).
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient);
+/// The same from any depth plane and, where `depthGradient` is given, that gradient.
+void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient, float maxDepthSlope, Planes& gradient);
 /// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`. The
 /// guide is the frame's depth and normal and `gradient` (atrousGuide).
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& level,

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cstring>
 
+#include "core/api_guard.h"
 #include "core/frame_data.h"
+#include "core/half.h"
 #include "core/sanitize.h"
 #include "core/timer.h"
 #include "core/validate.h"
@@ -38,6 +40,9 @@ constexpr InputImageFormat kInputImageFormats[] = {
     {VK_FORMAT_R32_SINT, 1, "import_image_int"},
     {VK_FORMAT_R32_UINT, 1, "import_image_uint"},
 };
+
+// import.comp's source type of a buffer view's format.
+uint32_t importType(Format f) { return f == Format::Int32 ? 1 : isHalf(f) ? 2 : 0; }
 
 const InputImageFormat* inputImageFormat(VkFormat f) {
   for (const auto& e : kInputImageFormats)
@@ -100,15 +105,15 @@ void VulkanDenoiserBase::prepare(int w, int h, bool cameraCut) {
 }
 
 void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
-                                const Export& out) {
-  Recorder rec = beginRecord(cmd, imports, camera, out);
+                                const ConventionTransform& conventions, const Export& out) {
+  Recorder rec = beginRecord(cmd, imports, camera, conventions, out);
   resultHasEmission_ = false;
   const Planes& result = process(rec, frames_[cur_], hasPrevious_ ? &frames_[cur_ ^ 1] : nullptr);
   endRecord(rec, result, out);
 }
 
 Recorder VulkanDenoiserBase::beginRecord(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
-                                         const Export& out) {
+                                         const ConventionTransform& conventions, const Export& out) {
   GpuFrame& f = frames_[cur_];
   f.width = width_;
   f.height = height_;
@@ -141,6 +146,14 @@ Recorder VulkanDenoiserBase::beginRecord(VkCommandBuffer cmd, const std::vector<
   std::memcpy(matrices, camera.worldToCamera.data(), 16 * sizeof(float));
   std::memcpy(matrices + 16, camera.projection.data(), 16 * sizeof(float));
   vkCmdUpdateBuffer(cmd, f.camera.handle(), 0, sizeof matrices, matrices);
+  if (conventions.jitter && hasPrevious_) {
+    // The previous camera as this jittered frame's reprojection sees it (core/conventions.h).
+    GpuFrame& p = frames_[cur_ ^ 1];
+    p.cameraValue = jitterCompensated(p.cameraValue, conventions, width_, height_);
+    std::memcpy(matrices, p.cameraValue.worldToCamera.data(), 16 * sizeof(float));
+    std::memcpy(matrices + 16, p.cameraValue.projection.data(), 16 * sizeof(float));
+    vkCmdUpdateBuffer(cmd, p.camera.handle(), 0, sizeof matrices, matrices);
+  }
   rec.barrier();
 
   rec.pass("import");
@@ -156,10 +169,10 @@ Recorder VulkanDenoiserBase::beginRecord(VkCommandBuffer cmd, const std::vector<
       continue;
     }
     struct PC {
-      uint32_t width, height, srcOffset, pixelStride, rowStride, channels, isInt, counter;
+      uint32_t width, height, srcOffset, pixelStride, rowStride, channels, type, counter;
       float lo, hi;
     } pc{uint32_t(width_), uint32_t(height_), im.offsetWords, im.pixelStrideWords, im.rowStrideWords,
-         uint32_t(bufferChannelCount(im.which)), im.isInt, counter, range.lo, range.hi};
+         uint32_t(bufferChannelCount(im.which)), im.type, counter, range.lo, range.hi};
     rec.dispatch("import", {im.source, f.planes[int(im.which)], counter_}, pc, width_, height_);
   }
   // Unit vectors renormalized (sanitizeUnitVectors on the CPU).
@@ -182,6 +195,28 @@ Recorder VulkanDenoiserBase::beginRecord(VkCommandBuffer cmd, const std::vector<
         rec.dispatch("separate_emission", {f.planes[int(b)], f.planes[int(Buffer::Emission)]}, pc, width_, height_);
   }
 
+  if (conventions.convertsPlanes()) {
+    rec.pass("conventions");
+    struct PC {
+      uint32_t width, height, mode;
+      float a[9];
+    };
+    const ConventionTransform& t = conventions;
+    if (t.motion && f.has(Buffer::Motion)) {
+      PC pc{uint32_t(width_), uint32_t(height_), 0, {t.motionScale[0], t.motionScale[1], t.motionOffset[0], t.motionOffset[1]}};
+      rec.dispatch("conventions", {f.planes[int(Buffer::Motion)]}, pc, width_, height_);
+    }
+    if (t.normals && f.has(Buffer::Normal)) {
+      PC pc{uint32_t(width_), uint32_t(height_), 1, {}};
+      std::memcpy(pc.a, t.normalMatrix, sizeof pc.a);
+      rec.dispatch("conventions", {f.planes[int(Buffer::Normal)]}, pc, width_, height_);
+    }
+    if (t.depth && f.has(Buffer::Depth)) {
+      PC pc{uint32_t(width_), uint32_t(height_), 2, {t.ndcScale, t.ndcOffset, t.p22, t.p23, t.p32, t.p33}};
+      rec.dispatch("conventions", {f.planes[int(Buffer::Depth)]}, pc, width_, height_);
+    }
+  }
+
   if (f.present[int(Buffer::HiddenArea)]) {
     // The hidden area carries nothing (applyHiddenArea on the CPU): radiance and normals 0.
     struct PC {
@@ -193,7 +228,6 @@ Recorder VulkanDenoiserBase::beginRecord(VkCommandBuffer cmd, const std::vector<
         rec.dispatch("hidden_area", {f.planes[b], f.planes[int(Buffer::HiddenArea)]}, pc, width_, height_);
       }
   }
-
   return rec;
 }
 
@@ -273,12 +307,16 @@ bool VulkanDenoiserBase::readTimings(FrameStats& stats, bool wait) {
 }
 
 void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output) {
+  guarded("denoise", [&] { denoiseHost(in, output); });
+}
+
+void VulkanDenoiserBase::denoiseHost(const FrameInputs& in, const ImageView& output) {
   HostFrame frame = stageHost(in, output);
   check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
-  record(cmd_, frame.imports, frame.camera, frame.out);
+  record(cmd_, frame.imports, frame.camera, frame.conventions, frame.out);
   check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
   submitAndWait();
   finishHost(frame, output);
@@ -287,34 +325,36 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
 void VulkanDenoiserBase::denoiseTwoViews(VulkanDenoiserBase& a, VulkanDenoiserBase& b, const FrameInputs& inA,
                                          const FrameInputs& inB, const ImageView& outA, const ImageView& outB,
                                          const std::function<void(Recorder&)>& exchange) {
-  HostFrame fa = a.stageHost(inA, outA);
-  HostFrame fb = b.stageHost(inB, outB);
-  const VkCommandBuffer cmd = a.cmd_;
-  check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
-  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
-  auto previous = [](VulkanDenoiserBase& v) { return v.hasPrevious_ ? &v.frames_[v.cur_ ^ 1] : nullptr; };
-  Recorder ra = a.beginRecord(cmd, fa.imports, fa.camera, fa.out);
-  a.resultHasEmission_ = false;
-  a.processFront(ra, a.frames_[a.cur_], previous(a));
-  ra.pass("(other eye)");
-  Recorder rb = b.beginRecord(cmd, fb.imports, fb.camera, fb.out);
-  b.resultHasEmission_ = false;
-  b.processFront(rb, b.frames_[b.cur_], previous(b));
-  rb.pass("(other eye)");
-  ra.barrier();  // b's writes (recorded through the other recorder) before a reads them
-  ra.pass("eyeReprojection");
-  exchange(ra);
-  const Planes& resultA = a.processBack(ra, a.frames_[a.cur_], previous(a));
-  a.endRecord(ra, resultA, fa.out);
-  rb.barrier();
-  const Planes& resultB = b.processBack(rb, b.frames_[b.cur_], previous(b));
-  b.endRecord(rb, resultB, fb.out);
-  check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-  a.submitAndWait();
-  a.finishHost(fa, outA);
-  b.finishHost(fb, outB);
+  guarded("denoise", [&] {
+    HostFrame fa = a.stageHost(inA, outA);
+    HostFrame fb = b.stageHost(inB, outB);
+    const VkCommandBuffer cmd = a.cmd_;
+    check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+    auto previous = [](VulkanDenoiserBase& v) { return v.hasPrevious_ ? &v.frames_[v.cur_ ^ 1] : nullptr; };
+    Recorder ra = a.beginRecord(cmd, fa.imports, fa.camera, fa.conventions, fa.out);
+    a.resultHasEmission_ = false;
+    a.processFront(ra, a.frames_[a.cur_], previous(a));
+    ra.pass("(other eye)");
+    Recorder rb = b.beginRecord(cmd, fb.imports, fb.camera, fb.conventions, fb.out);
+    b.resultHasEmission_ = false;
+    b.processFront(rb, b.frames_[b.cur_], previous(b));
+    rb.pass("(other eye)");
+    ra.barrier();  // b's writes (recorded through the other recorder) before a reads them
+    ra.pass("eyeReprojection");
+    exchange(ra);
+    const Planes& resultA = a.processBack(ra, a.frames_[a.cur_], previous(a));
+    a.endRecord(ra, resultA, fa.out);
+    rb.barrier();
+    const Planes& resultB = b.processBack(rb, b.frames_[b.cur_], previous(b));
+    b.endRecord(rb, resultB, fb.out);
+    check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+    a.submitAndWait();
+    a.finishHost(fa, outA);
+    b.finishHost(fb, outB);
+  });
 }
 
 VulkanDenoiserBase::HostFrame VulkanDenoiserBase::stageHost(const FrameInputs& in, const ImageView& output) {
@@ -325,6 +365,7 @@ VulkanDenoiserBase::HostFrame VulkanDenoiserBase::stageHost(const FrameInputs& i
   checkInputViews(in, requiredBuffers());
   const int w = in[Buffer::Color].width, h = in[Buffer::Color].height;
   checkOutputView(output, w, h);
+  frame.conventions = conventionTransform(in.conventions, in.camera, w, h, in.has(Buffer::Normal));
 
   // Validate every used buffer before touching history, then pack them into the staging buffer
   // row by row, keeping each view's pixel layout (the import shader applies the strides).
@@ -354,8 +395,10 @@ VulkanDenoiserBase::HostFrame VulkanDenoiserBase::stageHost(const FrameInputs& i
       const size_t rowBytes = v.bytesPerPixel() * size_t(w);
       char* dst = static_cast<char*>(upload_.mapped()) + offset;
       for (int y = 0; y < h; ++y) std::memcpy(dst + size_t(y) * rowBytes, v.pixel<char>(0, y), rowBytes);
-      imports.push_back({b, Binding(upload_.handle(), offset, rowBytes * h), 0, uint32_t(v.bytesPerPixel() / 4),
-                         uint32_t(rowBytes / 4), v.format == Format::Int32});
+      // Strides in the shader's units (words; 16-bit units for halves); a range a whole number of words.
+      const size_t unit = size_t(channelBytes(v.format));
+      imports.push_back({b, Binding(upload_.handle(), offset, alignUp(rowBytes * h, 4)), 0,
+                         uint32_t(v.bytesPerPixel() / unit), uint32_t(rowBytes / unit), importType(v.format)});
       offset += alignUp(rowBytes * h, align);
     }
   }
@@ -387,7 +430,12 @@ void VulkanDenoiserBase::finishHost(HostFrame& frame, const ImageView& output) {
     const float* src = static_cast<const float*>(readback_.mapped());
     for (int y = 0; y < h; ++y) {
       const float* row = src + size_t(y) * w * outChannels;
-      if (output.bytesPerPixel() == outChannels * 4) {
+      if (isHalf(output.format)) {
+        const bool packed = output.bytesPerPixel() == outChannels * 2;
+        if (packed) floatsToHalves(row, output.pixel<char>(0, y), size_t(w) * outChannels);
+        else
+          for (int x = 0; x < w; ++x) floatsToHalves(row + size_t(x) * outChannels, output.pixel<char>(x, y), outChannels);
+      } else if (output.bytesPerPixel() == outChannels * 4) {
         std::memcpy(output.pixel<float>(0, y), row, size_t(w) * outChannels * 4);
       } else {
         for (int x = 0; x < w; ++x) std::memcpy(output.pixel<float>(x, y), row + size_t(x) * outChannels, outChannels * 4);
@@ -398,10 +446,20 @@ void VulkanDenoiserBase::finishHost(HostFrame& frame, const ImageView& output) {
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame.start).count();
+  stats.notes = notes_;
   stats_ = std::move(stats);
 }
 
 void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanBufferView& output, VkCommandBuffer cmd) {
+  guarded("denoiseVulkan", [&] { denoiseIntoBuffer(in, output, cmd); });
+}
+
+void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanImageView& output, VkCommandBuffer cmd) {
+  guarded("denoiseVulkan", [&] { denoiseIntoImage(in, output, cmd); });
+}
+
+void VulkanDenoiserBase::denoiseIntoBuffer(const VulkanFrameInputs& in, const VulkanBufferView& output,
+                                           VkCommandBuffer cmd) {
   if (output.empty() || (output.format != Format::Float3 && output.format != Format::Float4))
     throw Error("output VkBuffer view must be set and Float3 or Float4");
   checkImageSize("VulkanFrameInputs", in.width, in.height);
@@ -412,7 +470,8 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanBuf
   denoiseGpu(in, ex, cmd);
 }
 
-void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanImageView& output, VkCommandBuffer cmd) {
+void VulkanDenoiserBase::denoiseIntoImage(const VulkanFrameInputs& in, const VulkanImageView& output,
+                                          VkCommandBuffer cmd) {
   Export ex{};
   if (output.empty()) throw Error("output VkImageView must be set");
   if (output.format == VK_FORMAT_R32G32B32A32_SFLOAT) ex.imageShader = "export_image_rgba32f";
@@ -427,22 +486,25 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanIma
 }
 
 void VulkanDenoiserBase::bindBufferView(const VulkanBufferView& v, const std::string& what, uint32_t channels, int w,
-                                        int h, Binding& binding, uint32_t& offsetWords, uint32_t& pixelWords,
-                                        uint32_t& rowWords) const {
+                                        int h, Binding& binding, uint32_t& offsetUnits, uint32_t& pixelUnits,
+                                        uint32_t& rowUnits) const {
   // A view as a binding: the offset rounded down to the alignment the device needs, the rest
   // passed to the shader in words; the range covers exactly the pixels read or written.
+  // Units are 32-bit words, or 16-bit halves for Half* views.
+  const uint32_t unit = uint32_t(channelBytes(v.format));
   const VkDeviceSize align = std::max<VkDeviceSize>(ctx_.limits().minStorageBufferOffsetAlignment, 4);
   if (channelCount(v.format) == 0) throw Error(what + " has no format (Format::Undefined or an unknown value)");
-  if (v.offset % 4) throw Error(what + ": offset " + std::to_string(v.offset) + " must be a multiple of 4 bytes");
-  checkStrides(what, channelCount(v.format), v.pixelStride, v.rowStride, w);
-  const uint32_t pixel = v.pixelStride ? v.pixelStride : uint32_t(channelCount(v.format)) * 4;
+  if (v.offset % unit) throw Error(what + ": offset " + std::to_string(v.offset) + " must be a multiple of " + std::to_string(unit) + " bytes");
+  checkStrides(what, v.format, v.pixelStride, v.rowStride, w);
+  const uint32_t pixel = v.pixelStride ? v.pixelStride : uint32_t(channelCount(v.format)) * unit;
   const uint32_t row = v.rowStride ? v.rowStride : pixel * uint32_t(w);
   const VkDeviceSize base = v.offset / align * align;
-  binding = Binding(v.buffer, base, VkDeviceSize(v.offset - base) + VkDeviceSize(h - 1) * row +
-                                        VkDeviceSize(w - 1) * pixel + channels * 4);
-  offsetWords = uint32_t((v.offset - base) / 4);
-  pixelWords = pixel / 4;
-  rowWords = row / 4;
+  const VkDeviceSize end = VkDeviceSize(v.offset - base) + VkDeviceSize(h - 1) * row + VkDeviceSize(w - 1) * pixel +
+                           channels * unit;
+  binding = Binding(v.buffer, base, (end + 3) / 4 * 4);
+  offsetUnits = uint32_t((v.offset - base) / unit);
+  pixelUnits = pixel / unit;
+  rowUnits = row / unit;
 }
 
 void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& ex, VkCommandBuffer cmd) {
@@ -455,6 +517,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
     if (!in.has(b)) throw Error("missing required " + describe(b));
   checkCamera(in.camera);
 
+  const ConventionTransform conventions = conventionTransform(in.conventions, in.camera, w, h, in.has(Buffer::Normal));
   const std::vector<Buffer> used = usedBuffers();
   std::vector<Import> imports;
   for (int i = 0; i < kBufferCount; ++i) {
@@ -473,7 +536,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
           image.layout != VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL)
         throw Error(describe(b) + ": image layout " + std::to_string(int(image.layout)) +
                     " cannot be sampled (use VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL or GENERAL)");
-      Import im{b, Binding::image(image.view, image.layout), 0, 0, 0, false, f->shader};
+      Import im{b, Binding::image(image.view, image.layout), 0, 0, 0, 0, f->shader};
       if (std::find(used.begin(), used.end(), b) != used.end()) imports.push_back(im);
       continue;
     }
@@ -481,7 +544,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
     if (channelCount(v.format) < bufferChannelCount(b))
       throw Error(describe(b) + " needs " + std::to_string(bufferChannelCount(b)) + " channels, the view has " +
                   std::to_string(channelCount(v.format)));
-    Import im{b, {}, 0, 0, 0, v.format == Format::Int32};
+    Import im{b, {}, 0, 0, 0, importType(v.format)};
     bindBufferView(v, describe(b), uint32_t(bufferChannelCount(b)), w, h, im.source, im.offsetWords,
                    im.pixelStrideWords, im.rowStrideWords);
     if (std::find(used.begin(), used.end(), b) != used.end()) imports.push_back(im);
@@ -494,10 +557,11 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
     if (readTimings(previous, false)) {
       previous.pixels = uint64_t(width_) * height_;
       readSanitizeCounts(previous);
+      previous.notes = notes_;
       stats_ = std::move(previous);
     }
     prepare(w, h, in.cameraCut);
-    record(cmd, imports, in.camera, ex);
+    record(cmd, imports, in.camera, conventions, ex);
     return;
   }
   FrameStats stats;
@@ -506,13 +570,14 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
-  record(cmd_, imports, in.camera, ex);
+  record(cmd_, imports, in.camera, conventions, ex);
   check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
   submitAndWait();
   readTimings(stats, true);
   readSanitizeCounts(stats);
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.notes = notes_;
   stats_ = std::move(stats);
 }
 

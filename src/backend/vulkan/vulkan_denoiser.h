@@ -12,6 +12,7 @@
 
 #include "backend/vulkan/context.h"
 #include "backend/vulkan/passes.h"
+#include "core/conventions.h"
 #include "core/settings_reflect.h"
 #include "rtd/denoiser.h"
 #include "rtd/vulkan.h"
@@ -70,6 +71,8 @@ class VulkanDenoiserBase : public Denoiser {
   std::shared_ptr<Context> keepAlive_;
   Context& ctx_;
   int width_ = 0, height_ = 0;
+  /// FrameStats::notes of the frame process() recorded (parts that did not run, and why).
+  std::vector<std::string> notes_;
   /// Set by a process() whose result already holds the separated emission (a tone map must
   /// see it), so that the export does not add it again (as CpuDenoiser).
   bool resultHasEmission_ = false;
@@ -80,8 +83,8 @@ class VulkanDenoiserBase : public Denoiser {
   struct Import {
     Buffer which;
     Binding source;
-    uint32_t offsetWords, pixelStrideWords, rowStrideWords;
-    bool isInt;
+    uint32_t offsetWords, pixelStrideWords, rowStrideWords;  // 16-bit units for halves
+    uint32_t type;  // import.comp's: 0 float, 1 int32, 2 half
     const char* imageShader = nullptr;
   };
   struct Export {
@@ -89,27 +92,33 @@ class VulkanDenoiserBase : public Denoiser {
     uint32_t offsetWords, pixelStrideWords, rowStrideWords, channels;
     const char* imageShader = nullptr;
   };
-  /// A host-memory frame staged for recording (denoise()'s first half): validated, uploaded,
-  /// history prepared, the read-back buffer ready.
+  void denoiseHost(const FrameInputs& frame, const ImageView& output);
+  /// A host-memory frame staged for recording (denoiseHost()'s first half): validated,
+  /// uploaded, history prepared, the read-back buffer ready.
   struct HostFrame {
     std::vector<Import> imports;
     Export out;
     Camera camera;
+    ConventionTransform conventions;
     int width = 0, height = 0;
     uint32_t outChannels = 3;
     FrameStats stats;
     std::chrono::steady_clock::time_point start;
   };
   HostFrame stageHost(const FrameInputs& in, const ImageView& output);
-  /// denoise()'s second half once the commands ran: timings, read-back, counts, stats().
+  /// denoiseHost()'s second half once the commands ran: timings, read-back, counts, stats().
   void finishHost(HostFrame& frame, const ImageView& output);
+  void denoiseIntoBuffer(const VulkanFrameInputs& frame, const VulkanBufferView& output, VkCommandBuffer cmd);
+  void denoiseIntoImage(const VulkanFrameInputs& frame, const VulkanImageView& output, VkCommandBuffer cmd);
   void denoiseGpu(const VulkanFrameInputs& frame, const Export& out, VkCommandBuffer cmd);
   void bindBufferView(const VulkanBufferView& v, const std::string& what, uint32_t channels, int w, int h,
-                      Binding& binding, uint32_t& offsetWords, uint32_t& pixelWords, uint32_t& rowWords) const;
+                      Binding& binding, uint32_t& offsetUnits, uint32_t& pixelUnits, uint32_t& rowUnits) const;
   void prepare(int w, int h, bool cameraCut);
-  void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera, const Export& out);
+  void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
+              const ConventionTransform& conventions, const Export& out);
   /// record() in two steps around the method's passes: the import, and the export.
-  Recorder beginRecord(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera, const Export& out);
+  Recorder beginRecord(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
+                       const ConventionTransform& conventions, const Export& out);
   void endRecord(Recorder& rec, const Planes& result, const Export& out);
   void submitAndWait();
   /// The sanitize counters of the last frame that ran into `stats` (sanitized, sanitizedValues).

@@ -43,7 +43,6 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
     accumulator_.reset();
     taa_.reset();
   }
-
   void visitMethodPlanes(const PlaneVisitor& visit) const override {
     reprojection_.forEachPlane(visit);
     guide_.forEachPlane(visit);
@@ -82,20 +81,22 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
       demodulate(frame.planes(Buffer::Color), albedo, demod_);
     }
     // The temporal gradient of each stratum, then its a-trous levels.
-    if (s.gradientSource == AsvgfGradientSource::samples) {
+    const bool samples = s.gradientSource == AsvgfGradientSource::samples;
+    if (samples) {
       PassTimer t(stats, "gradient");
       asvgf::gradientFromSamples(frame.plane(Buffer::GradientSample), frame.plane(Buffer::GradientPrevious),
                                  frame.plane(Buffer::GradientCurrent), guide_, s.antilagScale, gradient_);
     } else {
       // Not A-SVGF: last frame's moments against this frame (before they are accumulated).
       PassTimer t(stats, "antilag");
-      asvgf::gradientFromHistory(reprojection_, demod_, accumulator_.moment1(), accumulator_.moment2(),
-                                 p.variance.luminance, s.antilagNoiseSigmas, guide_, s.antilagScale, gradient_);
+      asvgf::historyLuminances(reprojection_, demod_, accumulator_.moment1(), accumulator_.moment2(),
+                               p.variance.luminance, guide_, gradient_);
     }
     {
       PassTimer t(stats, "gradientAtrous");
       asvgf::filterGradient(gradient_, s.gradientIterations, p.variance.sigmaDepth, p.variance.depthEpsilon,
-                            p.variance.normalExponent);
+                            p.variance.normalExponent, !samples);
+      if (!samples) asvgf::historyAntilagGradient(gradient_, s.antilagNoiseSigmas, s.antilagScale);
     }
     {
       PassTimer t(stats, "accumulate");

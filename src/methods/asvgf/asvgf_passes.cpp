@@ -95,9 +95,8 @@ size_t gradientFromSamples(const Plane& sampleMask, const Plane& previous, const
   return found;
 }
 
-size_t gradientFromHistory(const Reprojection& rp, const Plane3& cur, const Plane& m1, const Plane& m2,
-                           MomentLuminance luminance, float noiseSigmas, const AtrousGuide& guide, float scale,
-                           GradientImage& out) {
+size_t historyLuminances(const Reprojection& rp, const Plane3& cur, const Plane& m1, const Plane& m2,
+                         MomentLuminance luminance, const AtrousGuide& guide, GradientImage& out) {
   const int w = rp.width, h = rp.height;
   std::atomic<size_t> found{0};
   parallelRows(out.height, [&](int sy) {
@@ -115,25 +114,23 @@ size_t gradientFromHistory(const Reprojection& rp, const Plane3& cur, const Plan
           sv += std::max(0.0f, rp.gather(m2, i) - lh * lh);
           ++n;
         }
-      float g = 0.0f;
+      takeFeatures(guide, std::min(w - 1, sx * kStratum + 1), std::min(h - 1, sy * kStratum + 1), out, sx, sy);
+      setStratum(out, sx, sy, n > 0 ? sc / float(n) : 0.0f, n > 0);
       if (n > 0) {
-        const float lc = sc / float(n), lh = sh / float(n);
         // The mean of n one-sample luminances deviates from the history's by ~sqrt(V / n)
-        // without any change of the lighting: only the excess counts.
-        const float d = std::max(0.0f, std::abs(lc - lh) - noiseSigmas * std::sqrt(sv / float(n) / float(n)));
-        const float m = std::max(lc, lh);
-        g = m > 0 ? scale * (d / m) * (d / m) : 0.0f;
+        // without any change of the lighting.
+        out.level[0].color[1].at(sx, sy) = sh / float(n);
+        out.level[0].var.at(sx, sy) = sv / float(n) / float(n);
         ++valid;
       }
-      takeFeatures(guide, std::min(w - 1, sx * kStratum + 1), std::min(h - 1, sy * kStratum + 1), out, sx, sy);
-      setStratum(out, sx, sy, g, n > 0);
     }
     found += valid;
   });
   return found;
 }
 
-void filterGradient(GradientImage& g, int iterations, float sigmaDepth, float depthEpsilon, int normalExponent) {
+void filterGradient(GradientImage& g, int iterations, float sigmaDepth, float depthEpsilon, int normalExponent,
+                    bool propagateVariance) {
   int cur = 0;
   for (int i = 0; i < iterations; ++i) {
     AtrousLevel lv;
@@ -144,13 +141,22 @@ void filterGradient(GradientImage& g, int iterations, float sigmaDepth, float de
     lv.normalExponent = normalExponent;
     lv.sigmaScale = &g.noLuminanceWeight;
     lv.prefilterVariance = false;
-    lv.propagateVariance = false;
+    lv.propagateVariance = propagateVariance;
     lv.validIn = &g.valid[cur];
     lv.validOut = &g.valid[cur ^ 1];
     atrousLevel(g.guide, lv, g.level[cur], g.level[cur ^ 1]);
     cur ^= 1;
   }
+  g.last = cur;
   g.level[cur].color[0].copyTo(g.result);
+}
+
+void historyAntilagGradient(GradientImage& g, float noiseSigmas, float scale) {
+  const AtrousImage& l = g.level[g.last];
+  parallelRows(g.height, [&](int y) {
+    for (int x = 0; x < g.width; ++x)
+      g.result(x, y) = antilagGradient(l.color[0].at(x, y), l.color[1].at(x, y), l.var.at(x, y), noiseSigmas, scale);
+  });
 }
 
 void guideNormals(const std::vector<Plane>& normal, const std::vector<Plane>* reflected, std::vector<Plane>& out) {

@@ -51,15 +51,16 @@ struct GradientImage {
   PaddedPlane valid[2];
   PaddedPlane noLuminanceWeight;  ///< zeros: w_l off in the gradient's levels
   Plane result;                   ///< the filtered G, width x height (AccumulationOptions::temporalGradient)
+  int last = 0;                   ///< the level filterGradient finished in
 
   /// For a frame of w x h pixels; `pad` >= the widest tap offset of the gradient's levels.
   void resize(int w, int h, int pad);
-
+  /// Every plane it keeps (PlaneVisitor).
   void forEachPlane(const PlaneVisitor& visit) const {
     guide.forEachPlane(visit);
     for (const auto& l : level) l.forEachPlane(visit);
     for (const auto& v : valid) v.visit(visit, "gradient valid");
-    noLuminanceWeight.visit(visit, "gradient w_l off");
+    noLuminanceWeight.visit(visit, "gradient sigma scale");
     visitPlane(visit, "gradient", result);
   }
 };
@@ -74,21 +75,35 @@ inline int gradientPad(int iterations) { return iterations > 0 ? 1 << (iteration
 size_t gradientFromSamples(const Plane& sampleMask, const Plane& previous, const Plane& current,
                            const AtrousGuide& guide, float scale, GradientImage& out);
 
-/// NOT A-SVGF, for inputs without gradient samples (AsvgfGradientSource::historyAntilag): per
-/// stratum, over its pixels with history (reprojection `rp`), the mean current luminance Lc
-/// (of `current`, demodulated) and the mean reprojected history luminance Lh and variance V
-/// (from last frame's moments `moment1`, `moment2`); d = max(0, |Lc - Lh| - k sqrt(V / n)),
-/// G = scale * (d / max(Lc, Lh))^2 (0 where both are 0); strata without history are invalid.
-/// Features from the stratum's centre pixel.
-size_t gradientFromHistory(const Reprojection& rp, const Plane3& current, const Plane& moment1, const Plane& moment2,
-                           MomentLuminance luminance, float noiseSigmas, const AtrousGuide& guide, float scale,
-                           GradientImage& out);
+/// NOT A-SVGF, for inputs without gradient samples (AsvgfGradientSource::historyAntilag), level 0
+/// of its estimate: per stratum, over its pixels with history (reprojection `rp`), the mean
+/// current luminance Lc (of `current`, demodulated) in colour 0, the mean reprojected history
+/// luminance Lh (last frame's `moment1`) in colour 1 and the variance of Lc's mean, V / n with V
+/// the pixels' mean temporal variance (last frame's moments), in var; strata without history
+/// are invalid. Features from the stratum's centre pixel. The gradient's a-trous levels then
+/// average all three over each surface (propagating the variance) and
+/// historyAntilagGradient() turns them into G.
+size_t historyLuminances(const Reprojection& rp, const Plane3& current, const Plane& moment1, const Plane& moment2,
+                         MomentLuminance luminance, const AtrousGuide& guide, GradientImage& out);
+
+/// The estimate's G = scale * (max(0, |Lc - Lh| - k sqrt(V)) / max(Lc, Lh))^2 (0 where both are
+/// 0): only the change beyond k standard deviations of the filtered current mean counts.
+inline float antilagGradient(float lc, float lh, float variance, float k, float scale) {
+  const float m = std::max(lc, lh);
+  if (!(m > 0.0f)) return 0.0f;
+  const float d = std::max(0.0f, std::abs(lc - lh) - k * std::sqrt(std::max(0.0f, variance)));
+  return scale * (d / m) * (d / m);
+}
 
 /// `iterations` a-trous levels over the strata (shared atrousLevel, 3x3 binomial kernel, steps
 /// 1, 2, 4, ...; w = w_z w_n on the strata features, no luminance weight; invalid strata weigh
-/// 0 and are filled from valid neighbours), then out.result = the filtered G (0 where nothing
-/// valid is within reach).
-void filterGradient(GradientImage& g, int iterations, float sigmaDepth, float depthEpsilon, int normalExponent);
+/// 0 and are filled from valid neighbours; the variance propagated when `propagateVariance`),
+/// then out.result = colour 0 of the last level (G; 0 where nothing valid is within reach).
+void filterGradient(GradientImage& g, int iterations, float sigmaDepth, float depthEpsilon, int normalExponent,
+                    bool propagateVariance = false);
+
+/// After filterGradient on historyLuminances: g.result = antilagGradient of the filtered level.
+void historyAntilagGradient(GradientImage& g, float noiseSigmas, float scale);
 
 /// The normal the filter uses (thesis Sec. 1.2.1, Fig. 3.6): Buffer::ReflectedNormal where it is
 /// non-zero (mirror pixels) when `reflected` is not null, else Buffer::Normal.

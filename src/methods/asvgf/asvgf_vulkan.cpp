@@ -74,7 +74,8 @@ class AsvgfVulkan final : public vk::VulkanDenoiser<AsvgfSettings> {
       in.insert(in.end(), strataOut.begin(), strataOut.end());
       return in;
     };
-    if (s.gradientSource == AsvgfGradientSource::samples) {
+    const bool samples = s.gradientSource == AsvgfGradientSource::samples;
+    if (samples) {
       rec.pass("gradient");
       struct PC {
         uint32_t width, height, gwidth, gheight;
@@ -88,11 +89,8 @@ class AsvgfVulkan final : public vk::VulkanDenoiser<AsvgfSettings> {
       // Not A-SVGF: last frame's moments (the accumulator before it runs) against this frame.
       rec.pass("antilag");
       struct PC {
-        uint32_t width, height, gwidth, gheight;
-        float scale, noiseSigmas;
-        uint32_t luminanceMode;
-      } pc{uint32_t(w), uint32_t(h), uint32_t(gw), uint32_t(gh), s.antilagScale, s.antilagNoiseSigmas,
-           uint32_t(p.variance.luminance)};
+        uint32_t width, height, gwidth, gheight, luminanceMode;
+      } pc{uint32_t(w), uint32_t(h), uint32_t(gw), uint32_t(gh), uint32_t(p.variance.luminance)};
       rec.dispatch("asvgf_antilag", bindings({reprojection_, demod_, accumulator_.current()}), pc, gw, gh);
     }
     rec.pass("gradientAtrous");
@@ -106,12 +104,19 @@ class AsvgfVulkan final : public vk::VulkanDenoiser<AsvgfSettings> {
       lv.normalExponent = p.variance.normalExponent;
       lv.sigmaScale = &noLuminanceWeight_;
       lv.prefilterVariance = false;
-      lv.propagateVariance = false;
+      lv.propagateVariance = !samples;
       lv.validIn = &gradientValid_[cur];
       lv.validOut = &gradientValid_[cur ^ 1];
       vk::atrousLevel(rec, gradientDepth_, gradientNormal_, gradientSlope_, lv, gradientLevels_[cur],
                       gradientLevels_[cur ^ 1]);
       cur ^= 1;
+    }
+    if (!samples) {
+      struct PC {
+        uint32_t gwidth, gheight;
+        float noiseSigmas, scale;
+      } pc{uint32_t(gw), uint32_t(gh), s.antilagNoiseSigmas, s.antilagScale};
+      rec.dispatch("asvgf_antilag_gradient", {gradientLevels_[cur]}, pc, gw, gh);
     }
     rec.pass("accumulate");
     accumulator_.runAdaptive(rec, reprojection_, demod_, s.minAlphaColor, s.minAlphaMoments, s.maxHistoryLength,

@@ -29,8 +29,9 @@ struct TriangularSystem {
 /// Reflection k maps rows k.. of column k onto -sign(x_k) ||x|| e_k (the numerically stable
 /// sign choice: u_k = x_k + sign(x_k) ||x|| never cancels), applied to every later column,
 /// right-hand sides included, so r = (Q^T z)[0..features) without forming Q (Heath 1997
-/// pp. 92-93). A column that is already zero below the diagonal is left alone (R_kk = 0, a
-/// rank deficiency for the back substitution to report).
+/// pp. 92-93). A column that is already zero below the diagonal, or whose remaining norm is
+/// below 2^-20 of the largest pivot so far (rounding noise of a dependent column), is left alone
+/// (R_kk = x_k, a rank deficiency for the back substitution to report).
 void householderQr(float* cols, int rows, size_t stride, int features, int channels, TriangularSystem& out);
 
 /// The same factorization for a matrix stored as row tiles, so each tile's reflections run in

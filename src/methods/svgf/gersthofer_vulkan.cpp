@@ -81,9 +81,9 @@ void GpuGersthoferEye::front(vk::Recorder& rec, const vk::GpuFrame& frame, const
   rec.pass("accumulate");
   const uint32_t lum = momentLuminanceMode(params);
   composite_.run(rec, reprojection_, currentComposite_, s.alphaColor, s.alphaMoments, s.maxHistoryLength, lum,
-                 s.momentsTrueAverage, mask, !s.fixedAlpha);
+                 s.momentsTrueAverage, mask, nullptr, nullptr, !s.fixedAlpha);
   indirect_.run(rec, reprojection_, currentIndirect_, s.alphaColor, s.alphaMoments, s.maxHistoryLength, lum,
-                s.momentsTrueAverage, mask, !s.fixedAlpha);
+                s.momentsTrueAverage, mask, nullptr, nullptr, !s.fixedAlpha);
   if (s.glossyWeights && frame.has(Buffer::SecondaryDistance)) {
     struct DistancePC {
       uint32_t width, height;

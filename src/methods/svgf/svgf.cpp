@@ -10,6 +10,7 @@
 #include "methods/svgf/gersthofer.h"
 #include "methods/svgf/svgf_filter.h"
 #include "methods/svgf/svgf_passes.h"
+#include "methods/svgf/svgf_reflections.h"
 #include "passes/demodulation.h"
 #include "passes/reprojection.h"
 #include "passes/taa.h"
@@ -39,6 +40,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   void resizeHistory(int w, int h) override {
     const int pad = requiredPad();
     guide_.resize(w, h, pad);
+    reflections_.resize(w, h, pad);
     filter_.resize(w, h, pad);
     for (auto& s : streams_) {
       rtd::resize(s.demod, w, h);
@@ -46,10 +48,12 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     rtd::resize(sum_, w, h);
     rtd::resize(display_, w, h);
+    rtd::resize(lobeMedian_, w, h);
     taa_.resize(w, h);
   }
   void resetHistory() override {
     for (auto& s : streams_) s.accumulator.reset();
+    reflections_.reset();
     taa_.reset();
     if (gersthofer_) gersthofer_->reset();
   }
@@ -57,12 +61,14 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     reprojection_.forEachPlane(visit);
     guide_.forEachPlane(visit);
     filter_.forEachPlane(visit);
+    reflections_.forEachPlane(visit);
     for (const auto& st : streams_) {
       visitPlanes(visit, "demodulated", st.demod);
       st.accumulator.forEachPlane(visit);
     }
     visitPlanes(visit, "sum", sum_);
     visitPlanes(visit, "display", display_);
+    visitPlanes(visit, "diffuse lobe median", lobeMedian_);
     taa_.forEachPlane(visit);
     if (gersthofer_) gersthofer_->forEachPlane(visit);
   }
@@ -77,6 +83,9 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     resultHasEmission_ = false;
     if (s.components == SvgfComponents::composite) return gersthofer(frame, previous, stats);
     const int nStreams = chooseStreams(frame);
+    const bool lobes = nStreams == 2 && streams_[1].plan.lobe == svgf::Lobe::specular;
+    // Before any history is touched: an explicitly requested part without its buffers throws.
+    svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return frame.has(b); }, lobes);
     mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame.plane(Buffer::SampleMask) : nullptr;
     const auto* albedo = frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
     {
@@ -88,15 +97,35 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       guide_.build(frame.plane(Buffer::Depth), frame.planes(Buffer::Normal),
                    frame.has(Buffer::DepthGradient) ? &frame.planes(Buffer::DepthGradient) : nullptr, s.maxDepthSlope);
     }
+    if (parts.classes) {
+      PassTimer t(stats, "reflections");  // Voorhuis: classes, diamond search, reflected features
+      reflections_.prepare(frame, previous, s, parts, lobes, reprojection_);
+    }
     for (int k = 0; k < nStreams; ++k) {
       Stream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
-      const AtrousImage& result = filterStream(frame, st, st.plan.demodulated ? albedo : nullptr, suffix, stats);
+      const svgf::Reflections::StreamInputs in = reflections_.stream(frame, st.plan, reprojection_, guide_, k);
+      const AtrousImage& result = filterStream(frame, st, in, suffix, stats);
+      if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse) {
+        // With the lobes split, the median takes the diffuse lobe only, everywhere: it holds
+        // no specular highlights (Voorhuis Sec. 6: "only ... pixels that have a diffuse
+        // primary hit", so that highlights survive), and is taken before any other colour
+        // scales it.
+        {
+          PassTimer t(stats, "median" + suffix);
+          for (int c = 0; c < 3; ++c) result.color[c].copyTo(display_[c]);
+          svgf::median3x3(display_, nullptr, lobeMedian_);
+        }
+        PassTimer t(stats, "sum" + suffix);
+        addStream([&](int c, int y) { return lobeMedian_[c].row(y); }, k == 0, in.albedo, albedo);
+        continue;
+      }
       PassTimer t(stats, "sum" + suffix);
-      addStream(st, result, k == 0, albedo);
+      addStream([&](int c, int y) { return result.color[c].row(y); }, k == 0, in.albedo, albedo);
     }
+    stats.notes = std::move(parts.notes);
     Plane3* shown = &sum_;
-    if (s.fireflyMedian) {
+    if (s.fireflyMedian && !lobes) {
       PassTimer t(stats, "median");
       svgf::median3x3(sum_, frame.has(Buffer::Roughness) ? &frame.plane(Buffer::Roughness) : nullptr, display_);
       shown = &display_;
@@ -107,7 +136,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     if (!s.taa.taa) return *shown;
     PassTimer t(stats, "taa");
-    return taa_.run(reprojection_, *shown, s.taa.taaAlpha);
+    return taa_.run(reflections_.taaMotion(frame, reprojection_), *shown, s.taa.taaAlpha);
   }
 
  private:
@@ -126,7 +155,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   // Which streams this frame has, per the `components` setting.
   int chooseStreams(const FrameData& f) {
     svgf::StreamPlan plan[2];
-    const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan);
+    const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan, settings_.preferLobes);
     for (int k = 0; k < n; ++k) {
       Stream& st = streams_[k];
       if (st.plan.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
@@ -136,38 +165,54 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   }
 
   // Demodulate and accumulate one stream, then the shared SVGF filter (variance, a-trous
-  // levels, feedback); returns the filtered image.
-  const AtrousImage& filterStream(const FrameData& frame, Stream& st, const std::vector<Plane>* albedo,
+  // levels, feedback); returns the filtered image. `in`: the stream's reprojection, guide and
+  // demodulation colour, and the Voorhuis per-pixel inputs (svgf::Reflections::stream).
+  const AtrousImage& filterStream(const FrameData& frame, Stream& st, const svgf::Reflections::StreamInputs& in,
                                   const std::string& suffix, FrameStats& stats) {
     const SvgfSettings& s = settings_;
     const svgf::FilterParams p = svgf::filterParams(s, st.plan.indirect);
     {
       PassTimer t(stats, "demodulate" + suffix);
-      demodulate(frame.planes(st.plan.buffer), albedo, st.demod);
+      demodulate(frame.planes(st.plan.buffer), in.albedo, st.demod);
+    }
+    AccumulationOptions opt;
+    if (reflections_.parts().clipping) {
+      PassTimer t(stats, "clip" + suffix);  // Voorhuis Sec. 4.2.3
+      reflections_.clipBoxes(st.demod, st.plan, s, opt.clipLow, opt.clipHigh);
     }
     {
       PassTimer t(stats, "accumulate" + suffix);
-      AccumulationOptions opt;
       opt.luminance = p.variance.luminance;
       opt.cumulativeMoments = s.momentsTrueAverage;
       opt.sampleMask = mask_;
-      st.accumulator.run(reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
+      opt.alphaPlane = in.alpha;
+      st.accumulator.run(*in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
     }
-    return filter_.run(guide_, st.accumulator, st.demod, mask_, p, stats, suffix);
+    svgf::FilterParams fp = p;
+    fp.spatialFalloff = in.falloff;  // Voorhuis Eq. 6
+    return filter_.run(*in.guide, st.accumulator, st.demod, mask_, fp, stats, suffix);
   }
 
-  // sum_ (+)= this stream's filtered illumination; a non-demodulated stream (specular) is
-  // divided by the albedo here so that the shared remodulation restores it exactly.
-  void addStream(const Stream& st, const AtrousImage& r, bool first, const std::vector<Plane>* albedo) {
+  // sum_ (+)= this stream's filtered illumination, remodulated by the stream's own colour
+  // `streamAlbedo` (null: not demodulated) and divided by `albedo`, so that the shared
+  // remodulation by `albedo` restores it exactly.
+  // `rows(c, y)`: row y of channel c of the stream's filtered illumination.
+  template <class Rows>
+  void addStream(Rows&& rows, bool first, const std::vector<Plane>* streamAlbedo, const std::vector<Plane>* albedo) {
     const int w = sum_[0].width;
-    const bool divide = !st.plan.demodulated && albedo;
+    const bool same = streamAlbedo == albedo;  // the common case: nothing to convert
+    const std::vector<Plane>* times = same ? nullptr : streamAlbedo;
+    const std::vector<Plane>* divide = same ? nullptr : albedo;
     parallelRows(sum_[0].height, [&](int y) {
       for (int c = 0; c < 3; ++c) {
-        const float* in = r.color[c].row(y);
+        const float* in = rows(c, y);
         float* o = sum_[c].row(y);
-        const float* a = divide ? (*albedo)[c].row(y) : nullptr;
+        const float* m = times ? (*times)[c].row(y) : nullptr;
+        const float* a = divide ? (*divide)[c].row(y) : nullptr;
         for (int x = 0; x < w; ++x) {
-          const float v = a ? in[x] / demodulationFactor(a[x]) : in[x];
+          float v = in[x];
+          if (m) v *= demodulationFactor(m[x]);
+          if (a) v /= demodulationFactor(a[x]);
           o[x] = first ? v : o[x] + v;
         }
       }
@@ -176,10 +221,11 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
 
   Reprojection reprojection_;
   AtrousGuide guide_;
+  svgf::Reflections reflections_;
   svgf::Filter filter_;
   const Plane* mask_ = nullptr;
   Stream streams_[kMaxStreams];
-  Plane3 sum_, display_;
+  Plane3 sum_, display_, lobeMedian_;
   Taa taa_;
   std::unique_ptr<svgf::GersthoferEye> gersthofer_;  // components = composite
 };

@@ -140,6 +140,7 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     lv.indirectDistance = extras.indirectDistance;
     lv.indirectDistanceScale = extras.indirectDistanceScale;
     lv.centreScale = extras.centreScale;
+    lv.spatialFalloff = p.spatialFalloff;
     if (mask) {
       lv.validIn = &valid_[cur];
       lv.validOut = &valid_[cur ^ 1];

@@ -35,6 +35,8 @@ struct FilterParams {
   SvgfLuminanceScale luminanceScale = SvgfLuminanceScale::standardDeviation;
   /// Var' = sum h^2 w^2 Var / (sum h w)^2 between levels (Schied Eq. 4).
   bool propagateVariance = true;
+  /// Voorhuis Eq. 6: per-pixel narrowing of the kernel (AtrousLevel::spatialFalloff), or null.
+  const PaddedPlane* spatialFalloff = nullptr;
 
   /// Border the planes need: the widest tap offset, the spatial window, one SIMD vector.
   int requiredPad() const;
@@ -65,7 +67,6 @@ class Filter {
  public:
   void resize(int w, int h, int pad);
   int pad() const { return pad_; }
-
   /// Filters one stream: the level-0 image from `accumulator` (colour, moments, length) and
   /// `current` (this frame's demodulated sample, for the spatial variance estimate), then
   /// p.iterations a-trous levels over `guide`. After executed level p.feedbackLevel its output

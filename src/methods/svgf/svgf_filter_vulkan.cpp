@@ -83,6 +83,7 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
       }
       lv.validOut = &valid_[i & 1];
     }
+    lv.spatialFalloff = extras.spatialFalloff;
     vk::atrousLevel(rec, depth, normal, gradient, lv, levels_[cur], levels_[cur ^ 1]);
     cur ^= 1;
     // The feedback level's output becomes next frame's colour history (Schied Sec. 4.3).

@@ -17,6 +17,8 @@ struct GpuFilterExtras {
   const vk::Planes* indirectDistance = nullptr;  ///< glossy weights (GpuAtrousLevel's fields)
   const vk::Planes* indirectDistanceScale = nullptr;
   const vk::Planes* centreScale = nullptr;
+  /// Voorhuis Eq. 6 (the GPU form of FilterParams::spatialFalloff).
+  const vk::Planes* spatialFalloff = nullptr;
 };
 
 class GpuFilter {

@@ -55,17 +55,30 @@ void levelSteps(SvgfLevelOrder order, int iterations, int* steps);
 
 /// Buffers SVGF reads beyond its required ones and the shared passes' (both backends): the
 /// split radiance streams, roughness (firefly median), the depth gradient (the a-trous guide,
-/// whatever the reprojection tests) and, with useSampleMask, the sample mask.
+/// whatever the reprojection tests), with useSampleMask the sample mask, and the buffers of
+/// the Voorhuis parts that are not off.
 inline std::vector<Buffer> extraBuffers(const SvgfSettings& s) {
-  std::vector<Buffer> b{Buffer::Direct,   Buffer::Indirect,  Buffer::Diffuse,
-                        Buffer::Specular, Buffer::Roughness, Buffer::DepthGradient};
+  std::vector<Buffer> b{Buffer::Direct,   Buffer::Indirect,  Buffer::Diffuse,      Buffer::Specular,
+                        Buffer::Roughness, Buffer::DepthGradient, Buffer::DiffuseAlbedo, Buffer::SpecularAlbedo};
   if (s.components == SvgfComponents::composite)
     for (Buffer g : {Buffer::IndirectDiffuse, Buffer::SecondaryDistance, Buffer::Metalness, Buffer::ObjectId,
                      Buffer::Position})
       b.push_back(g);
   if (s.useSampleMask) b.push_back(Buffer::SampleMask);
+  // Voorhuis' parts (svgf_reflections.h): pixel classes and the reflection buffers.
+  const bool reflections = s.specularMotion != SvgfSpecularMotion::primary || s.reflectedFeatures != SvgfPart::off ||
+                           s.glossyBandwidth != SvgfPart::off || s.neighbourhoodClipping != SvgfPart::off ||
+                           s.materialAlpha != SvgfPart::off;
+  if (reflections)
+    for (Buffer r : {Buffer::Metalness, Buffer::Position, Buffer::ReflectedPosition, Buffer::ReflectedNormal,
+                     Buffer::ReflectedAlbedo, Buffer::SecondaryDistance, Buffer::MirrorDirection, Buffer::ReflectedFootprint})
+      b.push_back(r);
   return b;
 }
+
+/// Which light a stream holds, for Voorhuis' per-class treatment: everything at the pixel
+/// (Color, Direct, Indirect), or one BSDF lobe (Diffuse, Specular).
+enum class Lobe : uint8_t { all, diffuse, specular };
 
 /// One radiance stream SVGF filters separately (Schied et al. 2017: direct and indirect).
 struct StreamPlan {
@@ -73,15 +86,22 @@ struct StreamPlan {
   const char* name;
   bool demodulated;  ///< divided by albedo (not the specular stream: it carries its own tint)
   bool indirect;     ///< Voorhuis: no per-level variance filtering
+  Lobe lobe = Lobe::all;
+  /// The stream's own demodulation colour where the frame has it (Blender's DiffCol /
+  /// GlossCol passes: Buffer::DiffuseAlbedo, Buffer::SpecularAlbedo); Albedo otherwise.
+  Buffer albedo = Buffer::Albedo;
 };
 
 /// The streams of a frame under the `components` setting; `has(b)` says whether the frame has
-/// buffer b. Throws rtd::Error when an explicit choice needs a buffer the frame lacks. Shared
-/// by the CPU and Vulkan implementations.
-template <class Has> int planStreams(SvgfComponents c, Has has, StreamPlan out[2]) {
+/// buffer b. `preferLobes`: auto picks Diffuse+Specular before Direct+Indirect. Throws
+/// rtd::Error when an explicit choice needs a buffer the frame lacks. Shared by the CPU and
+/// Vulkan implementations.
+template <class Has> int planStreams(SvgfComponents c, Has has, StreamPlan out[2], bool preferLobes = false) {
   if (c == SvgfComponents::automatic) {
-    if (has(Buffer::Direct) && has(Buffer::Indirect)) c = SvgfComponents::directIndirect;
-    else if (has(Buffer::Diffuse) && has(Buffer::Specular)) c = SvgfComponents::diffuseSpecular;
+    const bool lobes = has(Buffer::Diffuse) && has(Buffer::Specular);
+    if (lobes && preferLobes) c = SvgfComponents::diffuseSpecular;
+    else if (has(Buffer::Direct) && has(Buffer::Indirect)) c = SvgfComponents::directIndirect;
+    else if (lobes) c = SvgfComponents::diffuseSpecular;
     else c = SvgfComponents::color;
   }
   auto need = [&](Buffer b) {
@@ -94,12 +114,16 @@ template <class Has> int planStreams(SvgfComponents c, Has has, StreamPlan out[2
       out[0] = {Buffer::Direct, "direct", true, false};
       out[1] = {Buffer::Indirect, "indirect", true, true};
       return 2;
-    case SvgfComponents::diffuseSpecular:
+    case SvgfComponents::diffuseSpecular: {
       need(Buffer::Diffuse);
       need(Buffer::Specular);
-      out[0] = {Buffer::Diffuse, "diffuse", true, false};
-      out[1] = {Buffer::Specular, "specular", false, false};
+      const bool diffuseAlbedo = has(Buffer::DiffuseAlbedo), specularAlbedo = has(Buffer::SpecularAlbedo);
+      out[0] = {Buffer::Diffuse, "diffuse", true, false, Lobe::diffuse,
+                diffuseAlbedo ? Buffer::DiffuseAlbedo : Buffer::Albedo};
+      out[1] = {Buffer::Specular, "specular", specularAlbedo, false, Lobe::specular,
+                specularAlbedo ? Buffer::SpecularAlbedo : Buffer::Albedo};
       return 2;
+    }
     default:
       out[0] = {Buffer::Color, "color", true, false};
       return 1;

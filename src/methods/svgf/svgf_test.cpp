@@ -7,6 +7,7 @@
 #include "methods/svgf/svgf_passes.h"
 #include "passes/atrous.h"
 #include "rtd/rtd.h"
+#include "support/cpu_paths.h"
 #include "synthetic/synthetic.h"
 
 namespace rtd {
@@ -143,10 +144,13 @@ void randomScene(Scene& s, uint32_t seed) {
     }
 }
 
+// On every CPU path this machine runs (sse2: 4 lanes, avx2: 8, avx512: 16), forced in turn.
 TEST(Atrous, MatchesDoublePrecisionReferenceBothKernels) {
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
   for (AtrousKernel k : {AtrousKernel::B3Spline5x5, AtrousKernel::Binomial3x3})
     for (int step : {1, 4}) {
-      Scene s(37, 21, 8);  // width not a multiple of 8: the tail tile is exercised
+      Scene s(37, 21, 8);  // width not a multiple of 8 or 16: the tail tile is exercised
       randomScene(s, 7 + step);
       AtrousLevel lv = level(k, step, &s.inv);
       lv.normalExponent = step == 1 ? 64 : 5;  // the unrolled and the generic power
@@ -156,11 +160,13 @@ TEST(Atrous, MatchesDoublePrecisionReferenceBothKernels) {
         for (int x = 0; x < s.w; ++x) {
           double ref[3], var;
           referencePixel(s, lv, x, y, ref, var);
-          for (int c = 0; c < 3; ++c) ASSERT_NEAR(s.b.color[c].at(x, y), ref[c], 2e-5) << x << "," << y;
-          ASSERT_NEAR(s.b.var.at(x, y), var, 2e-6 + 1e-4 * var) << x << "," << y;
+          for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(s.b.color[c].at(x, y), ref[c], 2e-5) << x << "," << y << " " << cpuPathName(path);
+          ASSERT_NEAR(s.b.var.at(x, y), var, 2e-6 + 1e-4 * var) << x << "," << y << " " << cpuPathName(path);
           ASSERT_NEAR(s.b.lum.at(x, y), luminance(s.b.color[0].at(x, y), s.b.color[1].at(x, y), s.b.color[2].at(x, y)), 1e-6);
         }
     }
+  }
 }
 
 TEST(Atrous, ConstantImageIsAFixedPoint) {
@@ -501,6 +507,30 @@ TEST(SvgfSettingsTest, VariantPresetsAndToggles) {
   EXPECT_FALSE(v.indirectVarianceFiltering);
   EXPECT_FLOAT_EQ(v.sigmaNormal, 64.0f);
   EXPECT_FLOAT_EQ(v.sigmaLuminance, 5.0f);
+  // voorhuis = the paper's whole method ("Ours"): reflections, clipping and per-class alpha on top.
+  EXPECT_EQ(v.specularMotion, SvgfSpecularMotion::automatic);
+  EXPECT_TRUE(v.preferLobes);
+  for (SvgfPart p : {v.reflectedFeatures, v.glossyBandwidth, v.neighbourhoodClipping, v.materialAlpha})
+    EXPECT_EQ(p, SvgfPart::automatic);
+  // The robustness-only set keeps its own name; Base and NoSpecReproj are the paper's baselines.
+  const auto r = SvgfSettings::forVariant(SvgfVariant::voorhuisRobustness);
+  EXPECT_TRUE(r.momentsTrueAverage && r.fireflyMedian && !r.indirectVarianceFiltering);
+  EXPECT_EQ(r.specularMotion, SvgfSpecularMotion::primary);
+  EXPECT_EQ(r.neighbourhoodClipping, SvgfPart::off);
+  const auto base = SvgfSettings::forVariant(SvgfVariant::voorhuisBase);
+  EXPECT_FALSE(base.momentsTrueAverage || base.fireflyMedian || base.shortHistoryBandwidth);
+  EXPECT_FLOAT_EQ(base.sigmaNormal, 64.0f);
+  EXPECT_FLOAT_EQ(base.sigmaLuminance, 5.0f);
+  EXPECT_EQ(base.specularMotion, SvgfSpecularMotion::primary);
+  const auto nsr = SvgfSettings::forVariant(SvgfVariant::voorhuisNoSpecReproj);
+  EXPECT_EQ(nsr.specularMotion, SvgfSpecularMotion::none);
+  EXPECT_FLOAT_EQ(nsr.sigmaLuminance, 5.0f);
+  d->set("variant", "voorhuis");
+  d->set("variant", "schied");  // a preset resets every Voorhuis part
+  s = d->getSettings<SvgfSettings>();
+  EXPECT_EQ(s.specularMotion, SvgfSpecularMotion::primary);
+  EXPECT_EQ(s.neighbourhoodClipping, SvgfPart::off);
+  EXPECT_FALSE(s.preferLobes);
   EXPECT_THROW(d->set("variant", "nope"), Error);
 }
 

@@ -7,6 +7,7 @@
 #include "methods/svgf/gersthofer_vulkan.h"
 #include "methods/svgf/svgf_filter_vulkan.h"
 #include "methods/svgf/svgf_passes.h"
+#include "methods/svgf/svgf_reflections_vulkan.h"
 #include "rtd/methods/svgf.h"
 
 namespace rtd {
@@ -46,10 +47,12 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     display_.allocate(ctx_, w, h, 3);
     remodulated_.allocate(ctx_, w, h, 3);
     taa_.resize(ctx_, w, h);
+    reflections_.resize(ctx_, w, h);
     if (gersthofer_) gersthofer_->resize(ctx_, w, h);
   }
   void resetHistory() override {
     for (auto& s : streams_) s.accumulator.reset();
+    reflections_.reset();
     taa_.reset();
     if (gersthofer_) gersthofer_->reset();
   }
@@ -77,25 +80,47 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       return processBack(rec, frame, previous);
     }
     const int nStreams = chooseStreams(frame);
+    const bool lobes = nStreams == 2 && streams_[1].plan.lobe == svgf::Lobe::specular;
+    svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return frame.has(b); }, lobes);
     mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame[Buffer::SampleMask] : nullptr;
     const vk::Planes* albedo = frame.has(Buffer::Albedo) ? &frame[Buffer::Albedo] : nullptr;
     rec.pass("reproject");
     vk::reproject(rec, frame, previous, s.reprojection, reprojection_);
     rec.pass("features");
     vk::atrousGuide(rec, frame, s.maxDepthSlope, gradient_);
+    if (parts.classes) {
+      rec.pass("reflections");  // Voorhuis: classes, diamond search, reflected features
+      reflections_.prepare(rec, frame, previous, s, parts, lobes, reprojection_);
+    }
+    const svgf::GpuGuide primaryGuide{&frame[Buffer::Depth], &frame[Buffer::Normal], &gradient_};
     for (int k = 0; k < nStreams; ++k) {
       GpuStream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
-      const vk::Planes& result = filterStream(rec, frame, st, st.plan.demodulated ? albedo : nullptr, suffix);
+      const svgf::GpuReflections::StreamInputs in = reflections_.stream(rec, frame, st.plan, reprojection_, primaryGuide, k);
+      const vk::Planes* streamAlbedo = in.albedo;
+      const vk::Planes* result = &filterStream(rec, frame, st, in, suffix);
+      if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse) {
+        // The diffuse lobe's median, everywhere (as svgf.cpp).
+        rec.pass("median" + suffix);
+        struct PC {
+          uint32_t width, height, hasRoughness, skipWhenMasked;
+        } pc{uint32_t(frame.width), uint32_t(frame.height), 0, 0};
+        rec.dispatch("median3x3", {*result, ctx_.dummy(), display_, vk::Binding(ctx_.dummy())}, pc, frame.width,
+                     frame.height);
+        result = &display_;
+      }
       rec.pass("sum" + suffix);
+      const bool same = streamAlbedo == albedo;
       struct PC {
-        uint32_t width, height, first, divide;
-      } pc{uint32_t(frame.width), uint32_t(frame.height), k == 0, !st.plan.demodulated && albedo};
-      rec.dispatch("svgf_sum", {result, albedo ? vk::Binding(*albedo) : vk::Binding(ctx_.dummy()), sum_}, pc,
-                   frame.width, frame.height);
+        uint32_t width, height, first, divide, times;
+      } pc{uint32_t(frame.width), uint32_t(frame.height), k == 0, !same && albedo, !same && streamAlbedo};
+      rec.dispatch("svgf_sum",
+                   {*result, albedo ? vk::Binding(*albedo) : vk::Binding(ctx_.dummy()), sum_,
+                    streamAlbedo ? vk::Binding(*streamAlbedo) : vk::Binding(ctx_.dummy())},
+                   pc, frame.width, frame.height);
     }
     const vk::Planes* shown = &sum_;
-    if (s.fireflyMedian) {
+    if (s.fireflyMedian && !lobes) {
       rec.pass("median");
       struct PC {
         uint32_t width, height, hasRoughness, skipWhenMasked;
@@ -106,15 +131,16 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     }
     rec.pass("remodulate");
     vk::remodulate(rec, *shown, albedo, remodulated_);
+    notes_ = std::move(parts.notes);
     rec.pass("taa");
     if (!s.taa.taa) return remodulated_;
-    return taa_.run(rec, reprojection_, remodulated_, s.taa.taaAlpha);
+    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_), remodulated_, s.taa.taaAlpha);
   }
 
  private:
   int chooseStreams(const vk::GpuFrame& f) {
     svgf::StreamPlan plan[2];
-    const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan);
+    const int n = svgf::planStreams(settings_.components, [&](Buffer b) { return f.has(b); }, plan, settings_.preferLobes);
     for (int k = 0; k < n; ++k) {
       GpuStream& st = streams_[k];
       if (st.plan.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
@@ -124,24 +150,31 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   }
 
   // Demodulate and accumulate one stream, then the shared SVGF filter (variance, a-trous
-  // levels, feedback); returns the planes holding the result.
-  const vk::Planes& filterStream(vk::Recorder& rec, const vk::GpuFrame& frame, GpuStream& st, const vk::Planes* albedo,
-                                 const std::string& suffix) {
+  // levels, feedback); returns the planes holding the result. `in`: the stream's reprojection,
+  // guide, demodulation colour and Voorhuis inputs (svgf::GpuReflections::stream).
+  const vk::Planes& filterStream(vk::Recorder& rec, const vk::GpuFrame& frame, GpuStream& st,
+                                 const svgf::GpuReflections::StreamInputs& in, const std::string& suffix) {
     const SvgfSettings& s = settings_;
     const svgf::FilterParams p = svgf::filterParams(s, st.plan.indirect);
     rec.pass("demodulate" + suffix);
-    vk::demodulate(rec, frame[st.plan.buffer], albedo, st.demod);
+    vk::demodulate(rec, frame[st.plan.buffer], in.albedo, st.demod);
+    const vk::Planes* clip = nullptr;
+    if (reflections_.parts().clipping) {
+      rec.pass("clip" + suffix);  // Voorhuis Sec. 4.2.3
+      clip = reflections_.clipBox(rec, st.demod, st.plan, s);
+    }
     rec.pass("accumulate" + suffix);
-    st.accumulator.run(rec, reprojection_, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength,
-                       uint32_t(p.variance.luminance), s.momentsTrueAverage, mask_);
-    return filter_.run(rec, frame[Buffer::Depth], frame[Buffer::Normal], gradient_, st.accumulator, st.demod, mask_,
-                       p, suffix);
+    st.accumulator.run(rec, *in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength,
+                       uint32_t(p.variance.luminance), s.momentsTrueAverage, mask_, in.alpha, clip);
+    return filter_.run(rec, *in.guide.depth, *in.guide.normal, *in.guide.gradient, st.accumulator, st.demod, mask_, p,
+                       suffix, {.spatialFalloff = in.falloff});
   }
 
   vk::Planes reprojection_, gradient_, sum_, display_, remodulated_;
   svgf::GpuFilter filter_;
   const vk::Planes* mask_ = nullptr;     // this frame's sample mask, or null (dense)
   GpuStream streams_[kMaxStreams];
+  svgf::GpuReflections reflections_;
   vk::GpuTaa taa_;
   std::unique_ptr<svgf::GpuGersthoferEye> gersthofer_;  // components = composite
 };

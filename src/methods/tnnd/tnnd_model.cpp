@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/parallel.h"
+#include "io/small_file.h"
 #include "rtd/error.h"
 
 namespace rtd::tnnd {
@@ -79,11 +80,8 @@ const std::string& builtinWeightsJson() {
 
 Weights loadWeights(const std::string& path) {
   if (path.empty()) return parseWeights(builtinWeightsJson(), "built-in");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("TNND weights '" + path + "': cannot open the file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseWeights(ss.str(), path);
+  // An untrusted path (a setting): a regular file of at most 64 MiB (io/small_file.h).
+  return parseWeights(readSmallFile(path, std::uintmax_t(64) << 20, "TNND weights '" + path + "'"), path);
 }
 
 void resize(State& s, int w, int h) {

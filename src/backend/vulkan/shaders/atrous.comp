@@ -7,16 +7,16 @@
 // For steps 1 and 2 the taps are read from a shared-memory tile of the workgroup (16 + 4 step)^2
 // (guide features, colour, luminance): one load per tile pixel instead of 25 per pixel.
 // Variant atrous_masked (RTD_SAMPLE_MASK, AtrousLevel::validIn/validOut): sparse input (Dundr
-// Sec. 5). A pixel is valid where plane `validPlane` of binding 6 is > 0 (the history length
+// Sec. 5). A pixel is valid where plane `validPlane` of binding 7 is > 0 (the history length
 // for the first level, the previous level's validity after it); invalid pixels weigh 0, the
-// centre included; a pixel that receives any weight is valid in binding 7 and gets the
+// centre included; a pixel that receives any weight is valid in binding 8 and gets the
 // normalized sum, one with none stays invalid with colour 0.
 // Variants atrous_untiled / atrous_masked_untiled (RTD_UNTILED): the same without the shared
 // tile, for devices with less than the tile's 18 KiB of shared memory (Vulkan guarantees 16).
 // Variants atrous_glossy / atrous_glossy_untiled (RTD_GLOSSY, AtrousLevel::indirectDistance
 // etc.): Gersthofer's glossy weights (Eq. 3.2): w_zi from the indirect ray length z_i (binding
-// 6) and its factor 1 - roughness (binding 7), and w_r on the neighbours as 1/w_r on the centre
-// (binding 8); dense input.
+// 7) and its factor 1 - roughness (binding 8), and w_r on the neighbours as 1/w_r on the centre
+// (binding 9); dense input.
 // variant: atrous_masked RTD_SAMPLE_MASK
 // variant: atrous_untiled RTD_UNTILED
 // variant: atrous_masked_untiled RTD_MASKED_UNTILED
@@ -40,22 +40,26 @@ layout(std430, binding = 2) readonly buffer Grad { float grad[]; };
 layout(std430, binding = 3) readonly buffer In { float img[]; };
 layout(std430, binding = 4) writeonly buffer Out { float outp[]; };
 layout(std430, binding = 5) readonly buffer Scale { float sigmaScale[]; };
+// Voorhuis Eq. 6 (AtrousLevel::spatialFalloff): every tap's weight times exp(-c(p) |k|^2), k
+// the offset in kernel units.
+layout(std430, binding = 6) readonly buffer Falloff { float falloff[]; };
 #ifdef RTD_SAMPLE_MASK
-layout(std430, binding = 6) readonly buffer ValidIn { float validIn[]; };
-layout(std430, binding = 7) writeonly buffer ValidOut { float validOut[]; };
+layout(std430, binding = 7) readonly buffer ValidIn { float validIn[]; };
+layout(std430, binding = 8) writeonly buffer ValidOut { float validOut[]; };
 #endif
 #ifdef RTD_GLOSSY
-layout(std430, binding = 6) readonly buffer Zi { float zi[]; };
-layout(std430, binding = 7) readonly buffer ZiScale { float ziScale[]; };
-layout(std430, binding = 8) readonly buffer Centre { float centreScale[]; };
+layout(std430, binding = 7) readonly buffer Zi { float zi[]; };
+layout(std430, binding = 8) readonly buffer ZiScale { float ziScale[]; };
+layout(std430, binding = 9) readonly buffer Centre { float centreScale[]; };
 #endif
 
 #define F_PREFILTER 1u
 #define F_VARIANCE_SCALE 2u
 #define F_SIGMA_SCALE 4u
 #define F_PROPAGATE 8u
-#define F_INDIRECT_DISTANCE 16u
-#define F_CENTRE_SCALE 32u
+#define F_FALLOFF 16u
+#define F_INDIRECT_DISTANCE 32u
+#define F_CENTRE_SCALE 64u
 
 layout(push_constant) uniform PC {
   uint width, height;
@@ -65,7 +69,7 @@ layout(push_constant) uniform PC {
   float sigmaLuminance, luminanceEpsilon;
   uint flags;
   uint luminanceMode;
-  uint validPlane;  // atrous_masked: plane of binding 6 holding the input validity
+  uint validPlane;  // atrous_masked: plane of binding 7 holding the input validity
 } pc;
 
 float kernel1D(int d) {
@@ -148,6 +152,7 @@ void main() {
 #endif
 
   const bool propagate = (pc.flags & F_PROPAGATE) != 0u;
+  const float fall = (pc.flags & F_FALLOFF) != 0u ? falloff[c] : 0.0;
 #ifdef RTD_SAMPLE_MASK
   const float h0 = validIn[pc.validPlane * plane + c] > 0.0 ? kernel1D(0) * kernel1D(0) : 0.0;
 #else
@@ -185,9 +190,10 @@ void main() {
       const float wn = normalWeight(dot(n, nq), pc.normalExponent);
       const float denomZ = abs(gx * float(ox) + gy * float(oy)) + pc.depthEpsilon;
 #ifdef RTD_GLOSSY
-      const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv + (distance ? abs(zic - zi[q]) * ziInv : 0.0);
+      const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv + fall * float(dx * dx + dy * dy) +
+                         (distance ? abs(zic - zi[q]) * ziInv : 0.0);
 #else
-      const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv;
+      const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv + fall * float(dx * dx + dy * dy);
 #endif
       const float wt = kernel1D(dx) * kernel1D(dy) * cutWeight(wn * exp(-expo));
       sw += wt;

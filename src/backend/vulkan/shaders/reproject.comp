@@ -4,7 +4,6 @@
 // the depth, normal, object-id and position tests, renormalized; else the valid taps of the
 // 3x3 neighbourhood with the Gaussian of Eq. 1.4. Port of src/passes/reprojection.cpp.
 #include "common.glsl"
-#include "reprojection.glsl"
 RTD_LOCAL_SIZE
 
 layout(std430, binding = 0) readonly buffer CurDepth { float curDepth[]; };
@@ -85,6 +84,13 @@ bool tapValid(uint i, int px, int py, float depthTol, uint plane) {
   return true;
 }
 
+// The pixel whose taps bilinearRecord tests.
+uint gPixel;
+float gDepthTol;
+bool bilinearTapValid(int tx, int ty) { return tapValid(gPixel, tx, ty, gDepthTol, pc.width * pc.height); }
+#define RP_BILINEAR_RECORD
+#include "reprojection.glsl"
+
 // Row-major 4x4 (at element m of prevCamera) times (x, y, z, 1), without contraction.
 vec4 transformPoint(uint m, vec3 p) {
   precise vec4 r;
@@ -136,32 +142,16 @@ void main() {
     precise float b = pc.depthGradientScale * depthSlope(x, y, plane);
     depthTol = a + b;
   }
-  precise float fx = px - 0.5, fy = py - 0.5;
-  if (!(abs(fx) < 1e6 && abs(fy) < 1e6)) {
+  if (!(abs(px - 0.5) < 1e6 && abs(py - 0.5) < 1e6)) {
     store(i, plane, RP_NONE, 0, vec4(0.0), px, py);
     return;
   }
-  const int x0 = int(floor(fx)), y0 = int(floor(fy));
-  precise float ax = fx - float(x0), ay = fy - float(y0);
-  precise float bw[4] = float[4]((1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay);
-  const int tx[4] = int[4](x0, x0 + 1, x0, x0 + 1), ty[4] = int[4](y0, y0, y0 + 1, y0 + 1);
-  precise float sum = 0.0;
-  precise vec4 wt = vec4(0.0);
-  for (int t = 0; t < 4; ++t)
-    if (bw[t] > 0.0 && tapValid(i, tx[t], ty[t], depthTol, plane)) {
-      wt[t] = bw[t];
-      sum += bw[t];
-    }
-  if (sum > 1e-4 && pc.width >= 2u && pc.height >= 2u) {
-    for (int t = 0; t < 4; ++t) wt[t] /= sum;
-    // Taps outside the image have weight 0: slide the 2x2 window inside (moving the weights
-    // with it) so gathers read all four taps without bounds checks.
-    int bx = x0, by = y0;
-    if (bx < 0) { bx = 0; wt = vec4(wt[1], 0.0, wt[3], 0.0); }
-    if (bx > int(w) - 2) { bx = int(w) - 2; wt = vec4(0.0, wt[0], 0.0, wt[2]); }
-    if (by < 0) { by = 0; wt = vec4(wt[2], wt[3], 0.0, 0.0); }
-    if (by > int(pc.height) - 2) { by = int(pc.height) - 2; wt = vec4(0.0, 0.0, wt[0], wt[1]); }
-    store(i, plane, RP_BILINEAR, by * int(w) + bx, wt, px, py);
+  gPixel = i;
+  gDepthTol = depthTol;
+  int base;
+  vec4 wt;
+  if (bilinearRecord(px, py, pc.width, pc.height, base, wt)) {
+    store(i, plane, RP_BILINEAR, base, wt, px, py);
     return;
   }
   if (has(F_FALLBACK)) {

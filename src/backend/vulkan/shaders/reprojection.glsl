@@ -48,3 +48,38 @@ float gatherPlane(uint i, uint planeBase, uint width, uint plane) {
   return 0.0;
 }
 #endif
+
+#ifdef RP_BILINEAR_RECORD
+// The including shader defines `bool bilinearTapValid(int tx, int ty)` (a tap inside the
+// frame). The bilinear footprint of the continuous previous position (px, py) with the taps
+// that pass, renormalized and slid inside the frame; false when no tap passes (accepted weight
+// <= 1e-4) or the frame is narrower than 2 pixels. Twin of setBilinear (passes/reprojection.h).
+bool bilinearRecord(float px, float py, uint width, uint height, out int base, out vec4 wt) {
+  base = 0;
+  wt = vec4(0.0);
+  precise float fx = px - 0.5, fy = py - 0.5;
+  if (!(abs(fx) < 1e6 && abs(fy) < 1e6) || width < 2u || height < 2u) return false;
+  const int x0 = int(floor(fx)), y0 = int(floor(fy));
+  precise float ax = fx - float(x0), ay = fy - float(y0);
+  precise float bw[4] = float[4]((1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay);
+  const int tx[4] = int[4](x0, x0 + 1, x0, x0 + 1), ty[4] = int[4](y0, y0, y0 + 1, y0 + 1);
+  precise float sum = 0.0;
+  for (int t = 0; t < 4; ++t)
+    if (bw[t] > 0.0 && tx[t] >= 0 && ty[t] >= 0 && tx[t] < int(width) && ty[t] < int(height) &&
+        bilinearTapValid(tx[t], ty[t])) {
+      wt[t] = bw[t];
+      sum += bw[t];
+    }
+  if (!(sum > 1e-4)) return false;
+  for (int t = 0; t < 4; ++t) wt[t] /= sum;
+  // Taps outside the image have weight 0: slide the 2x2 window inside (moving the weights
+  // with it) so gathers read all four taps without bounds checks.
+  int bx = x0, by = y0;
+  if (bx < 0) { bx = 0; wt = vec4(wt[1], 0.0, wt[3], 0.0); }
+  if (bx > int(width) - 2) { bx = int(width) - 2; wt = vec4(0.0, wt[0], 0.0, wt[2]); }
+  if (by < 0) { by = 0; wt = vec4(wt[2], wt[3], 0.0, 0.0); }
+  if (by > int(height) - 2) { by = int(height) - 2; wt = vec4(0.0, 0.0, wt[0], wt[1]); }
+  base = by * int(width) + bx;
+  return true;
+}
+#endif

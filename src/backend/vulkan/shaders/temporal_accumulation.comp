@@ -22,6 +22,11 @@ layout(std430, binding = 4) readonly buffer Mask { float sampleMask[]; };
 #ifdef RTD_TEMPORAL_GRADIENT
 layout(std430, binding = 4) readonly buffer Gradient { float temporalGradient[]; };  // first plane: G
 #endif
+// Voorhuis 2018 (AccumulationOptions::alphaPlane, clipLow / clipHigh): a per-pixel colour blend
+// floor, and a box (low RGB, high RGB) the reprojected colour history is clamped to before
+// the blend (neighbourhood clipping, Sec. 4.2.3). Bound to a dummy when not used.
+layout(std430, binding = 5) readonly buffer Alpha { float alphaPlane[]; };
+layout(std430, binding = 6) readonly buffer Clip { float clipBox[]; };
 
 float histAt(uint j) { return hist[j]; }
 #define RP_GATHER
@@ -35,8 +40,14 @@ layout(push_constant) uniform PC {
   uint cumulativeMoments;  // 1: moments w = max(1/n, alpha); 0: plain EMA (Schied)
   uint gradientWidth, gradientStride;  // temporal_accumulation_gradient: texels per row, pixels per texel
   float historyExponent;
-  uint cumulativeColor;    // 0: fixed weights, alpha where there is history (Gersthofer Sec. 3.4.1)
+  uint options;  // 1: per-pixel alpha (binding 5); 2: clip the colour history (binding 6); 4: fixed weights
 } pc;
+
+float colourHistory(uint i, uint k, uint w, uint plane) {
+  float h = gatherPlane(i, k * plane, w, plane);
+  if ((pc.options & 2u) != 0u) h = min(max(h, clipBox[k * plane + i]), clipBox[(3u + k) * plane + i]);
+  return h;
+}
 
 #ifdef RTD_TEMPORAL_GRADIENT
 // (1 - G)^e as historyShrink() on the CPU: integral exponents by repeated squaring.
@@ -67,7 +78,8 @@ void main() {
   if (sampleMask[i] == 0.0) {
     // No sample this frame: the history carries over unchanged (length rounded as below);
     // without history the pixel stays missing (length 0).
-    for (uint k = 0; k < 5; ++k) outp[k * plane + i] = none ? 0.0 : gatherPlane(i, k * plane, w, plane);
+    for (uint k = 0; k < 5; ++k)
+      outp[k * plane + i] = none ? 0.0 : (k < 3u ? colourHistory(i, k, w, plane) : gatherPlane(i, k * plane, w, plane));
     outp[5u * plane + i] = none ? 0.0 : floor(gatherPlane(i, 5u * plane, w, plane) + 0.5);
     return;
   }
@@ -83,9 +95,10 @@ void main() {
   precise float am = am0 + (1.0 - am0) * g;
 #else
   const float n = none ? 1.0 : min(floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) + 1.0, pc.maxHistoryLength);
-  // Fixed weights (cumulativeColor 0, Gersthofer Sec. 3.4.1): alpha wherever there is history.
-  const bool fixedWeights = pc.cumulativeColor == 0u;
-  const float a = fixedWeights ? (n <= 1.0 ? 1.0 : pc.alpha) : max(1.0 / n, pc.alpha);
+  // Fixed weights (options 4, Gersthofer Sec. 3.4.1): alpha wherever there is history.
+  const bool fixedWeights = (pc.options & 4u) != 0u;
+  const float floorAlpha = (pc.options & 1u) != 0u ? alphaPlane[i] : pc.alpha;
+  const float a = fixedWeights ? (n <= 1.0 ? 1.0 : floorAlpha) : max(1.0 / n, floorAlpha);
   const float am = fixedWeights ? (n <= 1.0 ? 1.0 : pc.momentsAlpha)
                                 : pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
 #endif
@@ -94,7 +107,7 @@ void main() {
   const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
   const float l = momentLuminance(pc.luminanceMode, c);
   for (uint k = 0; k < 3; ++k) {
-    const float hist = none ? 0.0 : gatherPlane(i, k * plane, w, plane);
+    const float hist = none ? 0.0 : colourHistory(i, k, w, plane);
     precise float v = a * c[k] + (1.0 - a) * hist;
     outp[k * plane + i] = v;
   }

@@ -1,9 +1,9 @@
 #version 450
 // Pass "antilag" of asvgf with gradientSource = historyAntilag (NOT A-SVGF; for inputs without
 // gradient samples): per 3x3 stratum, over its pixels with history, the mean current luminance
-// Lc, the mean reprojected history luminance Lh and variance V (last frame's moments);
-// d = max(0, |Lc - Lh| - k sqrt(V / n)), G = scale * (d / max(Lc, Lh))^2.
-// Port of asvgf::gradientFromHistory.
+// Lc (plane 0), the mean reprojected history luminance Lh (plane 1) and the variance of Lc's
+// mean V / n (plane 4), V from last frame's moments; asvgf_antilag_gradient.comp turns them
+// into G after the gradient's a-trous levels. Port of asvgf::historyLuminances.
 #include "common.glsl"
 RTD_LOCAL_SIZE
 
@@ -19,7 +19,6 @@ float histAt(uint j) { return hist[j]; }
 layout(push_constant) uniform PC {
   uint width, height;
   uint gwidth, gheight;
-  float scale, noiseSigmas;
   uint luminanceMode;
 } pc;
 
@@ -39,13 +38,11 @@ void main() {
       sv += max(0.0, gatherPlane(i, 4u * plane, W, plane) - lh * lh);
       ++n;
     }
-  float g = 0.0;
-  if (n > 0) {
-    const float lc = sc / float(n), lh = sh / float(n);
-    const float d = max(0.0, abs(lc - lh) - pc.noiseSigmas * sqrt(sv / float(n) / float(n)));
-    const float m = max(lc, lh);
-    g = m > 0.0 ? pc.scale * (d / m) * (d / m) : 0.0;
-  }
   const uint j = min(H - 1u, s.y * STRATUM + 1u) * W + min(W - 1u, s.x * STRATUM + 1u);
-  writeStratum(s.y * pc.gwidth + s.x, pc.gwidth * pc.gheight, j, plane, g, n > 0);
+  const uint st = s.y * pc.gwidth + s.x, gplane = pc.gwidth * pc.gheight;
+  writeStratum(st, gplane, j, plane, n > 0 ? sc / float(n) : 0.0, n > 0);
+  if (n > 0) {
+    level[gplane + st] = sh / float(n);
+    level[4u * gplane + st] = sv / float(n) / float(n);
+  }
 }

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Runs every libFuzzer target (fuzz/README.md) of a sanitizer build for a fixed time each,
+# starting from the committed seeds. Fails on a crash, a sanitizer report (ASan, UBSan, a leak),
+# a single allocation over 1 GiB (-malloc_limit_mb), more than 2 GiB resident (-rss_limit_mb) or
+# an input that takes over 10 s (-timeout). Usage: scripts/fuzz.sh [build dir] (default
+# build/asan); RTD_FUZZ_SECONDS per target (default 30).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build/asan}
+seconds=${RTD_FUZZ_SECONDS:-30}
+work=$build/fuzz-work
+export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
+
+status=0
+for t in native_sequence blender_sequence sequence_json settings; do
+  dir=$work/$t
+  mkdir -p "$dir/corpus" "$dir/seeds"
+  # Seeds: fuzz/corpus/<target>, and the Blender fixture's frames for the two EXR readers.
+  if [ -d fuzz/corpus/"$t" ]; then cp fuzz/corpus/"$t"/* "$dir/seeds/"; fi
+  case $t in native_sequence|blender_sequence) cp tests/fixtures/blender/*.exr "$dir/seeds/" ;; esac
+  echo "fuzz_$t: ${seconds} s"
+  if ! "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
+       -max_len=131072 -print_final_stats=1 -artifact_prefix="$dir/" "$dir/corpus" "$dir/seeds" \
+       > "$dir/log.txt" 2>&1; then
+    echo "fuzz_$t FAILED (inputs and log in $dir):"
+    tail -n 60 "$dir/log.txt"
+    status=1
+  else
+    grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$dir/log.txt" | tr '\n' ' '
+    echo
+  fi
+done
+exit $status

@@ -1,0 +1,153 @@
+// The per-path half of runtime dispatch (src/core/cpu_path.h). A hot-loop source file is
+// named *_simd.cpp; CMake compiles it once per CPU path with RTD_SIMD_PATH = 0 (sse2), 1 (avx2)
+// or 2 (avx512). The file includes everything it needs first, then this header, then writes
+// its code inside `namespace rtd::RTD_SIMD_NS { ... }`:
+//
+// - the target pragma below applies from here to the end of the file, so only this file's own
+//   functions (lambdas and templates defined here included) are compiled for the path; inline
+//   functions and templates of the headers included before it keep the baseline target, so the
+//   copies the linker keeps of them run on any x86-64 (an AVX2 copy of std::vector's code picked
+//   for the whole library would crash an older CPU; scripts/check_isa.py verifies that no code
+//   outside rtd::avx2 and rtd::avx512 uses AVX registers);
+// - vf / vi are kLanes floats / ints (4 on sse2, 8 on avx2, 16 on avx512) with the helpers
+//   below; RTD_SIMD_AVX2 / RTD_SIMD_AVX512 guard intrinsics (avx512 implies avx2).
+//
+// The dispatching side declares the entry points with RTD_SIMD_DECLARE and calls them with
+// RTD_SIMD(name)(args...).
+#pragma once
+#ifndef RTD_SIMD_PATH
+#error "core/simd.h is for *_simd.cpp files, which CMake compiles with RTD_SIMD_PATH set"
+#endif
+#include <cstdint>
+#include <cstring>
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define RTD_SIMD_X86 1
+#endif
+
+#include "core/flush.h"
+
+#if RTD_SIMD_PATH == 0
+#define RTD_SIMD_NS sse2
+#elif RTD_SIMD_PATH == 1
+#define RTD_SIMD_NS avx2
+#elif RTD_SIMD_PATH == 2
+#define RTD_SIMD_NS avx512
+#else
+#error "RTD_SIMD_PATH must be 0, 1 or 2"
+#endif
+
+#if defined(RTD_SIMD_X86) && RTD_SIMD_PATH >= 1
+#define RTD_SIMD_AVX2 1
+#if RTD_SIMD_PATH == 2
+#define RTD_SIMD_AVX512 1
+#endif
+// No arch= here: GCC does not inline a function across different arch settings, and the
+// headers' helpers must inline into the kernels.
+#if defined(__clang__)
+#if RTD_SIMD_PATH == 2
+#pragma clang attribute push(__attribute__((target("avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma,f16c,bmi,bmi2,lzcnt,popcnt"))), apply_to = function)
+#else
+#pragma clang attribute push(__attribute__((target("avx2,fma,f16c,bmi,bmi2,lzcnt,popcnt"))), apply_to = function)
+#endif
+#else
+#if RTD_SIMD_PATH == 2
+#pragma GCC target("avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma,f16c,bmi,bmi2,lzcnt,popcnt")
+// GCC 12 warns about the intrinsics' own _mm512_undefined_ps() (GCC bug 105593).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#else
+#pragma GCC target("avx2,fma,f16c,bmi,bmi2,lzcnt,popcnt")
+#endif
+#endif
+#endif
+
+namespace rtd::RTD_SIMD_NS {
+
+#if RTD_SIMD_PATH == 2 && defined(RTD_SIMD_X86)
+constexpr int kLanes = 16;
+#elif RTD_SIMD_PATH == 1 && defined(RTD_SIMD_X86)
+constexpr int kLanes = 8;
+#else
+constexpr int kLanes = 4;
+#endif
+
+typedef float vf __attribute__((vector_size(4 * kLanes)));
+typedef int32_t vi __attribute__((vector_size(4 * kLanes)));
+
+inline vf load(const float* p) {
+  vf v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void store(float* p, vf v) { std::memcpy(p, &v, sizeof v); }
+inline vf splat(float x) { return vf{} + x; }
+inline vf asFloat(vi i) {
+  vf f;
+  std::memcpy(&f, &i, sizeof f);
+  return f;
+}
+inline vi asInt(vf f) {
+  vi i;
+  std::memcpy(&i, &f, sizeof i);
+  return i;
+}
+/// mask ? a : 0 (mask lanes all ones or all zeros), as bit operations.
+inline vf keepIf(vi mask, vf a) { return asFloat(asInt(a) & mask); }
+inline vf vabs(vf x) { return asFloat(asInt(x) & 0x7fffffff); }
+inline vf vmax(vf a, vf b) { return a > b ? a : b; }
+inline vf vmin(vf a, vf b) { return a < b ? a : b; }
+/// 1/x to ~23 bits: hardware estimate plus one Newton step (cheaper than a division).
+inline vf vrcp(vf x) {
+#if defined(RTD_SIMD_AVX512)
+  const vf r = _mm512_rcp14_ps(x);
+#elif defined(RTD_SIMD_AVX2)
+  const vf r = _mm256_rcp_ps(x);
+#elif defined(RTD_SIMD_X86)
+  const vf r = _mm_rcp_ps(x);
+#else
+  return 1.0f / x;
+#endif
+#ifdef RTD_SIMD_X86
+  return r * (2.0f - x * r);
+#endif
+}
+inline vf vsqrt(vf x) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_sqrt_ps(x);
+#elif defined(RTD_SIMD_AVX2)
+  return _mm256_sqrt_ps(x);
+#elif defined(RTD_SIMD_X86)
+  return _mm_sqrt_ps(x);
+#else
+  for (int k = 0; k < kLanes; ++k) x[k] = __builtin_sqrtf(x[k]);
+  return x;
+#endif
+}
+/// Round to the nearest integer (ties to even), for |x| < 2^22.
+inline vf vround(vf x) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_roundscale_ps(x, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+#elif defined(RTD_SIMD_AVX2)
+  return _mm256_round_ps(x, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+#else
+  return (x + 12582912.0f) - 12582912.0f;  // 1.5 * 2^23
+#endif
+}
+/// Magnitudes below kTiny to 0 (core/flush.h), for every stored value.
+inline vf vflush(vf x) { return keepIf(vabs(x) >= kTiny, x); }
+/// x * x, or 0 where |x| < sqrt(kTiny) (core/flush.h).
+inline vf vsquareOrZero(vf x) { return keepIf(vabs(x) >= kTinyRoot, x * x); }
+
+#ifdef RTD_SIMD_AVX2
+// The same for code written with AVX2 intrinsics (eight lanes on both AVX paths).
+inline __m256 flush8(__m256 v) {
+  const __m256 magnitude = _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+  return _mm256_and_ps(v, _mm256_cmp_ps(magnitude, _mm256_set1_ps(kTiny), _CMP_GE_OQ));
+}
+inline __m256 squareOrZero8(__m256 v) {
+  const __m256 magnitude = _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+  return _mm256_and_ps(_mm256_mul_ps(v, v), _mm256_cmp_ps(magnitude, _mm256_set1_ps(kTinyRoot), _CMP_GE_OQ));
+}
+#endif
+
+}  // namespace rtd::RTD_SIMD_NS

@@ -1,0 +1,465 @@
+// SVGF's Voorhuis mode (docs/methods/reflections.md): per-class blend factors, the roughness
+// switch, glossy reprojection without consistency tests, neighbourhood clipping, Eq. 6 and
+// the demodulation and edge stopping of pure speculars; which parts run on which input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/frame_data.h"
+#include "methods/svgf/svgf_reflections.h"
+#include "passes/neighbourhood_clipping.h"
+#include "passes/temporal_accumulation.h"
+#include "rtd/rtd.h"
+
+namespace rtd {
+namespace {
+
+// A frame of planes: a plane facing the camera at depth 2 (normal +z), camera at the origin.
+struct TestFrame {
+  int w, h;
+  FrameData f;
+  TestFrame(int width, int height) : w(width), h(height) {
+    f.width = w;
+    f.height = h;
+    for (Buffer b : {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Depth, Buffer::Position})
+      set(b, 0.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        f.plane(Buffer::Normal, 2)(x, y) = 1.0f;
+        f.plane(Buffer::Depth)(x, y) = 2.0f;
+        f.plane(Buffer::Position, 0)(x, y) = 0.01f * x;
+        f.plane(Buffer::Position, 1)(x, y) = -0.01f * y;
+        f.plane(Buffer::Position, 2)(x, y) = -2.0f;
+        for (int c = 0; c < 3; ++c) f.plane(Buffer::Albedo, c)(x, y) = 1.0f;
+      }
+  }
+  void set(Buffer b, float v) { f.buffers[int(b)].assign(bufferChannelCount(b), Plane(w, h, v)); }
+  Plane& p(Buffer b, int c = 0) { return f.plane(b, c); }
+};
+
+SvgfSettings ours() { return SvgfSettings::forVariant(SvgfVariant::voorhuis); }
+
+// Static view, no motion: every pixel reprojects onto itself.
+Reprojection identity(const FrameData& cur, const FrameData& prev) {
+  Reprojection rp;
+  reproject(cur, &prev, ReprojectionSettings{}, rp);
+  return rp;
+}
+// No previous frame: every pixel starts a history.
+Reprojection noHistory(const FrameData& f) {
+  Reprojection rp;
+  reproject(f, nullptr, ReprojectionSettings{}, rp);
+  return rp;
+}
+
+// ---------------------------------------------------------------- item 2: per-class alpha
+
+TEST(VoorhuisAlpha, DiffuseBlendsPointTwoAndSpecularPointOne) {
+  // Left half diffuse (roughness 1), right half specular (0.3). History y = 1 for 40 frames,
+  // then x = 5: one frame later diffuse pixels hold 0.2 x + 0.8 y, specular 0.1 x + 0.9 y.
+  TestFrame t(16, 8);
+  t.set(Buffer::Roughness, 1.0f);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 8; x < 16; ++x) t.p(Buffer::Roughness)(x, y) = 0.3f;
+  const SvgfSettings s = ours();
+  const svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return t.f.has(b); }, false);
+  ASSERT_TRUE(parts.materialAlpha);
+  svgf::Reflections refl;
+  refl.resize(16, 8, 8);
+  const Reprojection rp = identity(t.f, t.f);
+  refl.prepare(t.f, &t.f, s, parts, false, rp);
+  const svgf::StreamPlan plan{Buffer::Color, "color", true, false};
+  AtrousGuide guide;
+  const auto in = refl.stream(t.f, plan, rp, guide, 0);
+  ASSERT_NE(in.alpha, nullptr);
+  TemporalAccumulator acc;
+  acc.resize(16, 8);
+  Plane3 c;
+  resize(c, 16, 8, 1.0f);
+  AccumulationOptions opt;
+  opt.alphaPlane = in.alpha;
+  for (int k = 0; k < 40; ++k) acc.run(k == 0 ? noHistory(t.f) : rp, c, s.alphaColor, s.alphaMoments, 255, opt);
+  resize(c, 16, 8, 5.0f);
+  acc.run(rp, c, s.alphaColor, s.alphaMoments, 255, opt);
+  EXPECT_NEAR(acc.color()[0](2, 3), 0.2f * 5 + 0.8f * 1, 1e-5);
+  EXPECT_NEAR(acc.color()[1](12, 3), 0.1f * 5 + 0.9f * 1, 1e-5);
+}
+
+// ---------------------------------------------------------------- item 13: roughness switch
+
+TEST(VoorhuisClasses, RoughnessSweepSwitchesMotionSourceExactlyAtTheThreshold) {
+  const int w = 101, h = 2;
+  TestFrame t(w, h);
+  t.set(Buffer::Roughness, 0.0f);
+  t.set(Buffer::Metalness, 1.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) t.p(Buffer::Roughness)(x, y) = float(x) / 100.0f;  // 0.00 .. 1.00
+  PixelVector<uint8_t> cls;
+  classifySurfaces(t.f, {}, false, cls);
+  for (int x = 0; x < w; ++x) {
+    const float r = t.p(Buffer::Roughness)(x, 0);
+    const SurfaceClass c = SurfaceClass(cls[x]);
+    if (r < 0.02f) EXPECT_EQ(c, SurfaceClass::Mirror) << r;
+    else if (r < 0.4f) EXPECT_EQ(c, SurfaceClass::GlossyReflection) << r;
+    else if (r < 0.9f) EXPECT_EQ(c, SurfaceClass::Glossy) << r;
+    else EXPECT_EQ(c, SurfaceClass::Diffuse) << r;
+  }
+  EXPECT_EQ(SurfaceClass(cls[39]), SurfaceClass::GlossyReflection);
+  EXPECT_EQ(SurfaceClass(cls[40]), SurfaceClass::Glossy);  // 0.4: primary motion
+  // The searched pixels (the MV source "reflection") are exactly those below 0.4.
+  t.set(Buffer::MirrorDirection, 0.0f);
+  t.set(Buffer::SecondaryDistance, 1.0f);
+  t.set(Buffer::ReflectedPosition, 0.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      t.p(Buffer::MirrorDirection, 2)(x, y) = 1.0f;
+      t.p(Buffer::ReflectedPosition, 0)(x, y) = float(x);
+    }
+  Reprojection out;
+  ReflectionMotionStats st;
+  specularReprojection(t.f, &t.f, cls, cls, identity(t.f, t.f), SpecularMotion::Reflection, {}, out, &st);
+  EXPECT_EQ(st.mirrorPixels, uint64_t(2 * 2));     // 0.00, 0.01
+  EXPECT_EQ(st.glossyPixels, uint64_t(2 * 38));    // 0.02 .. 0.39
+  EXPECT_EQ(st.matched, st.mirrorPixels + st.glossyPixels);
+}
+
+// ---------------------------------------------------------------- item 14: no consistency tests for glossy
+
+TEST(VoorhuisReprojection, GlossyAccumulatesAcrossANormalChangeWhereDiffuseResets) {
+  // The previous frame's normals are turned by 60 degrees (a deforming surface, or a glossy
+  // reflection whose features change): the primary reprojection rejects every tap. Glossy
+  // pixels (roughness 0.2) follow their representative rays, unchanged, and keep history.
+  const int w = 12, h = 6;
+  TestFrame prev(w, h), cur(w, h);
+  for (TestFrame* t : {&prev, &cur}) {
+    t->set(Buffer::Roughness, 1.0f);
+    t->set(Buffer::MirrorDirection, 0.0f);
+    t->set(Buffer::SecondaryDistance, 3.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (x >= 6) t->p(Buffer::Roughness)(x, y) = 0.2f;
+        t->p(Buffer::MirrorDirection, 2)(x, y) = 1.0f;
+      }
+  }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      prev.p(Buffer::Normal, 2)(x, y) = 0.5f;
+      prev.p(Buffer::Normal, 0)(x, y) = std::sqrt(0.75f);
+    }
+  PixelVector<uint8_t> cls, prevCls;
+  classifySurfaces(cur.f, {}, false, cls);
+  classifySurfaces(prev.f, {}, false, prevCls);
+  Reprojection primary;
+  reproject(cur.f, &prev.f, ReprojectionSettings{}, primary);
+  Reprojection rp;
+  specularReprojection(cur.f, &prev.f, cls, prevCls, primary, SpecularMotion::Reflection, {}, rp);
+  TemporalAccumulator acc;
+  acc.resize(w, h);
+  Plane3 c;
+  resize(c, w, h, 1.0f);
+  acc.run(noHistory(prev.f), c, 0.2f, 0.2f, 255);  // the previous frame: n = 1 everywhere
+  acc.run(rp, c, 0.2f, 0.2f, 255);
+  for (int y = 0; y < h; ++y) {
+    EXPECT_EQ(acc.historyLength()(2, y), 1.0f) << "diffuse pixel keeps a rejected history";
+    EXPECT_EQ(acc.historyLength()(9, y), 2.0f) << "glossy pixel lost its history";
+  }
+}
+
+// ---------------------------------------------------------------- item 16: neighbourhood clipping
+
+TEST(VoorhuisClipping, InjectedHistoryIsClippedOnNonDiffusePixelsOnly) {
+  // Current frame: noise around 1 (range [0.5, 1.5]); history: 10 everywhere (a ghost).
+  const int w = 24, h = 12;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.5f, 1.5f);
+  Plane3 cur;
+  resize(cur, w, h);
+  for (auto& p : cur)
+    for (float& v : p.data) v = u(rng);
+  PixelVector<uint8_t> clip(size_t(w) * h, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = w / 2; x < w; ++x) clip[size_t(y) * w + x] = 1;  // right half: roughness < 0.9
+  Plane3 lo, hi, scratch;
+  clipBox(cur, &clip, ClipBoxOptions{}, lo, hi, scratch);
+  // The box is the 5x5 min / max of the 7x7-Gaussian-filtered frame: check one pixel against
+  // a direct evaluation.
+  float g[7];
+  clipGaussianWeights(3, 1.5f, g);
+  auto blurred = [&](int c, int x, int y) {
+    double v = 0;
+    for (int j = -3; j <= 3; ++j)
+      for (int i = -3; i <= 3; ++i)
+        v += g[i + 3] * g[j + 3] * cur[c](std::clamp(x + i, 0, w - 1), std::clamp(y + j, 0, h - 1));
+    return v;
+  };
+  double mn = 1e9, mx = -1e9;
+  for (int j = -2; j <= 2; ++j)
+    for (int i = -2; i <= 2; ++i) {
+      mn = std::min(mn, blurred(1, 17 + i, 5 + j));
+      mx = std::max(mx, blurred(1, 17 + i, 5 + j));
+    }
+  EXPECT_NEAR(lo[1](17, 5), mn, 1e-5);
+  EXPECT_NEAR(hi[1](17, 5), mx, 1e-5);
+  EXPECT_TRUE(std::isinf(lo[0](3, 5)) && std::isinf(hi[0](3, 5)));
+
+  // Accumulate with a history of 10 (many frames) and the box: clipped on the right only.
+  const TestFrame still(w, h);
+  const Reprojection rp = identity(still.f, still.f);
+  TemporalAccumulator acc;
+  acc.resize(w, h);
+  Plane3 ghost;
+  resize(ghost, w, h, 10.0f);
+  for (int k = 0; k < 30; ++k) acc.run(k ? rp : noHistory(still.f), ghost, 0.1f, 0.1f, 255);
+  AccumulationOptions opt;
+  opt.clipLow = &lo;
+  opt.clipHigh = &hi;
+  acc.run(rp, cur, 0.1f, 0.1f, 255, opt);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const float v = acc.color()[c](x, y);
+        if (x >= w / 2) {  // within one frame the ghost is gone: history clipped into the box
+          EXPECT_LE(v, 0.1f * cur[c](x, y) + 0.9f * hi[c](x, y) + 1e-5f);
+          EXPECT_LT(v, 1.6f);
+        } else {
+          EXPECT_NEAR(v, 0.1f * cur[c](x, y) + 0.9f * 10.0f, 1e-4f);  // diffuse: untouched
+        }
+      }
+}
+
+// ---------------------------------------------------------------- item 15: Eq. 6
+
+TEST(VoorhuisBandwidth, Eq6SigmaAndFalloff) {
+  EXPECT_FLOAT_EQ(glossySpatialSigma(0.0f, 0.5f), 1.0f);  // no footprint: sigma 1
+  EXPECT_NEAR(glossySpatialSigma(0.5f, 0.5f), std::exp(-1.0f), 1e-7);
+  EXPECT_LT(glossySpatialSigma(1.0f, 0.5f), glossySpatialSigma(0.2f, 0.5f));  // larger footprint, smaller sigma
+  EXPECT_FLOAT_EQ(glossySpatialFalloff(1.0f), 0.0f);  // sigma 1 leaves the B3 kernel unchanged
+  EXPECT_NEAR(glossySpatialFalloff(0.5f), 1.5f, 1e-6);
+}
+
+TEST(VoorhuisBandwidth, FalloffNarrowsTheAtrousFootprint) {
+  // Impulse response of one level on flat features with w_l off: its spatial variance (in
+  // kernel units) is that of the B3 spline, 2 * 1 = 2 over both axes, at c = 0 and shrinks
+  // like 2 sigma^2 as Eq. 6's sigma falls.
+  const int w = 32, h = 32, pad = 8;
+  AtrousGuide g;
+  g.resize(w, h, pad);
+  AtrousImage in, out;
+  in.resize(w, h, pad);
+  out.resize(w, h, pad);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      g.depth.at(x, y) = 2.0f;
+      g.normal[2].at(x, y) = 1.0f;
+    }
+  PaddedPlane off, fall;
+  off.resize(w, h, pad);
+  fall.resize(w, h, pad);
+  double last = 1e9;
+  for (float sigma : {1.0f, 0.8f, 0.5f, 0.3f}) {
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) fall.at(x, y) = glossySpatialFalloff(sigma);
+    // The response at p to an impulse at q equals the weight of q in p's kernel: spread a
+    // unit impulse and read the weights around it (all pixels share one falloff).
+    for (auto& c : in.color) c.clear();
+    in.color[0].at(16, 16) = 1.0f;
+    AtrousLevel lv;
+    lv.step = 2;
+    lv.sigmaScale = &off;  // 0: w_l off
+    lv.spatialFalloff = &fall;
+    atrousLevel(g, lv, in, out);
+    double sum = 0, m2 = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const double v = out.color[0].at(x, y), kx = (x - 16) / 2.0, ky = (y - 16) / 2.0;
+        sum += v;
+        m2 += v * (kx * kx + ky * ky);
+      }
+    const double var = m2 / sum;
+    if (sigma == 1.0f) EXPECT_NEAR(var, 2.0, 1e-4);
+    else if (sigma >= 0.5f) EXPECT_NEAR(var, 2.0 * sigma * sigma, 0.25 * 2.0 * sigma * sigma);
+    // (Below ~0.5 the integer taps make the spread fall faster than the continuous 2 sigma^2.)
+    EXPECT_LT(var, last + 1e-9);
+    last = var;
+  }
+}
+
+// ---------------------------------------------------------------- items 5, 6: pure speculars
+
+// A mirror (every pixel, roughness 0) showing a checkerboard on a surface at two depths: the
+// left half reflects a near wall, the right half a far one, with different illumination.
+struct MirrorScene {
+  TestFrame t;
+  explicit MirrorScene(int w, int h) : t(w, h) {
+    t.set(Buffer::Roughness, 0.0f);
+    t.set(Buffer::Metalness, 1.0f);
+    t.set(Buffer::ReflectedPosition, 0.0f);
+    t.set(Buffer::ReflectedNormal, 0.0f);
+    t.set(Buffer::ReflectedAlbedo, 0.0f);
+    t.set(Buffer::MirrorDirection, 0.0f);
+    t.set(Buffer::SecondaryDistance, 0.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const bool far = x >= w / 2;
+        const float dist = far ? 6.0f : 1.0f;
+        t.p(Buffer::SecondaryDistance)(x, y) = dist;
+        t.p(Buffer::MirrorDirection, 2)(x, y) = -1.0f;
+        for (int k = 0; k < 3; ++k) t.p(Buffer::ReflectedPosition, k)(x, y) = t.p(Buffer::Position, k)(x, y);
+        t.p(Buffer::ReflectedPosition, 2)(x, y) = -2.0f - dist;
+        t.p(Buffer::ReflectedNormal, 2)(x, y) = 1.0f;
+        const float checker = ((x / 2 + y / 2) & 1) ? 0.9f : 0.1f;
+        for (int c = 0; c < 3; ++c) {
+          t.p(Buffer::Albedo, c)(x, y) = 0.8f;
+          t.p(Buffer::ReflectedAlbedo, c)(x, y) = checker;
+        }
+      }
+  }
+  // Noise-free radiance: albedo x reflected albedo x illumination (2 near, 0.5 far).
+  void shade(std::mt19937* noise) {
+    std::uniform_real_distribution<float> u(0.0f, 2.0f);
+    for (int y = 0; y < t.h; ++y)
+      for (int x = 0; x < t.w; ++x) {
+        const float light = (x >= t.w / 2 ? 0.5f : 2.0f) * (noise ? u(*noise) : 1.0f);
+        for (int c = 0; c < 3; ++c)
+          t.p(Buffer::Color, c)(x, y) = t.p(Buffer::Albedo, c)(x, y) * t.p(Buffer::ReflectedAlbedo, c)(x, y) * light;
+      }
+  }
+};
+
+Image toImage(const FrameData& f, Buffer b) {
+  Image im(f.width, f.height, bufferChannelCount(b));
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x)
+      for (int c = 0; c < bufferChannelCount(b); ++c) im.at(x, y, c) = f.plane(b, c)(x, y);
+  return im;
+}
+
+Frame toFrame(const FrameData& f) {
+  Frame out;
+  out.width = f.width;
+  out.height = f.height;
+  for (int b = 0; b < kBufferCount; ++b)
+    if (f.has(Buffer(b))) out[Buffer(b)] = toImage(f, Buffer(b));
+  return out;
+}
+
+Image denoiseOnce(const Frame& frame, SvgfSettings s) {
+  auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
+  s.taa.taa = false;
+  auto d = device->createDenoiser(s);
+  Image out(frame.width, frame.height, 3);
+  d->denoise(frame.inputs(), out.view());
+  return out;
+}
+
+TEST(VoorhuisMirrors, DemodulationByPrimaryTimesReflectedAlbedoKeepsReflectedTexture) {
+  // Noise-free: with the reflected albedo divided out the illumination is piecewise constant,
+  // a fixed point of the filter, so the output equals the input (demodulate -> remodulate is
+  // the identity). With the primary albedo only, the checker is filtered and blurred.
+  MirrorScene m(32, 16);
+  m.shade(nullptr);
+  const Frame f = toFrame(m.t.f);
+  SvgfSettings s = ours();
+  s.reflectedFeatures = SvgfPart::on;
+  const Image a = denoiseOnce(f, s);
+  s.reflectedFeatures = SvgfPart::off;
+  const Image b = denoiseOnce(f, s);
+  double errA = 0, errB = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x)
+      for (int c = 0; c < 3; ++c) {
+        errA = std::max(errA, double(std::fabs(a.at(x, y, c) - f[Buffer::Color].at(x, y, c))));
+        errB = std::max(errB, double(std::fabs(b.at(x, y, c) - f[Buffer::Color].at(x, y, c))));
+      }
+  EXPECT_LT(errA, 1e-4);
+  EXPECT_GT(errB, 0.05);
+}
+
+TEST(VoorhuisMirrors, ReflectedDepthEdgeStaysSharp) {
+  // Noisy illumination; the reflection has a depth edge at x = w/2 (near wall | far wall)
+  // where the primary features are flat. Stopping on the reflected features keeps the two
+  // illumination levels apart; the primary features let them mix across the edge.
+  const int w = 48, h = 24;
+  MirrorScene m(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) m.t.p(Buffer::ReflectedAlbedo, c)(x, y) = 0.5f;  // no texture
+  std::mt19937 rng(7);
+  m.shade(&rng);
+  const Frame f = toFrame(m.t.f);
+  SvgfSettings s = ours();
+  s.reflectedFeatures = SvgfPart::on;
+  const Image a = denoiseOnce(f, s);
+  s.reflectedFeatures = SvgfPart::off;
+  const Image b = denoiseOnce(f, s);
+  // Mean of the column just right of the edge (far side, expected 0.8 * 0.5 * 0.5 = 0.2).
+  auto column = [&](const Image& im, int x) {
+    double v = 0;
+    for (int y = 4; y < h - 4; ++y) v += im.at(x, y, 1);
+    return v / (h - 8);
+  };
+  const double expected = 0.8 * 0.5 * 0.5;
+  EXPECT_LT(std::fabs(column(a, w / 2) - expected), 0.3 * expected) << "reflected features";
+  EXPECT_GT(std::fabs(column(b, w / 2) - expected), 0.6 * expected) << "primary features should blur the edge";
+}
+
+// ---------------------------------------------------------------- which parts run
+
+TEST(VoorhuisParts, InputWithoutReflectionFeaturesRunsWhatItCanAndSaysWhy) {
+  // Blender-like input: colour split into diffuse / specular lobes, no roughness, no
+  // reflection buffers. voorhuis runs clipping and per-class alpha on the specular lobe.
+  auto has = [](Buffer b) {
+    return b == Buffer::Color || b == Buffer::Normal || b == Buffer::Depth || b == Buffer::Albedo ||
+           b == Buffer::Diffuse || b == Buffer::Specular || b == Buffer::Position;
+  };
+  const svgf::ReflectionParts p = svgf::resolveReflectionParts(ours(), has, true);
+  EXPECT_TRUE(p.clipping);
+  EXPECT_TRUE(p.materialAlpha);
+  EXPECT_EQ(p.motion, SpecularMotion::Primary);
+  EXPECT_FALSE(p.reflectedFeatures);
+  EXPECT_FALSE(p.glossyBandwidth);
+  std::string all;
+  for (const auto& n : p.notes) all += n + "\n";
+  EXPECT_NE(all.find("reflection motion (mirrors) off: the frame has no 'roughness' buffer"), std::string::npos) << all;
+  EXPECT_NE(all.find("reflectedFeatures off"), std::string::npos) << all;
+  EXPECT_NE(all.find("glossyBandwidth off"), std::string::npos) << all;
+  // Without the lobe split nothing can be classed: those parts are off too, with a reason.
+  const svgf::ReflectionParts q = svgf::resolveReflectionParts(ours(), has, false);
+  EXPECT_FALSE(q.clipping);
+  EXPECT_FALSE(q.classes);
+  // A part asked for explicitly is an error naming the missing buffer.
+  auto expectError = [](const SvgfSettings& s, auto has, const char* buffer) {
+    try {
+      svgf::resolveReflectionParts(s, has, true);
+      ADD_FAILURE() << "expected an error naming " << buffer;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(buffer), std::string::npos) << e.what();
+    }
+  };
+  SvgfSettings s = ours();
+  s.reflectedFeatures = SvgfPart::on;
+  expectError(s, has, "'roughness'");
+  s = ours();
+  s.specularMotion = SvgfSpecularMotion::reflection;
+  expectError(s, [&](Buffer b) { return has(b) || b == Buffer::Roughness; }, "'reflectedPosition'");
+}
+
+TEST(VoorhuisParts, DenoiserReportsOffPartsInItsStatistics) {
+  MirrorScene m(16, 8);
+  m.shade(nullptr);
+  Frame f = toFrame(m.t.f);
+  f[Buffer::ReflectedFootprint] = Image();  // absent
+  auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
+  auto d = device->createDenoiser("svgf");
+  d->set("variant", "voorhuis");
+  Image out(16, 8, 3);
+  d->denoise(f.inputs(), out.view());
+  ASSERT_EQ(d->stats().notes.size(), 1u);
+  EXPECT_EQ(d->stats().notes[0], "glossyBandwidth off: the frame has no 'reflectedFootprint' buffer");
+  d->set("glossyBandwidth", "on");
+  EXPECT_THROW(d->denoise(f.inputs(), out.view()), Error);
+}
+
+}  // namespace
+}  // namespace rtd

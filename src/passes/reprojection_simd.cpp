@@ -1,0 +1,298 @@
+// reprojectRows for one CPU path (core/simd.h): the tap tests of eight pixels at a time with
+// AVX2 (Bilinear8) on the avx2 and avx512 paths; the scalar path, which stays the reference,
+// for borders, disocclusions, the 3x3 fallback and the sse2 path.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+
+#include "passes/reprojection.h"
+#include "core/simd.h"
+#include "passes/bilinear8.h"
+
+namespace rtd::RTD_SIMD_NS {
+
+namespace {
+
+// Row-major 4x4 times (x, y, z, 1).
+inline void transformPoint(const std::array<float, 16>& m, float x, float y, float z, float out[4]) {
+  for (int r = 0; r < 4; ++r) out[r] = m[r * 4 + 0] * x + m[r * 4 + 1] * y + m[r * 4 + 2] * z + m[r * 4 + 3];
+}
+
+// Raw pointers to the planes the tests read, hoisted out of the per-pixel loop.
+struct TapTest {
+  const ReprojectionSettings& s;
+  const int width, height;  // of the previous frame
+  const float *z = nullptr, *zPrev = nullptr, *dzdx = nullptr, *dzdy = nullptr;
+  const float *n[3] = {}, *nPrev[3] = {};
+  const float *id = nullptr, *idPrev = nullptr;
+  const float *p[3] = {}, *pPrev[3] = {};
+  float positionTolerance2;
+
+  TapTest(const FrameData& cur, const FrameData& prev, const ReprojectionSettings& st)
+      : s(st), width(prev.width), height(prev.height),
+        positionTolerance2(st.positionTolerance * st.positionTolerance) {
+    if (st.testDepth && cur.has(Buffer::Depth) && prev.has(Buffer::Depth)) {
+      z = cur.plane(Buffer::Depth).ptr();
+      zPrev = prev.plane(Buffer::Depth).ptr();
+      if (cur.has(Buffer::DepthGradient)) {
+        dzdx = cur.plane(Buffer::DepthGradient, 0).ptr();
+        dzdy = cur.plane(Buffer::DepthGradient, 1).ptr();
+      }
+    }
+    if (cur.has(Buffer::Normal) && prev.has(Buffer::Normal))
+      for (int c = 0; c < 3; ++c) { n[c] = cur.plane(Buffer::Normal, c).ptr(); nPrev[c] = prev.plane(Buffer::Normal, c).ptr(); }
+    if (st.testObjectId && cur.has(Buffer::ObjectId) && prev.has(Buffer::ObjectId)) {
+      id = cur.plane(Buffer::ObjectId).ptr();
+      idPrev = prev.plane(Buffer::ObjectId).ptr();
+    }
+    if (st.positionTolerance > 0 && cur.has(Buffer::Position) && prev.has(Buffer::Position))
+      for (int c = 0; c < 3; ++c) { p[c] = cur.plane(Buffer::Position, c).ptr(); pPrev[c] = prev.plane(Buffer::Position, c).ptr(); }
+  }
+
+  // Screen-space depth slope at pixel (x, y) of a w-wide frame: per axis the smaller one-sided
+  // difference, so a depth edge next to the pixel does not widen the tolerance.
+  float depthSlope(int x, int y, int w, int h) const {
+    const size_t i = size_t(y) * w + x;
+    if (dzdx) return std::max(std::abs(dzdx[i]), std::abs(dzdy[i]));
+    const float c = z[i];
+    auto slope = [&](float a, float b) { return std::min(std::abs(a - c), std::abs(b - c)); };
+    const float gx = slope(z[i - (x > 0)], z[i + (x < w - 1)]);
+    const float gy = slope(z[i - (y > 0) * size_t(w)], z[i + (y < h - 1) * size_t(w)]);
+    return std::max(gx, gy);
+  }
+
+  // The current pixel's features, loaded once for its up to 13 tap tests.
+  struct Pixel {
+    float z, n[3], id, p[3], depthTol;
+    bool background;  // zero normal: a miss (sky) in Cycles' and our renderer's buffers
+  };
+  Pixel load(size_t i, float depthTol) const {
+    Pixel c{};
+    if (z) c.z = z[i];
+    if (n[0]) for (int k = 0; k < 3; ++k) c.n[k] = n[k][i];
+    c.background = n[0] && c.n[0] * c.n[0] + c.n[1] * c.n[1] + c.n[2] * c.n[2] < 0.25f;
+    if (id) c.id = id[i];
+    if (p[0]) for (int k = 0; k < 3; ++k) c.p[k] = p[k][i];
+    c.depthTol = depthTol;
+    return c;
+  }
+
+  // Depth tolerance of pixel (x, y): relative plus screen-space slope.
+  float depthTolerance(int x, int y, int w, int h) const {
+    return s.depthTolerance * z[size_t(y) * w + x] + s.depthGradientScale * depthSlope(x, y, w, h);
+  }
+
+#ifdef RTD_SIMD_AVX2
+  // Pixels x..x+7 of row y (1 <= x, x + 8 < w) whose four bilinear taps all lie inside the
+  // previous frame: the tests of valid() on eight pixels at once, the four taps of each read
+  // with gathers. Writes kind, base and weights of the lanes with a valid tap (sum of accepted
+  // bilinear weights > 1e-4) and returns their bit mask; the other lanes are left to the caller.
+  unsigned bilinear8(int x, int y, int w, int h, Reprojection& out) const {
+    const size_t i = size_t(y) * w + x;
+    Bilinear8 taps;
+    if (!taps.footprint(out.prevX.ptr() + i, out.prevY.ptr() + i, w, h)) return 0;
+    const __m256i base = taps.base;
+
+    // The current pixels' features.
+    __m256 tol = _mm256_setzero_ps(), cz = tol, cn[3] = {tol, tol, tol}, cid = tol, cp[3] = {tol, tol, tol};
+    __m256 background = tol;
+    if (z) {
+      cz = _mm256_loadu_ps(z + i);
+      const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+      __m256 slope;
+      if (dzdx) {
+        slope = _mm256_max_ps(_mm256_and_ps(_mm256_loadu_ps(dzdx + i), absMask), _mm256_and_ps(_mm256_loadu_ps(dzdy + i), absMask));
+      } else {
+        auto diff = [&](const float* q) { return _mm256_and_ps(_mm256_sub_ps(_mm256_loadu_ps(q), cz), absMask); };
+        const float* up = z + i - (y > 0 ? size_t(w) : 0);
+        const float* down = z + i + (y < h - 1 ? size_t(w) : 0);
+        slope = _mm256_max_ps(_mm256_min_ps(diff(z + i - 1), diff(z + i + 1)), _mm256_min_ps(diff(up), diff(down)));
+      }
+      tol = _mm256_fmadd_ps(_mm256_set1_ps(s.depthTolerance), cz, _mm256_mul_ps(_mm256_set1_ps(s.depthGradientScale), slope));
+    }
+    if (n[0]) {
+      for (int k = 0; k < 3; ++k) cn[k] = _mm256_loadu_ps(n[k] + i);
+      const __m256 len2 = _mm256_fmadd_ps(cn[2], cn[2], _mm256_fmadd_ps(cn[1], cn[1], _mm256_mul_ps(cn[0], cn[0])));
+      background = _mm256_cmp_ps(len2, _mm256_set1_ps(0.25f), _CMP_LT_OQ);
+    }
+    if (id) cid = _mm256_loadu_ps(id + i);
+    if (p[0])
+      for (int k = 0; k < 3; ++k) cp[k] = _mm256_loadu_ps(p[k] + i);
+
+    __m256 wt[4], sum = _mm256_setzero_ps();
+    for (int t = 0; t < 4; ++t) {
+      auto fetch = [&](const float* plane) { return taps.tap(plane, t); };
+      __m256 ok = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+      if (z) {
+        const __m256 dz = _mm256_sub_ps(fetch(zPrev), cz);
+        ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(dz, tol, _CMP_LE_OQ),
+                                             _mm256_cmp_ps(dz, _mm256_sub_ps(_mm256_setzero_ps(), tol), _CMP_GE_OQ)));
+      }
+      if (n[0]) {
+        const __m256 qx = fetch(nPrev[0]), qy = fetch(nPrev[1]),
+                     qz = fetch(nPrev[2]);
+        // Background pixels (zero normal) match background pixels only.
+        const __m256 len2 = _mm256_fmadd_ps(qz, qz, _mm256_fmadd_ps(qy, qy, _mm256_mul_ps(qx, qx)));
+        const __m256 dot = _mm256_fmadd_ps(cn[2], qz, _mm256_fmadd_ps(cn[1], qy, _mm256_mul_ps(cn[0], qx)));
+        const __m256 bgOk = _mm256_cmp_ps(len2, _mm256_set1_ps(0.25f), _CMP_LT_OQ);
+        const __m256 fgOk = _mm256_cmp_ps(dot, _mm256_set1_ps(s.normalTolerance), _CMP_GE_OQ);
+        ok = _mm256_and_ps(ok, _mm256_blendv_ps(fgOk, bgOk, background));
+      }
+      if (id) ok = _mm256_and_ps(ok, _mm256_cmp_ps(fetch(idPrev), cid, _CMP_EQ_OQ));
+      if (p[0]) {
+        __m256 d2 = _mm256_setzero_ps();
+        for (int k = 0; k < 3; ++k) {
+          const __m256 d = _mm256_sub_ps(cp[k], fetch(pPrev[k]));
+          d2 = _mm256_fmadd_ps(d, d, d2);
+        }
+        ok = _mm256_and_ps(ok, _mm256_cmp_ps(d2, _mm256_set1_ps(positionTolerance2), _CMP_LE_OQ));
+      }
+      wt[t] = _mm256_and_ps(ok, taps.weight[t]);
+      sum = _mm256_add_ps(sum, wt[t]);
+    }
+    const unsigned good = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(sum, _mm256_set1_ps(1e-4f), _CMP_GT_OQ)));
+    if (!good) return 0;
+    for (auto& v : wt) v = _mm256_div_ps(v, sum);
+    // Weights to the per-pixel {w0, w1, w2, w3} layout: a 4x8 transpose.
+    const __m256 t0 = _mm256_unpacklo_ps(wt[0], wt[1]), t1 = _mm256_unpackhi_ps(wt[0], wt[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(wt[2], wt[3]), t3 = _mm256_unpackhi_ps(wt[2], wt[3]);
+    const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xee);
+    const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xee);
+    const __m256 pixel[4] = {_mm256_permute2f128_ps(u0, u1, 0x20), _mm256_permute2f128_ps(u2, u3, 0x20),
+                             _mm256_permute2f128_ps(u0, u1, 0x31), _mm256_permute2f128_ps(u2, u3, 0x31)};
+    float* weights = out.weights[i].data();
+    if (good == 0xff) {
+      for (int k = 0; k < 4; ++k) _mm256_storeu_ps(weights + 8 * k, pixel[k]);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.base.data() + i), base);
+      std::memset(out.kind.data() + i, Reprojection::Bilinear, 8);
+      return good;
+    }
+    alignas(32) float lanes[32];
+    alignas(32) int32_t baseLanes[8];
+    for (int k = 0; k < 4; ++k) _mm256_store_ps(lanes + 8 * k, pixel[k]);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(baseLanes), base);
+    for (int k = 0; k < 8; ++k)
+      if (good >> k & 1u) {
+        std::memcpy(weights + 4 * k, lanes + 4 * k, 16);
+        out.base[i + k] = baseLanes[k];
+        out.kind[i + k] = Reprojection::Bilinear;
+      }
+    return good;
+  }
+#endif
+
+  // Is previous pixel (px, py) a valid history sample for the current pixel c?
+  bool valid(const Pixel& c, int px, int py) const {
+    if (px < 0 || py < 0 || px >= width || py >= height) return false;
+    const size_t j = size_t(py) * width + px;
+    if (z && !(std::abs(zPrev[j] - c.z) <= c.depthTol)) return false;
+    if (n[0]) {
+      // Background pixels (zero normal) match background pixels only.
+      if (c.background) {
+        if (!(nPrev[0][j] * nPrev[0][j] + nPrev[1][j] * nPrev[1][j] + nPrev[2][j] * nPrev[2][j] < 0.25f)) return false;
+      } else if (!(c.n[0] * nPrev[0][j] + c.n[1] * nPrev[1][j] + c.n[2] * nPrev[2][j] >= s.normalTolerance)) {
+        return false;
+      }
+    }
+    if (id && c.id != idPrev[j]) return false;
+    if (p[0]) {
+      const float dx = c.p[0] - pPrev[0][j], dy = c.p[1] - pPrev[1][j], dz = c.p[2] - pPrev[2][j];
+      if (!(dx * dx + dy * dy + dz * dz <= positionTolerance2)) return false;
+    }
+    return true;
+  }
+};
+
+}  // namespace
+
+void reprojectRows(const FrameData& cur, const FrameData* previous, const ReprojectionSettings& s, Reprojection& out,
+                   int rowBegin, int rowEnd) {
+  const int w = cur.width, h = cur.height;
+  if (!previous || previous->width != w || previous->height != h) {
+    for (int y = rowBegin; y < rowEnd; ++y)
+      for (int x = 0; x < w; ++x) {
+        out.kind[size_t(y) * w + x] = Reprojection::None;
+        out.prevX(x, y) = x + 0.5f;
+        out.prevY(x, y) = y + 0.5f;
+      }
+    return;
+  }
+  const FrameData& prev = *previous;
+  const bool motion = cur.has(Buffer::Motion);
+  const bool fromCamera = !motion && cur.camera.valid && prev.camera.valid && cur.has(Buffer::Position);
+  const TapTest test(cur, prev, s);
+  const float* motionX = motion ? cur.plane(Buffer::Motion, 0).ptr() : nullptr;
+  const float* motionY = motion ? cur.plane(Buffer::Motion, 1).ptr() : nullptr;
+
+  // One pixel, scalar: any footprint, the border slide and the 3x3 fallback.
+  auto classify = [&](int x, int y) {
+    const size_t i = size_t(y) * w + x;
+    const float px = out.prevX.data[i], py = out.prevY.data[i];
+    const TapTest::Pixel pixel = test.load(i, test.z ? test.depthTolerance(x, y, w, h) : 0.0f);
+    out.kind[i] = Reprojection::None;
+    if (!(std::abs(px) < 1e6f && std::abs(py) < 1e6f)) return;
+    // valid() checks the frame bounds itself.
+    if (setBilinear(out, i, px, py, [&](int tx, int ty) { return test.valid(pixel, tx, ty); })) return;
+    if (!s.fallback3x3) return;
+    const int cx = int(std::floor(px)), cy = int(std::floor(py));
+    uint16_t mask = 0;
+    for (int t = 0; t < 9; ++t)
+      if (test.valid(pixel, cx + t % 3 - 1, cy + t / 3 - 1)) mask |= uint16_t(1u << t);
+    if (mask) {
+      out.kind[i] = Reprojection::Fallback3x3;
+      out.base[i] = cy * w + cx;
+      out.mask3x3[i] = mask;
+    }
+  };
+
+  for (int y = rowBegin; y < rowEnd; ++y) {
+    // Continuous previous position of each pixel's centre (the common motion-vector case in
+    // its own loop, which vectorizes).
+    float* prevX = out.prevX.row(y);
+    float* prevY = out.prevY.row(y);
+    const size_t row = size_t(y) * w;
+    if (motion) {
+      for (int x = 0; x < w; ++x) {
+        prevX[x] = float(x) + 0.5f + motionX[row + x];
+        prevY[x] = float(y) + 0.5f + motionY[row + x];
+      }
+    } else {
+      for (int x = 0; x < w; ++x) {
+        float px = x + 0.5f, py = y + 0.5f;
+        if (fromCamera) {
+          const size_t i = row + x;
+          float v[4], c[4];
+          transformPoint(prev.camera.worldToCamera, cur.plane(Buffer::Position, 0).data[i],
+                         cur.plane(Buffer::Position, 1).data[i], cur.plane(Buffer::Position, 2).data[i], v);
+          transformPoint(prev.camera.projection, v[0], v[1], v[2], c);
+          if (c[3] > 0.0f) {
+            px = (c[0] / c[3] * 0.5f + 0.5f) * w;
+            py = (0.5f - c[1] / c[3] * 0.5f) * h;  // NDC y is up, rows go down
+          } else {
+            px = py = -1e6f;  // behind the previous camera
+          }
+        }
+        prevX[x] = px;
+        prevY[x] = py;
+      }
+    }
+    int x = 0;
+#ifdef RTD_SIMD_AVX2
+    // Eight pixels at a time where every footprint is inside the frame (the common case);
+    // lanes with no valid bilinear tap go through the scalar path. The first and last pixel
+    // of a row always do (their depth slope is one-sided).
+    if (w >= 10) {
+      classify(0, y);
+      for (x = 1; x + 8 <= w - 1; x += 8) {
+        const unsigned bilinear = test.bilinear8(x, y, w, h, out);
+        for (int k = 0; k < 8; ++k)
+          if (!(bilinear >> k & 1u)) classify(x + k, y);
+      }
+    }
+#endif
+    for (; x < w; ++x) classify(x, y);
+  }
+}
+
+}  // namespace rtd::RTD_SIMD_NS

@@ -1,0 +1,16 @@
+// TAA's hot loop (taa_simd.cpp), one copy per CPU path (core/simd.h), called by taa.cpp
+// through RTD_SIMD.
+#pragma once
+#include "core/simd_dispatch.h"
+#include "passes/taa.h"
+
+namespace rtd {
+/// Rows of a thread's window slot: Y Co Cg, min Y Co Cg, max Y Co Cg (Taa::Window).
+constexpr int kTaaSlotRows = 9;
+}  // namespace rtd
+
+RTD_SIMD_DECLARE(
+/// Taa::runRows once there is history: `window` holds 3 * kTaaSlotRows + 3 rows of the width.
+void taaRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBegin, int rowEnd, const Plane3& history,
+             Plane3& next, float* window, int slotRow[3]);
+)

@@ -1,0 +1,228 @@
+// Runtime dispatch (src/core/cpu_path.h): every CPU path this machine runs, forced in turn,
+// gives the scalar reference's result: import and export bit for bit (Bounds::sanitize and the
+// scalar interleave), reprojection's tap decisions exactly, and whole frames of every method
+// within the stated tolerances of the sse2 path (whose reprojection, accumulation, TAA and
+// import are the scalar reference code; the a-trous filter is checked against a double-precision
+// reference on every path in svgf_test.cpp). RTD_CPU_PATH's errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <random>
+
+#include "core/frame_data.h"
+#include "core/frame_data_kernels.h"
+#include "core/sanitize.h"
+#include "passes/reprojection.h"
+#include "rtd/rtd.h"
+#include "support/cpu_paths.h"
+#include "synthetic/synthetic.h"
+
+namespace rtd {
+namespace {
+
+using test::ScopedCpuPath;
+using test::supportedCpuPaths;
+
+TEST(CpuPath, DetectionAndNames) {
+  EXPECT_TRUE(cpuPathSupported(CpuPath::Sse2));
+  EXPECT_TRUE(cpuPathSupported(bestCpuPath()));
+  for (int i = 0; i < kCpuPathCount; ++i)
+    if (cpuPathSupported(CpuPath(i))) {
+      EXPECT_LE(i, int(bestCpuPath()));
+    }
+  EXPECT_STREQ(cpuPathName(CpuPath::Avx512), "avx512");
+  for (CpuPath p : supportedCpuPaths()) {
+    ScopedCpuPath force(p);
+    EXPECT_EQ(cpuPath(), p);
+    EXPECT_NE(Device::create()->name().find(cpuPathName(p)), std::string::npos);
+  }
+  // A path the CPU lacks cannot be forced.
+  for (int i = 0; i < kCpuPathCount; ++i)
+    if (!cpuPathSupported(CpuPath(i))) {
+      EXPECT_THROW(setCpuPath(CpuPath(i)), Error);
+    }
+}
+
+TEST(CpuPath, EnvironmentVariableIsChecked) {
+  const char* old = std::getenv("RTD_CPU_PATH");
+  const std::string saved = old ? old : "";
+  setenv("RTD_CPU_PATH", "avx9", 1);
+  try {
+    checkCpuPathSetting();
+    ADD_FAILURE() << "an unknown path was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("avx9"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(Device::create(), Error);
+  for (const char* ok : {"auto", "sse2"}) {
+    setenv("RTD_CPU_PATH", ok, 1);
+    EXPECT_NO_THROW(checkCpuPathSetting()) << ok;
+  }
+  for (int i = 0; i < kCpuPathCount; ++i) {
+    setenv("RTD_CPU_PATH", cpuPathName(CpuPath(i)), 1);
+    if (cpuPathSupported(CpuPath(i))) {
+      EXPECT_NO_THROW(checkCpuPathSetting());
+    }
+    else EXPECT_THROW(checkCpuPathSetting(), Error);
+  }
+  if (old) setenv("RTD_CPU_PATH", saved.c_str(), 1);
+  else unsetenv("RTD_CPU_PATH");
+}
+
+// Values import must replace (NaN, infinities, negatives for radiance, above 3e38), flush
+// (subnormal and tiny) or keep, in every lane position.
+float awkwardValue(std::mt19937& rng) {
+  const float values[] = {0.0f, -0.0f, 1.0f, -2.5f, 1e-40f, -1e-39f, 1e-20f, 0x1p-60f, 0x1p-61f, 3e38f, 3.2e38f,
+                          std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                          std::numeric_limits<float>::quiet_NaN(), 0.5f, 1234.5f};
+  return values[rng() % (sizeof values / sizeof values[0])];
+}
+
+TEST(CpuPath, ImportAndExportMatchTheScalarReferenceExactly) {
+  const int w = 45, h = 7;  // not a multiple of 8 or 16
+  std::mt19937 rng(3);
+  Frame f;
+  f.width = w;
+  f.height = h;
+  // (Not the unit-vector buffers, which import renormalizes afterwards.)
+  const Buffer buffers[] = {Buffer::Color, Buffer::Depth, Buffer::Motion, Buffer::Albedo, Buffer::Roughness};
+  for (Buffer b : buffers) {
+    // Albedo with 4 floats per pixel (an RGBA source): the stride-4 de-interleave.
+    const int channels = b == Buffer::Albedo ? 4 : bufferChannelCount(b);
+    f[b] = Image(w, h, channels);
+    for (float& v : f[b].pixels) v = awkwardValue(rng);
+  }
+  FrameInputs in = f.inputs();
+  in[Buffer::Albedo].format = Format::Float4;
+  for (CpuPath p : supportedCpuPaths()) {
+    ScopedCpuPath force(p);
+    FrameData d;
+    SanitizeStats counts{};
+    importFrame(in, {Buffer::Color}, d, nullptr, &counts);
+    for (Buffer b : buffers) {
+      const ValueRange range = importRange(b);
+      const Bounds bounds{range.lo, range.hi};
+      SanitizeCounts expect;
+      const int nc = bufferChannelCount(b), stride = f[b].channels;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          for (int c = 0; c < nc; ++c) {
+            const float want = bounds.sanitize(f[b].pixels[(size_t(y) * w + x) * stride + c], expect);
+            const float got = d.plane(b, c)(x, y);
+            ASSERT_EQ(std::bit_cast<uint32_t>(got), std::bit_cast<uint32_t>(want))
+                << cpuPathName(p) << " " << bufferName(b) << " " << x << "," << y << "," << c;
+          }
+      EXPECT_EQ(counts[size_t(b)].nonFinite, expect.nonFinite) << cpuPathName(p) << " " << bufferName(b);
+      EXPECT_EQ(counts[size_t(b)].outOfRange, expect.outOfRange) << cpuPathName(p) << " " << bufferName(b);
+    }
+
+    // Export: planes (plus emission) into Float3 and Float4 views.
+    Plane3 rgb;
+    resize(rgb, w, h);
+    std::vector<Plane> emission(3, Plane(w, h));
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < rgb[c].size(); ++i) {
+        rgb[c].data[i] = float(rng() % 1000) * 0.01f;
+        emission[size_t(c)].data[i] = float(rng() % 7);
+      }
+    for (int channels : {3, 4})
+      for (bool withEmission : {false, true}) {
+        Image out(w, h, channels, -1.0f);
+        exportRgb(rgb, withEmission ? &emission : nullptr, out.view());
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x)
+            for (int c = 0; c < channels; ++c) {
+              const float want = c == 3 ? 1.0f : rgb[c](x, y) + (withEmission ? emission[size_t(c)](x, y) : 0.0f);
+              ASSERT_EQ(out.at(x, y, c), want) << cpuPathName(p) << " " << x << "," << y << "," << c;
+            }
+      }
+  }
+}
+
+TEST(CpuPath, ReprojectionTapsAreTheSameOnEveryPath) {
+  synthetic::Scene scene;
+  scene.width = 83;
+  scene.height = 47;
+  const Frame f0 = synthetic::makeFrame(scene, 0), f1 = synthetic::makeFrame(scene, 1);
+  FrameData d0, d1;
+  importFrame(f0.inputs(), {Buffer::Color}, d0);
+  importFrame(f1.inputs(), {Buffer::Color}, d1);
+  ReprojectionSettings s;
+  s.fallback3x3 = true;
+  Reprojection ref;
+  {
+    ScopedCpuPath force(CpuPath::Sse2);  // the scalar tap tests
+    reproject(d1, &d0, s, ref);
+  }
+  const auto counts = ref.counts();
+  EXPECT_GT(counts[Reprojection::Bilinear], size_t(scene.width * scene.height / 2));
+  for (CpuPath p : supportedCpuPaths()) {
+    ScopedCpuPath force(p);
+    Reprojection rp;
+    reproject(d1, &d0, s, rp);
+    for (size_t i = 0; i < rp.kind.size(); ++i) {
+      ASSERT_EQ(rp.kind[i], ref.kind[i]) << cpuPathName(p) << " pixel " << i;
+      if (rp.kind[i] == Reprojection::None) continue;
+      ASSERT_EQ(rp.base[i], ref.base[i]) << cpuPathName(p) << " pixel " << i;
+      for (int t = 0; t < 4; ++t) ASSERT_NEAR(rp.weights[i][t], ref.weights[i][t], 1e-6f) << cpuPathName(p) << " pixel " << i;
+    }
+  }
+}
+
+// Output of `frames` frames of the synthetic scene with a method on the current path.
+Image runMethod(const std::string& method, const std::vector<std::pair<std::string, std::string>>& settings, int frames) {
+  synthetic::Scene scene;
+  scene.width = 99;
+  scene.height = 61;
+  auto d = Device::create({.backend = Backend::Cpu, .threads = 2})->createDenoiser(method);
+  for (const auto& [k, v] : settings) d->set(k, v);
+  Image out(scene.width, scene.height, 3);
+  for (int t = 0; t < frames; ++t) d->denoise(synthetic::makeFrame(scene, t).inputs(), out.view());
+  return out;
+}
+
+TEST(CpuPath, WholeMethodsAgreeWithTheSse2PathOnEveryPath) {
+  struct Case {
+    std::string method;
+    std::vector<std::pair<std::string, std::string>> settings;
+    double tolerance;  // max |difference| / max |sse2 output|
+  };
+  // The paths differ in rounding only: FMA contraction (avx2, avx512) and the reciprocal
+  // estimate's precision (rcp 12 bits, rcp14 14 bits, each refined by one Newton step); the
+  // a-trous filter's 4, 8 or 16 pixels per iteration do not change the order of its sums.
+  // Measured on the Sapphire Rapids Xeon over 8 frames (max |difference| / max |output|, as
+  // the test's properties record): accumulate 1.5e-7, svgf 3.3e-7, dundr 4.1e-7, bmfr 6.8e-7
+  // (the QR amplifies rounding by the blocks' condition); the tolerances leave 7-30x margin.
+  const std::vector<Case> cases = {{"accumulate", {}, 1e-6},
+                                   {"svgf", {}, 1e-5},
+                                   {"svgf", {{"variant", "dundr"}}, 1e-5},
+                                   {"bmfr", {{"positionTolerance", "0.3"}}, 2e-5}};
+  for (const Case& c : cases) {
+    Image ref;
+    {
+      ScopedCpuPath force(CpuPath::Sse2);
+      ref = runMethod(c.method, c.settings, 8);
+    }
+    float scale = 0;
+    for (float v : ref.pixels) scale = std::max(scale, std::abs(v));
+    ASSERT_GT(scale, 0.0f);
+    for (CpuPath p : supportedCpuPaths()) {
+      if (p == CpuPath::Sse2) continue;
+      ScopedCpuPath force(p);
+      const Image out = runMethod(c.method, c.settings, 8);
+      double maxDiff = 0;
+      for (size_t i = 0; i < out.pixels.size(); ++i) maxDiff = std::max(maxDiff, double(std::abs(out.pixels[i] - ref.pixels[i])));
+      EXPECT_LE(maxDiff / scale, c.tolerance) << c.method << (c.settings.empty() ? "" : " " + c.settings[0].second)
+                                              << " on " << cpuPathName(p);
+      char measured[32];
+      std::snprintf(measured, sizeof measured, "%.2e", maxDiff / scale);
+      RecordProperty(c.method + (c.settings.empty() ? "" : "_" + c.settings[0].second) + "_" + cpuPathName(p), measured);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rtd
