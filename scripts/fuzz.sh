@@ -11,6 +11,7 @@ seconds=${RTD_FUZZ_SECONDS:-30}
 work=$build/fuzz-work
 export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
+export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-/usr/lib/llvm-14/bin/llvm-symbolizer}
 
 status=0
 for t in native_sequence blender_sequence sequence_json settings; do

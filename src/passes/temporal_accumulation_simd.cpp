@@ -92,8 +92,8 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
     const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
     // Fixed weights (Gersthofer): alpha wherever there is history, 1 where there is none
     // (reprojection failed, or the taps hold no data yet: n = 1).
-    const float floor = alphas ? alphas[i] : alpha;
-    const float a = fixed ? (n <= 1.0f ? 1.0f : floor) : newSampleWeight(n, floor);
+    const float floorAlpha = alphas ? alphas[i] : alpha;
+    const float a = fixed ? (n <= 1.0f ? 1.0f : floorAlpha) : newSampleWeight(n, floorAlpha);
     // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
     // wherever there is history (Schied et al. 2017).
     const float am = fixed ? (n <= 1.0f ? 1.0f : momentsAlpha)
@@ -116,10 +116,14 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
       h.m2.data[i] = flushTiny(am * squareOrZero(l) + (1.0f - am) * hist2);
     }
   };
-  // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-  // (CIE L* has no vector form here: its moments take the scalar path; without moments the
-  // luminance is not needed.)
-  const bool vectorized = !mask && !gradient && (options.luminance != MomentLuminance::CieLightness || !moments);
+  // Eight pixels at a time where all eight have bilinear history (the same arithmetic; A-SVGF's
+  // gradient for integral exponents, historyShrink's squarings in the same order). (CIE L* has
+  // no vector form here: its moments take the scalar path; without moments the luminance is
+  // not needed.)
+  const float e = options.historyExponent;
+  const bool integralExponent = e == std::floor(e) && e >= 0.0f && e <= 64.0f;
+  [[maybe_unused]] const bool vectorized = !mask && (!gradient || integralExponent) &&
+                                           (options.luminance != MomentLuminance::CieLightness || !moments);
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef RTD_SIMD_AVX2
@@ -138,19 +142,38 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
           for (int k = 0; k < 8; ++k) pixel(i + k);
           continue;
         }
-        // n = min(round(history length) + 1, max), round half away from zero as std::round.
         const __m256 len = taps8.gather(lenPrev);
-        __m256 rounded = _mm256_round_ps(len, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
-        rounded = _mm256_add_ps(rounded, _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(len, rounded), half, _CMP_GE_OQ), one));
-        const __m256 n = _mm256_min_ps(_mm256_add_ps(rounded, one), maxLen);
-        const __m256 invN = _mm256_div_ps(one, n);
-        const __m256 floor = alphas ? _mm256_loadu_ps(alphas + i) : vAlpha;
-        // Fixed weights (Gersthofer): alpha, or 1 where the taps hold no data yet (n = 1).
-        const __m256 first = _mm256_cmp_ps(n, one, _CMP_LE_OQ);
-        const __m256 a = fixed ? _mm256_blendv_ps(floor, one, first) : _mm256_max_ps(invN, floor);
-        const __m256 am = fixed                       ? _mm256_blendv_ps(vMomentsAlpha, one, first)
-                          : options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha)
-                                                      : vMomentsAlpha;
+        __m256 n, a, am;
+        if (gradient) {
+          // A-SVGF: N' = min(N (1 - G)^e + 1, max), weights mix(max(1/N', floor), 1, G).
+          float gv[8];
+          const float* grow = gradient->row(y / gradientStride);
+          for (int k = 0; k < 8; ++k) gv[k] = std::clamp(grow[(x + k) / gradientStride], 0.0f, 1.0f);
+          const __m256 g = _mm256_loadu_ps(gv);
+          __m256 shrink = one, d = _mm256_sub_ps(one, g);
+          for (int k = int(e); k; k >>= 1) {
+            if (k & 1) shrink = _mm256_mul_ps(shrink, d);
+            d = _mm256_mul_ps(d, d);
+          }
+          n = _mm256_min_ps(_mm256_add_ps(_mm256_mul_ps(len, shrink), one), maxLen);
+          const __m256 invN = _mm256_div_ps(one, n);
+          const __m256 a0 = _mm256_max_ps(invN, vAlpha), am0 = _mm256_max_ps(invN, vMomentsAlpha);
+          a = _mm256_add_ps(a0, _mm256_mul_ps(_mm256_sub_ps(one, a0), g));
+          am = _mm256_add_ps(am0, _mm256_mul_ps(_mm256_sub_ps(one, am0), g));
+        } else {
+          // n = min(round(history length) + 1, max), round half away from zero as std::round.
+          __m256 rounded = _mm256_round_ps(len, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+          rounded = _mm256_add_ps(rounded, _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(len, rounded), half, _CMP_GE_OQ), one));
+          n = _mm256_min_ps(_mm256_add_ps(rounded, one), maxLen);
+          const __m256 invN = _mm256_div_ps(one, n);
+          const __m256 floorAlpha = alphas ? _mm256_loadu_ps(alphas + i) : vAlpha;
+          // Fixed weights (Gersthofer): alpha, or 1 where the taps hold no data yet (n = 1).
+          const __m256 first = _mm256_cmp_ps(n, one, _CMP_LE_OQ);
+          a = fixed ? _mm256_blendv_ps(floorAlpha, one, first) : _mm256_max_ps(invN, floorAlpha);
+          am = fixed                       ? _mm256_blendv_ps(vMomentsAlpha, one, first)
+               : options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha)
+                                           : vMomentsAlpha;
+        }
         _mm256_storeu_ps(h.length.ptr() + i, n);
         __m256 c[3];
         for (int k = 0; k < 3; ++k) {
