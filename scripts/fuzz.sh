@@ -17,8 +17,11 @@ status=0
 for t in native_sequence blender_sequence sequence_json settings; do
   dir=$work/$t
   mkdir -p "$dir/corpus" "$dir/seeds"
-  # Seeds: fuzz/corpus/<target>, and the Blender fixture's frames for the two EXR readers.
-  if [ -d fuzz/corpus/"$t" ]; then cp fuzz/corpus/"$t"/* "$dir/seeds/"; fi
+  # Seeds: fuzz/corpus/<target>, the regression fixtures tests/fixtures/fuzz/<target>, and the
+  # Blender fixture's frames for the two EXR readers.
+  for seeds in fuzz/corpus/"$t" tests/fixtures/fuzz/"$t"; do
+    if [ -d "$seeds" ]; then cp "$seeds"/* "$dir/seeds/"; fi
+  done
   case $t in native_sequence|blender_sequence) cp tests/fixtures/blender/*.exr "$dir/seeds/" ;; esac
   echo "fuzz_$t: ${seconds} s"
   if ! "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
