@@ -75,17 +75,18 @@ struct AccumulationPC {
   uint32_t luminanceMode, cumulativeMoments;
   uint32_t gradientWidth = 0, gradientStride = 1;
   float historyExponent = 0;
-  uint32_t options = 0;  // 1: per-pixel alpha (binding 5); 2: clip box (binding 6)
+  uint32_t options = 0;  // 1: per-pixel alpha (binding 5); 2: clip box (binding 6); 4: fixed weights (Gersthofer)
 };
 }  // namespace
 
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
                                  int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments,
-                                 const Planes* sampleMask, const Planes* alphaPlane, const Planes* clipBox) {
+                                 const Planes* sampleMask, const Planes* alphaPlane, const Planes* clipBox,
+                                 bool cumulativeColor) {
   const Planes& prev = advance(rec);
   AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
                     luminanceMode, cumulativeMoments};
-  pc.options = (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u);
+  pc.options = (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u) | (cumulativeColor ? 0u : 4u);
   const Binding dummy(rec.context().dummy());
   const Binding a = alphaPlane ? Binding(*alphaPlane) : dummy, c = clipBox ? Binding(*clipBox) : dummy;
   rec.dispatch(sampleMask ? "temporal_accumulation_masked" : "temporal_accumulation",
@@ -146,7 +147,8 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
   } pc{uint32_t(in.width), uint32_t(in.height), lv.step, lv.radius, lv.sigmaDepth, lv.depthEpsilon,
        std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
-           (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u),
+           (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u) | (lv.indirectDistance ? 32u : 0u) |
+           (lv.centreScale ? 64u : 0u),
        lv.luminanceMode, uint32_t(lv.validInPlane)};
   const Binding dummy(rec.context().dummy());
   std::vector<Binding> bindings{depth, normal, gradient, in, out, lv.sigmaScale ? Binding(*lv.sigmaScale) : dummy,
@@ -154,7 +156,13 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
   // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
   constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);
   const bool tiled = lv.sharedTile && rec.context().limits().maxComputeSharedMemorySize >= kTileBytes;
-  if (lv.validIn && lv.validOut) {
+  if (lv.centreScale || lv.indirectDistance) {
+    const Binding dummy(rec.context().dummy());
+    bindings.push_back(lv.indirectDistance ? Binding(*lv.indirectDistance) : dummy);
+    bindings.push_back(lv.indirectDistanceScale ? Binding(*lv.indirectDistanceScale) : dummy);
+    bindings.push_back(lv.centreScale ? Binding(*lv.centreScale) : dummy);
+    rec.dispatch(tiled ? "atrous_glossy" : "atrous_glossy_untiled", bindings, pc, in.width, in.height);
+  } else if (lv.validIn && lv.validOut) {
     bindings.push_back(*lv.validIn);
     bindings.push_back(*lv.validOut);
     rec.dispatch(tiled ? "atrous_masked" : "atrous_masked_untiled", bindings, pc, in.width, in.height);
@@ -168,6 +176,35 @@ void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int
     uint32_t width, height, srcPlane, dstPlane;
   } pc{uint32_t(in.width), uint32_t(in.height), uint32_t(srcPlane), uint32_t(dstPlane)};
   rec.dispatch("gaussian3x3", {in, out}, pc, in.width, in.height);
+}
+
+void eyeReproject(Recorder& rec, const GpuFrame& t, const GpuFrame& src, const Planes* valid, int validPlane,
+                  const ReprojectionSettings& s, float blend, const Planes& targetLight, const Planes& sourceLight,
+                  Planes& out) {
+  struct PC {
+    uint32_t width, height, flags, validPlane;
+    float normalTolerance, depthTolerance, depthGradientScale, blend;
+  } pc{uint32_t(t.width), uint32_t(t.height), 0, uint32_t(validPlane), s.normalTolerance, s.depthTolerance,
+       s.depthGradientScale, blend};
+  // The tests eyeTaps() runs: object ids where both eyes have them.
+  if (s.testObjectId && t.has(Buffer::ObjectId) && src.has(Buffer::ObjectId)) pc.flags |= 1;
+  if (s.testDepth) pc.flags |= 2;
+  if (src.has(Buffer::DepthGradient)) pc.flags |= 4;
+  if (valid) pc.flags |= 8;
+  const Context& ctx = rec.context();
+  rec.dispatch("eye_reprojection",
+               {t[Buffer::Position], t[Buffer::Normal], t.bindingOf(Buffer::ObjectId, ctx), src[Buffer::Normal],
+                src[Buffer::Depth], src.bindingOf(Buffer::ObjectId, ctx), src.bindingOf(Buffer::DepthGradient, ctx),
+                valid ? Binding(*valid) : Binding(ctx.dummy()), src.camera, targetLight, sourceLight, out},
+               pc, t.width, t.height);
+}
+
+void fxaa(Recorder& rec, const Planes& in, Planes& out, float edgeThreshold, float edgeThresholdMin, float subpixel) {
+  struct PC {
+    uint32_t width, height;
+    float edgeThreshold, edgeThresholdMin, subpixel;
+  } pc{uint32_t(in.width), uint32_t(in.height), edgeThreshold, edgeThresholdMin, subpixel};
+  rec.dispatch("fxaa", {in, out}, pc, in.width, in.height);
 }
 
 void GpuTaa::resize(Context& ctx, int w, int h) {
