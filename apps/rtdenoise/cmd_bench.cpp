@@ -94,7 +94,7 @@ void runBench(const BenchOptions& o) {
       masks.push_back(std::move(m));
     }
 
-  std::map<std::string, std::vector<double>> passes;
+  std::map<std::string, std::vector<double>> passes, passesCpu;
   std::vector<std::string> order;
   std::vector<double> totals, cpuTimes;
   Progress progress("bench " + o.method, o.warmup + o.frames);
@@ -120,6 +120,7 @@ void runBench(const BenchOptions& o) {
     for (const auto& p : st.passes) {
       if (!passes.count(p.name)) order.push_back(p.name);
       passes[p.name].push_back(p.milliseconds);
+      passesCpu[p.name].push_back(p.cpuMilliseconds);
     }
     totals.push_back(st.totalMilliseconds);
     cpuTimes.push_back(cpu);
@@ -138,9 +139,19 @@ void runBench(const BenchOptions& o) {
     std::printf("  cpu path: %s\n", describeCpuPath().c_str());
     j["cpuPath"] = cpuPathName(cpuPath());
   }
+  // Per pass: the wall time, and on the CPU backend the process CPU time during the pass (all
+  // threads; with --threads 1 the pass's own cost, which other work on the machine barely moves).
+  const bool cpuColumn = device->backend() == Backend::Cpu;
+  if (cpuColumn) std::printf("  %-24s %9s    %9s\n", "pass", "wall", "cpu");
   for (const auto& name : order) {
     const double m = median(passes[name]);
-    std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
+    if (cpuColumn) {
+      const double c = median(passesCpu[name]);
+      std::printf("  %-24s %9.3f ms %9.3f ms\n", name.c_str(), m, c);
+      j["passesCpuMedianMs"][name] = c;
+    } else {
+      std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
+    }
     j["passesMedianMs"][name] = m;
   }
   const double total = median(totals);

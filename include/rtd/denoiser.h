@@ -29,6 +29,10 @@ std::string_view backendName(Backend b);
 struct PassTiming {
   std::string name;
   double milliseconds = 0;
+  /// CPU backend: the CPU time the process spent during the pass, all threads together (on a
+  /// machine shared with other work this grows far less than the wall time; with one thread it
+  /// is the pass's own cost). 0 where not measured (Vulkan).
+  double cpuMilliseconds = 0;
 };
 
 /// What import did to the values of one buffer of a frame (both backends alike; the ranges are
