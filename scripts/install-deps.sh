@@ -9,6 +9,8 @@ packages=(
   libembree-dev libtinygltf-dev libstb-dev
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
   chromium help2man libwebp-dev
+  # Per-buffer input files other than EXR (PFM, HDR, PNG, TIFF; src/io/oiio) and their tests (oiiotool).
+  libopenimageio-dev openimageio-tools
   # Training of the learned methods and its tests only (python/rtdenoise_train, /usr/bin/python3).
   python3-torch python3-numpy python3-matplotlib
   # Python bindings (bindings/python: pybind11 module for /usr/bin/python3) and their tests.
