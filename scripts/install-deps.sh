@@ -8,6 +8,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libtinygltf-dev libstb-dev
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
+  # The sanitizer stage of scripts/test.sh: ASan/UBSan/LSan and libFuzzer (llvm-14 for symbolized reports).
+  clang-14 libclang-rt-14-dev llvm-14
   chromium help2man libwebp-dev
   # Per-buffer input files other than EXR (PFM, HDR, PNG, TIFF; src/io/oiio) and their tests (oiiotool).
   libopenimageio-dev openimageio-tools
