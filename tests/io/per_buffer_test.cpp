@@ -78,8 +78,17 @@ void writePfm(const fs::path& path, const Image& img) {
       }
 }
 
-void oiiotool(const fs::path& in, const std::string& args, const fs::path& out) {
-  const std::string cmd = "oiiotool " + in.string() + " " + args + " -o " + out.string() + " > /dev/null 2>&1";
+/// Conversions by oiiotool, all in one run (each run loads OpenImageIO anew): input, the
+/// arguments before -o, output.
+struct Conversion {
+  fs::path in;
+  std::string args;
+  fs::path out;
+};
+void oiiotool(const std::vector<Conversion>& conversions) {
+  std::string cmd = "oiiotool";
+  for (const auto& c : conversions) cmd += " " + c.in.string() + " " + c.args + " -o " + c.out.string();
+  cmd += " > /dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd << " (apt-get install openimageio-tools)";
 }
 
@@ -96,6 +105,7 @@ void writeCameras(const fs::path& dir) {
 /// EXR by oiiotool), and cameras.json.
 fs::path writePerBuffer(const std::string& ext) {
   const fs::path dir = scratch(ext);
+  std::vector<Conversion> tiffs;
   for (int k = 0; k < kFrames; ++k) {
     const Frame f = synthetic::makeFrame(scene(), k);
     for (int b = 0; b < kBufferCount; ++b) {
@@ -106,11 +116,12 @@ fs::path writePerBuffer(const std::string& ext) {
         continue;
       }
       writeExr(exr, f.buffers[b], exrNames(Buffer(b)));
-      if (ext == "tif") {
-        oiiotool(exr, "-d float", dir / fileName(Buffer(b), f.number, "tif"));
-        fs::remove(exr);
-      }
+      if (ext == "tif") tiffs.push_back({exr, "-d float", dir / fileName(Buffer(b), f.number, "tif")});
     }
+  }
+  if (!tiffs.empty()) {
+    oiiotool(tiffs);
+    for (const auto& c : tiffs) fs::remove(c.in);
   }
   writeCameras(dir);
   return dir;
@@ -187,17 +198,18 @@ INSTANTIATE_TEST_SUITE_P(Formats, PerBufferLossless, ::testing::Values("exr", "p
 TEST(PerBuffer, LossyFormatsWithinTheirQuantisation) {
   REQUIRE_OTHER_FORMATS();
   const fs::path dir = writePerBuffer("exr");
+  std::vector<Conversion> conversions;
   for (int k = 0; k < kFrames; ++k) {
     const Frame f = synthetic::makeFrame(scene(), k);
     const fs::path color = dir / fileName(Buffer::Color, f.number, "exr"), albedo = dir / fileName(Buffer::Albedo, f.number, "exr");
-    oiiotool(color, "", dir / fileName(Buffer::Color, f.number, "hdr"));
+    conversions.push_back({color, "", dir / fileName(Buffer::Color, f.number, "hdr")});
     Image encoded = f[Buffer::Albedo];
     for (float& v : encoded.pixels) v = tonemap::srgbEncode(std::clamp(v, 0.0f, 1.0f));
     writeExr(albedo, encoded, {"R", "G", "B"});
-    oiiotool(albedo, "-d uint8 --attrib oiio:ColorSpace sRGB", dir / fileName(Buffer::Albedo, f.number, "png"));
-    fs::remove(color);
-    fs::remove(albedo);
+    conversions.push_back({albedo, "-d uint8 --attrib oiio:ColorSpace sRGB", dir / fileName(Buffer::Albedo, f.number, "png")});
   }
+  oiiotool(conversions);
+  for (const auto& c : conversions) fs::remove(c.in);
   auto seq = SequenceReader::open(dir);
   for (int i = 0; i < kFrames; ++i) {
     const Frame got = seq->read(i), want = synthetic::makeFrame(scene(), i);
@@ -232,7 +244,7 @@ TEST(PerBuffer, RefusesMissingFilesDuplicatesAndIntegerDepth) {
 
   if (io::otherFormatsAvailable()) {
     const fs::path depth = dup / fileName(Buffer::Depth, first, "exr");
-    oiiotool(depth, "-d uint8", dup / fileName(Buffer::Depth, first, "png"));
+    oiiotool({{depth, "-d uint8", dup / fileName(Buffer::Depth, first, "png")}});
     fs::remove(depth);
     auto seq = SequenceReader::open(dup);
     e = errorOf([&] { seq->read(0); });
