@@ -46,7 +46,7 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   o.output.prepare(kDenoiseOutputs);
   const fs::path out(o.output.dir);
   std::fprintf(stderr, "denoising %d frames (%dx%d, %s input) with '%s' on %s\n", frames, reader->width(),
-               reader->height(), reader->kind() == SequenceKind::Native ? "native" : "Blender", o.method.c_str(),
+               reader->height(), std::string(sequenceKindName(reader->kind())).c_str(), o.method.c_str(),
                device->name().c_str());
 
   json timing;
