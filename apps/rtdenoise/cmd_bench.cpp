@@ -25,6 +25,8 @@ struct BenchOptions {
   bool sampleMask = false;
   bool ftzDaz = false;
   bool stereo = false;
+  std::string input;  // a sequence to time instead of the synthetic scene
+  int inputFrames = 6;
 };
 
 // CPU time of the whole process (all threads), milliseconds.
@@ -54,7 +56,7 @@ double median(std::vector<double> v) {
 }
 
 void runBench(const BenchOptions& o) {
-  const auto [w, h] = parseSize(o.size);
+  auto [w, h] = parseSize(o.size);
   (void)methodInfo(o.method);
   if (o.ftzDaz) setFlushToZero();
   auto device = Device::create(o.device.desc(o.device.single()));
@@ -69,18 +71,30 @@ void runBench(const BenchOptions& o) {
     applySettings(*denoiser, o.settings);
   }
 
-  // A few distinct frames of a moving camera, cycled, so reprojection does real work.
-  synthetic::Scene scene;
-  scene.width = w;
-  scene.height = h;
+  // A few distinct frames of a moving camera, cycled, so reprojection does real work: the
+  // synthetic scene's, or the first --input-frames of a sequence (read before timing).
   std::vector<Frame> inputs, rightInputs;
-  for (int i = 0; i < 4; ++i) inputs.push_back(synthetic::makeFrame(scene, i));
-  // The right eye (--stereo): the same view with its own noise (the synthetic scene has one
-  // camera; every pixel then reprojects into the other eye, the exchange's most work).
-  synthetic::Scene right = scene;
-  right.seed = scene.seed + 1;
-  if (o.stereo)
+  synthetic::Scene scene;
+  if (!o.input.empty()) {
+    const auto seq = SequenceReader::open(o.input);
+    for (int i = 0; i < std::min(o.inputFrames, seq->frameCount()); ++i) inputs.push_back(seq->read(i));
+    if (inputs.empty()) throw Error("bench: input '" + o.input + "' has no frames");
+    w = seq->width();
+    h = seq->height();
+  } else {
+    scene.width = w;
+    scene.height = h;
+    for (int i = 0; i < 4; ++i) inputs.push_back(synthetic::makeFrame(scene, i));
+  }
+  // The right eye (--stereo, synthetic scene only): the same view with its own noise (the
+  // synthetic scene has one camera; every pixel then reprojects into the other eye, the
+  // exchange's most work).
+  if (o.stereo) {
+    synthetic::Scene right = scene;
+    right.seed = scene.seed + 1;
     for (int i = 0; i < 4; ++i) rightInputs.push_back(synthetic::makeFrame(right, i));
+  }
+  const int cycle = std::max(1, 2 * int(inputs.size()) - 2);
   Image output(w, h, 3), rightOutput(o.stereo ? w : 0, o.stereo ? h : 0, 3);
   // --sample-mask: a quarter of the pixels per frame (position in a 2x2 block, rotating over four
   // frames) as the frames' sampleMask, to time a progressive mode (svgf's useSampleMask). Only
@@ -99,8 +113,8 @@ void runBench(const BenchOptions& o) {
   std::vector<double> totals, cpuTimes;
   Progress progress("bench " + o.method, o.warmup + o.frames);
   for (int i = 0; i < o.warmup + o.frames; ++i) {
-    // Cycle 0,1,2,3,2,1,0,... so consecutive frames are always one camera step apart.
-    const int k = i % 6, idx = k < 4 ? k : 6 - k;
+    // Cycle 0,1,..,n-1,n-2,..,1,0,... so consecutive frames are always one camera step apart.
+    const int n = int(inputs.size()), k = i % cycle, idx = k < n ? k : cycle - k;
     FrameInputs in = inputs[idx].inputs();
     if (o.sampleMask) in[Buffer::SampleMask] = masks[size_t(i % 4)].view();
     const double cpuStart = processCpuMs();
@@ -128,12 +142,14 @@ void runBench(const BenchOptions& o) {
   progress.finish();
   const FrameStats& last = stereo ? stereo->stats() : denoiser->stats();
 
-  std::printf("method %s, %s%dx%d, %s, %d frames after %d warm-up (medians)%s%s\n", o.method.c_str(),
+  std::printf("method %s, %s%dx%d, %s, %d frames after %d warm-up (medians)%s%s%s%s\n", o.method.c_str(),
               o.stereo ? "both eyes of " : "", w, h, device->name().c_str(), o.frames, o.warmup,
-              o.sampleMask ? ", 1/4 sample mask" : "", o.ftzDaz ? ", FTZ/DAZ set in this process" : "");
+              o.sampleMask ? ", 1/4 sample mask" : "", o.ftzDaz ? ", FTZ/DAZ set in this process" : "",
+              o.input.empty() ? "" : ", input ", o.input.c_str());
   nlohmann::json j = {{"method", o.method}, {"width", w}, {"height", h}, {"device", device->name()},
                       {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames},
                       {"sampleMask", o.sampleMask}, {"ftzDaz", o.ftzDaz}, {"stereo", o.stereo}};
+  if (!o.input.empty()) j["input"] = o.input;
   if (device->backend() == Backend::Cpu) {
     // The SIMD path the CPU passes dispatched to (RTD_CPU_PATH forces one).
     std::printf("  cpu path: %s\n", describeCpuPath().c_str());
@@ -172,7 +188,7 @@ void runBench(const BenchOptions& o) {
 
 void addBench(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
-  auto* cmd = addSubcommand(app, "bench", "time a method's passes on a synthetic scene (medians)");
+  auto* cmd = addSubcommand(app, "bench", "time a method's passes on a synthetic scene or a sequence (medians)");
   cmd->add_option("--method,-m", o->method, "method name (see `rtdenoise methods`)")->capture_default_str();
   cmd->add_option("--size", o->size, "WIDTHxHEIGHT")->capture_default_str();
   o->device.add(cmd);
@@ -181,7 +197,15 @@ void addBench(CLI::App& app) {
   cmd->add_option("--warmup", o->warmup, "untimed frames first")->capture_default_str()->check(atLeast(0));
   cmd->add_option("--json", o->json, "FILE: also write the medians as JSON to FILE");
   cmd->add_flag("--sample-mask", o->sampleMask, "frames carry a rotating 1/4 sampleMask (progressive modes)");
-  cmd->add_flag("--stereo", o->stereo, "both eyes through the two-view denoiser (the right eye: other noise)");
+  auto* input = cmd->add_option("--input,-i", o->input,
+                                "time on the first frames of this sequence (e.g. a rendered mirrorfloor) instead of the "
+                                "synthetic scene; --size is then the sequence's");
+  cmd->add_option("--input-frames", o->inputFrames, "with --input: frames read and cycled")
+      ->capture_default_str()
+      ->check(atLeast(2))
+      ->needs(input);
+  cmd->add_flag("--stereo", o->stereo, "both eyes through the two-view denoiser (the right eye: other noise)")
+      ->excludes(input);
   cmd->add_flag("--ftz-daz", o->ftzDaz,
                 "set flush-to-zero and denormals-are-zero in this process first (for comparison only; "
                 "the library never changes the caller's floating-point mode)");

@@ -650,12 +650,7 @@ struct Renderer::Impl {
                                                                 settings.height);
         r = tracePath(g, v.eye, d, centreHit->object >= 0 ? centreHit : nullptr, sampler, rays);
       }
-      if (settings.clampLuminance > 0) {
-        const float l = luminance(r.total);
-        if (l > settings.clampLuminance) {
-          r.scale(settings.clampLuminance / l);
-        }
-      }
+      clampSample(r);
       sum.total += r.total;
       sum.direct += r.direct;
       sum.indirect += r.indirect;
@@ -667,6 +662,44 @@ struct Renderer::Impl {
     }
     sum.scale(1.0f / float(spp));
     return sum;
+  }
+
+  /// Samples per pixel of `color`: one (the guide ray) with guide-ray supersampling.
+  int colorSpp() const { return settings.guideRays ? 1 : settings.spp; }
+
+  /// Non-guide sample k of pixel (x, y) (guide-ray supersampling, Voorhuis Sec. 5): jittered
+  /// inside the pixel with the k-th sample's random numbers, as shade() jitters; `offset` is
+  /// its position minus the pixel centre, `depth` / `normal` its primary hit's (sky: kSkyDepth, 0).
+  Radiance jitteredSample(const FrameGeometry& g, const View& v, int x, int y, uint32_t seed, int k, float offset[2],
+                          float& depth, V3& normal, uint64_t& rays) const {
+    Sampler sampler(seed, uint32_t(k));
+    const auto [jx, jy] = sampler.next2D();
+    offset[0] = jx - 0.5f;
+    offset[1] = jy - 0.5f;
+    const V3 d = pixelDirection(v, float(x) + jx, float(y) + jy, settings.width, settings.height);
+    RTCRayHit rh;
+    ++rays;
+    Radiance r;
+    depth = kSkyDepth;
+    normal = V3(0);
+    if (intersect(g, v.eye, d, 1e30f, rh)) {
+      const Surface s = surface(g, rh, d);
+      depth = dot(s.p - v.eye, v.forward);
+      normal = s.ns;
+      r = tracePath(g, v.eye, d, &s, sampler, rays);
+    } else {
+      r = tracePath(g, v.eye, d, nullptr, sampler, rays);
+    }
+    clampSample(r);
+    return r;
+  }
+
+  void clampSample(Radiance& r) const {
+    if (settings.clampLuminance <= 0) return;
+    const float l = luminance(r.total);
+    if (l > settings.clampLuminance) {
+      r.scale(settings.clampLuminance / l);
+    }
   }
 
   /// Pixel coordinates of world point p seen by view v (perspective), or nullopt behind it.
@@ -808,7 +841,7 @@ struct Renderer::Impl {
       const Projected& p = proj[k];
       uint64_t rays = 0;
       const Surface s = surface(g, p.hit, p.dir);
-      const Radiance r = shade(g, v, p.x, p.y, src.candidates[k].sample.seed, settings.spp, 0, &s, rays, &p.dir);
+      const Radiance r = shade(g, v, p.x, p.y, src.candidates[k].sample.seed, colorSpp(), 0, &s, rays, &p.dir);
       f[Buffer::GradientSample].at(p.x, p.y) = 1.0f;
       f[Buffer::GradientPrevious].at(p.x, p.y) = src.candidates[k].sample.luminance;
       f[Buffer::GradientCurrent].at(p.x, p.y) = luminance(r.total);
@@ -827,7 +860,7 @@ struct Renderer::Impl {
     return it->second;
   }
 
-  Frame render(int index, Eye eye, bool withGradients = true) {
+  Frame render(int index, Eye eye, bool withGradients = true, GuideRaySamples* guideSamples = nullptr) {
     const auto start = std::chrono::steady_clock::now();
     if (index < 0) throw Error("render: frame index " + std::to_string(index) + " is negative");
     const int w = settings.width, h = settings.height;
@@ -866,6 +899,21 @@ struct Renderer::Impl {
       p[0] = c.x, p[1] = c.y, p[2] = c.z;
     };
     std::vector<PrimarySample> samples(gradients ? size_t(w) * h : 0);
+    if (guideSamples) {
+      if (!settings.guideRays) throw Error("render: guide-ray samples asked for without RenderSettings::guideRays");
+      const int n = std::max(0, settings.spp - 1);
+      guideSamples->samples.assign(size_t(n), Frame{});
+      guideSamples->offsets.assign(size_t(n), Image(w, h, 2));
+      for (Frame& sf : guideSamples->samples) {
+        sf.number = index + 1;
+        sf.width = w;
+        sf.height = h;
+        for (Buffer b : {Buffer::Color, Buffer::Emission, Buffer::Depth, Buffer::Normal}) sf[b] = Image(w, h, bufferChannelCount(b));
+        if (all)
+          for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular})
+            sf[b] = Image(w, h, bufferChannelCount(b));
+      }
+    }
 
     std::atomic<uint64_t> rayCount{0};
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& range) {
@@ -885,7 +933,27 @@ struct Renderer::Impl {
           const uint32_t seed = pixelSeed(index, x, y, eye, 0);
           const bool traced = masked(index, x, y, eye);
           Radiance r;
-          if (traced) r = shade(g, v, x, y, seed, settings.spp, 0, &s, rays);
+          if (traced) r = shade(g, v, x, y, seed, colorSpp(), 0, &s, rays);
+          if (guideSamples)
+            for (int k = 1; k < settings.spp; ++k) {
+              Frame& sf = guideSamples->samples[size_t(k - 1)];
+              float depth;
+              V3 n;
+              const Radiance sr = jitteredSample(g, v, x, y, seed, k, guideSamples->offsets[size_t(k - 1)].pixel(x, y), depth, n, rays);
+              for (auto [b, c] : {std::pair{Buffer::Color, sr.total}, {Buffer::Emission, sr.emission}}) {
+                float* p = sf[b].pixel(x, y);
+                p[0] = c.x, p[1] = c.y, p[2] = c.z;
+              }
+              if (all)
+                for (auto [b, c] : {std::pair{Buffer::Direct, sr.direct}, {Buffer::Indirect, sr.indirect},
+                                    {Buffer::Diffuse, sr.diffuse}, {Buffer::Specular, sr.specular}}) {
+                  float* p = sf[b].pixel(x, y);
+                  p[0] = c.x, p[1] = c.y, p[2] = c.z;
+                }
+              sf[Buffer::Depth].at(x, y) = depth;
+              float* pn = sf[Buffer::Normal].pixel(x, y);
+              pn[0] = n.x, pn[1] = n.y, pn[2] = n.z;
+            }
           put3(Buffer::Color, x, y, r.total);
           put3(Buffer::Emission, x, y, r.emission);
           if (all) {
@@ -1090,6 +1158,8 @@ static void validate(const RenderSettings& s) {
   if (!(s.sampleFraction > 0.0f && s.sampleFraction <= 1.0f)) bad("sampleFraction", "must be in (0, 1]");
   if (!(s.eyeDistance >= 0.0f) || !std::isfinite(s.eyeDistance)) bad("eyeDistance", "must be >= 0");
   if (!(s.clampLuminance >= 0.0f)) bad("clampLuminance", "must be >= 0");
+  if (s.guideRays && (s.pixelJitter || s.sampleFraction < 1.0f))
+    bad("guideRays", "needs unjittered guide rays at every pixel (no pixelJitter, sampleFraction 1)");
 }
 
 Renderer::Renderer(std::shared_ptr<const Scene> scene, RenderSettings settings) : impl_(std::make_unique<Impl>()) {
@@ -1106,6 +1176,7 @@ Renderer::~Renderer() = default;
 const RenderSettings& Renderer::settings() const { return impl_->settings; }
 const RenderStats& Renderer::stats() const { return impl_->stats; }
 Frame Renderer::render(int index, Eye eye) { return impl_->render(index, eye); }
+Frame Renderer::render(int index, Eye eye, GuideRaySamples& samples) { return impl_->render(index, eye, true, &samples); }
 Image Renderer::renderReference(int index, int spp, double secondsBudget, Eye eye) {
   return impl_->renderReference(index, spp, secondsBudget, eye);
 }
@@ -1125,7 +1196,7 @@ std::array<float, 3> Renderer::shadePixel(int index, int x, int y, uint32_t seed
   Surface hit;
   if (Impl::intersect(*geom, v.eye, d, 1e30f, rh)) hit = impl_->surface(*geom, rh, d);
   uint64_t rays = 1;
-  const auto r = impl_->shade(*geom, v, x, y, seed, s.spp, 0, &hit, rays);
+  const auto r = impl_->shade(*geom, v, x, y, seed, impl_->colorSpp(), 0, &hit, rays);
   return {r.total.x, r.total.y, r.total.z};
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "rtd/guide_rays.h"
 #include "rtd/sequence.h"
 
 namespace rtd::render {
@@ -60,6 +61,11 @@ struct RenderSettings {
   /// gradientPrevious, gradientCurrent; docs/renderer.md), one re-shaded sample of the previous
   /// frame per 3x3 stratum. Costs about 1/9 more paths.
   bool gradientSamples = true;
+  /// Supersampling with guide rays (Voorhuis 2018, Sec. 5): with spp > 1, `color` and the split
+  /// buffers hold only sample 0, traced through the pixel centre (the guide ray), and
+  /// render(index, eye, &samples) returns samples 1 .. spp-1, jittered inside the pixel, with
+  /// their own primary hits' depth and normal (include/rtd/guide_rays.h).
+  bool guideRays = false;
 };
 
 /// A loaded scene with its animation: meshes, materials, lights, camera path, frame count.
@@ -109,6 +115,9 @@ class Renderer {
   /// Frame `index` (0-based; Frame::number = index + 1): noisy color at settings().spp and every
   /// feature buffer (see docs/renderer.md for the list and conventions), camera matrices set.
   Frame render(int index, Eye eye = Eye::Center);
+  /// With settings().guideRays: the frame of the guide rays, and in `samples` its non-guide
+  /// samples (spp - 1 of them; none at spp 1).
+  Frame render(int index, Eye eye, GuideRaySamples& samples);
 
   /// Progressive reference of frame `index`: `spp` samples per pixel (stopping early, at a
   /// multiple of the batch, once `secondsBudget` > 0 is exceeded). Returns RGB radiance;
