@@ -7,6 +7,8 @@ packages=(
   libopenexr-dev libimath-dev libtbb-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libtinygltf-dev libstb-dev
+  # oneDNN: the CPU convolutions of the learned method rae (src/methods/rae).
+  libdnnl-dev
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
   chromium help2man
   # Training of the learned methods and its tests only (python/rtdenoise_train, /usr/bin/python3).
