@@ -14,8 +14,8 @@ mkdir -p "$out"
 for dir in "$data"/test/*/; do
   scene=$(basename "$dir")
   "$cli" compare --input "$dir" --reference "$dir/reference" --methods accumulate,svgf,bmfr,tnnd,rae \
-    --out "$out/$scene" --threads 2 > "$out-$scene.log" 2>&1 || { cat "$out-$scene.log"; exit 1; }
+    --output "$out/$scene" --overwrite --threads 2 > "$out-$scene.log" 2>&1 || { cat "$out-$scene.log"; exit 1; }
   "$cli" compare --input "$dir" --reference "$dir/reference" --methods tnnd --set tnnd.accumulate=true \
-    --out "$out/$scene-tnnd-accumulate" --threads 2 > "$out-$scene-acc.log" 2>&1 || { cat "$out-$scene-acc.log"; exit 1; }
+    --output "$out/$scene-tnnd-accumulate" --overwrite --threads 2 > "$out-$scene-acc.log" 2>&1 || { cat "$out-$scene-acc.log"; exit 1; }
 done
 /usr/bin/python3 tools/eval/learned_table.py "$out"

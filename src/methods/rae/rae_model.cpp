@@ -184,7 +184,7 @@ struct Network::Impl {
   };
   memory x;  // the network input at level 0
   std::vector<Level> level;
-  // Per level, for each parity p (frame reads hidden[p], writes hidden[p ^ 1]).
+  // Per level, for each parity p (frame reads hidden[p], writes hidden[1 - p]).
   std::vector<std::vector<Op>> encoder[2], decoder[2];
   std::vector<Op> features;  // avg-pooling of f_l
   int parity = 0;
@@ -238,6 +238,14 @@ struct Network::Impl {
     }
   }
 
+  // (A variadic list rather than an initializer list of memories: GCC 12 warns, wrongly, on
+  // destroying the latter's backing array.)
+  template <class... M> static std::vector<memory> parts(const M&... m) {
+    std::vector<memory> v;
+    (v.push_back(m), ...);
+    return v;
+  }
+
   Op pooling(dnnl::algorithm alg, const memory& src, const memory& dst) {
     const memory::dims two{2, 2}, zero{0, 0};
     const dnnl::pooling_forward::desc d(dnnl::prop_kind::forward_inference, alg, src.get_desc(), dst.get_desc(), two,
@@ -275,24 +283,24 @@ struct Network::Impl {
       for (int l = 1; l + 1 < L; ++l)
         features.push_back(pooling(dnnl::algorithm::pooling_avg_exclude_padding, level[size_t(l) - 1].f, level[size_t(l)].f));
     for (int p = 0; p < 2; ++p) {
+      // Frame parity p reads h^(t-1) from hidden[p] and writes h^t into hidden[q].
+      const int q = 1 - p;
       encoder[p].assign(size_t(L), {});
       decoder[p].assign(size_t(L), {});
       for (int l = 0; l < L; ++l) {
         Level& v = level[size_t(l)];
         auto& ops = encoder[p][size_t(l)];
-        if (l) ops.push_back(pooling(dnnl::algorithm::pooling_max, level[size_t(l) - 1].hidden[p ^ 1], v.u));
+        if (l) ops.push_back(pooling(dnnl::algorithm::pooling_max, level[size_t(l) - 1].hidden[q], v.u));
         ops.push_back(convolution(weights.encIn[size_t(l)], 0, l ? v.u : x, v.a, true, true));
-        concatConvolution(ops, weights.encRec[size_t(l)], {v.a, v.hidden[p]}, v.hidden[p ^ 1], true);
+        concatConvolution(ops, weights.encRec[size_t(l)], parts(v.a, v.hidden[p]), v.hidden[q], true);
       }
       for (int l = L - 2; l >= 0; --l) {
         Level& v = level[size_t(l)];
         auto& ops = decoder[p][size_t(l)];
-        const memory& below = l + 2 == L ? level[size_t(l) + 1].hidden[p ^ 1] : level[size_t(l) + 1].d;
+        const memory& below = l + 2 == L ? level[size_t(l) + 1].hidden[q] : level[size_t(l) + 1].d;
         ops.push_back(upsampling(below, v.up));
-        const memory& skip = p ? v.hidden[0] : v.hidden[1];  // h_l^t (p ^ 1; written so GCC sees the bound)
-        std::vector<memory> parts{v.up, skip};
-        if (nf) parts.push_back(v.f);
-        concatConvolution(ops, weights.decA[size_t(l)], parts, v.t, true);
+        concatConvolution(ops, weights.decA[size_t(l)], nf ? parts(v.up, v.hidden[q], v.f) : parts(v.up, v.hidden[q]),
+                          v.t, true);
         ops.push_back(convolution(weights.decB[size_t(l)], 0, v.t, v.d, true, l > 0));
       }
     }

@@ -196,7 +196,9 @@ TEST(Rae, BadWeightsFileIsReportedAndTheOldWeightsStay) {
   auto d = device->createDenoiser("rae");
   EXPECT_THROW(d->set("weights", dir + "/rae_bad_version.json"), Error);
   for (const auto& s : d->settings()) {
-    if (s.name == "weights") EXPECT_EQ(s.value, "") << "the setting still names the built-in weights";
+    if (s.name == "weights") {
+      EXPECT_EQ(s.value, "") << "the setting still names the built-in weights";
+    }
   }
   Frame g = test::flatFrame(8, 8, 0.5f);
   g[Buffer::Albedo] = Image(8, 8, 3, 0.5f);
