@@ -35,6 +35,14 @@ inline void writeFile(const fs::path& p, const uint8_t* data, size_t size) {
   out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
 }
 
+/// The sequence.json of fuzz_native_sequence (and of its regression fixtures): one 24x16 frame,
+/// frame_0001.exr, with every buffer the renderer's minimal output has.
+inline void writeNativeManifest(const fs::path& dir) {
+  std::ofstream(dir / "sequence.json") << R"({"format": "rtdenoise-sequence", "version": 1, "width": 24, "height": 16,
+    "buffers": ["color", "albedo", "normal", "depth", "position", "motion", "objectId", "roughness"],
+    "frames": [{"number": 1, "file": "frame_0001.exr"}]})";
+}
+
 /// Stops the fuzzer (a crash it records) when `ok` is false.
 inline void require(bool ok, const char* what) {
   if (!ok) {

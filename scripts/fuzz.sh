@@ -11,13 +11,17 @@ seconds=${RTD_FUZZ_SECONDS:-30}
 work=$build/fuzz-work
 export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
+export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-/usr/lib/llvm-14/bin/llvm-symbolizer}
 
 status=0
 for t in native_sequence blender_sequence sequence_json settings; do
   dir=$work/$t
   mkdir -p "$dir/corpus" "$dir/seeds"
-  # Seeds: fuzz/corpus/<target>, and the Blender fixture's frames for the two EXR readers.
-  if [ -d fuzz/corpus/"$t" ]; then cp fuzz/corpus/"$t"/* "$dir/seeds/"; fi
+  # Seeds: fuzz/corpus/<target>, the regression fixtures tests/fixtures/fuzz/<target>, and the
+  # Blender fixture's frames for the two EXR readers.
+  for seeds in fuzz/corpus/"$t" tests/fixtures/fuzz/"$t"; do
+    if [ -d "$seeds" ]; then cp "$seeds"/* "$dir/seeds/"; fi
+  done
   case $t in native_sequence|blender_sequence) cp tests/fixtures/blender/*.exr "$dir/seeds/" ;; esac
   echo "fuzz_$t: ${seconds} s"
   if ! "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \

@@ -10,7 +10,9 @@ packages=(
   # oneDNN: the CPU convolutions of the learned method rae (src/methods/rae).
   libdnnl-dev
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
-  chromium help2man
+  # The sanitizer stage of scripts/test.sh: ASan/UBSan/LSan and libFuzzer (llvm-14 for symbolized reports).
+  clang-14 libclang-rt-14-dev llvm-14
+  chromium help2man libwebp-dev
   # Training of the learned methods and its tests only (python/rtdenoise_train, /usr/bin/python3).
   python3-torch python3-numpy python3-matplotlib
   # Python bindings (bindings/python: pybind11 module for /usr/bin/python3) and their tests.

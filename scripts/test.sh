@@ -1,8 +1,17 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds (Release) and runs the whole test suite.
+# Installs what is missing, builds (Release) and runs the whole test suite; then the sanitizer
+# stage: the library, CLI and tests built with ASan + UBSan + LeakSanitizer (clang 14, the
+# `asan` preset) run the whole suite again (Vulkan on lavapipe included), and each libFuzzer
+# target runs for a fixed time (scripts/fuzz.sh). RTD_SANITIZERS=0 skips the sanitizer stage.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cmake --preset release
 cmake --build build/release -j"$(nproc)"
 ctest --preset release -j"$(nproc)"
+if [ "${RTD_SANITIZERS:-1}" != 0 ]; then
+  cmake --preset asan
+  cmake --build build/asan -j"$(nproc)"
+  ctest --preset asan -j"$(nproc)"
+  scripts/fuzz.sh build/asan
+fi

@@ -19,7 +19,7 @@ install="${2:-}"
 case "$model" in
   tnnd)
     : "${DATASET_ARGS:=--seed 1 --procedural 10 --scene data/scenes/props.json --test glossy,dynamic,props --frames 4 --test-frames 6 --size 256x256 --reference-spp 64 --max-reference-spp 256 --tolerance 0.02 --threads 2}"
-    : "${TRAIN_ARGS:=--steps 300 --batch 2 --patch 128 --lr 0.005 --losses mse=1,gradient=0.5 --val-every 25 --checkpoint-every 25 --threads 2}"
+    : "${TRAIN_ARGS:=--steps 2000 --batch 2 --patch 128 --lr 0.005 --losses mse=1,gradient=0.5 --val-every 25 --checkpoint-every 25 --threads 1}"
     weights_target=src/methods/tnnd/tnnd_weights.json ;;
   rae)
     # The RAE trains on TNND's data set (docs/methods/rae.md "Training").

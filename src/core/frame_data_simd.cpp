@@ -114,10 +114,10 @@ inline void interleave8(const __m256 c[4], int stride, __m256 out[4]) {
 
 void exportRow(const float* const c[3], const float* const* e, const ImageView& out, int y, bool packed, bool stream) {
   const bool alpha = out.format == Format::Float4;
-  const int stride = alpha ? 4 : 3;
   int x = 0;
 #ifdef RTD_SIMD_AVX2
   if (packed) {
+    const int stride = alpha ? 4 : 3;
     float* row = out.pixel<float>(0, y);
     const bool nonTemporal = stream && reinterpret_cast<uintptr_t>(row) % 32 == 0;
     for (; x + 8 <= out.width; x += 8) {

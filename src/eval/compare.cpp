@@ -1,6 +1,7 @@
 // Running several methods on one sequence and evaluating them side by side.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -128,6 +129,42 @@ std::vector<std::string> labelRuns(const std::vector<PlannedRun>& plan) {
   return labels;
 }
 
+/// Box-filter downscale by an integer factor (the last block of a row or column may be partial).
+Image downscale(const Image& img, int factor) {
+  if (factor <= 1) return img;
+  const int w = (img.width + factor - 1) / factor, h = (img.height + factor - 1) / factor;
+  Image out(w, h, img.channels, 0.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int x1 = std::min(img.width, (x + 1) * factor), y1 = std::min(img.height, (y + 1) * factor);
+      const float n = float((x1 - x * factor) * (y1 - y * factor));
+      for (int yy = y * factor; yy < y1; ++yy)
+        for (int xx = x * factor; xx < x1; ++xx)
+          for (int c = 0; c < img.channels; ++c) {
+            const float v = img.at(xx, yy, c);
+            out.at(x, y, c) += (std::isfinite(v) ? v : 0.0f) / n;
+          }
+    }
+  return out;
+}
+
+/// The reference's own error from two independent halves A, B (ReferenceQuality): relMSE
+/// mean((A-B)^2 / 4 / (R^2 + eps)) on linear HDR and PSNR from MSE(tm(A), tm(B)) / 4.
+std::pair<double, double> referenceNoise(const Image& a, const Image& b, const Image& reference, const EvalSettings& s) {
+  if (a.width != reference.width || b.width != reference.width || a.height != reference.height || b.height != reference.height)
+    throw Error("comparison: the reference halves differ in size from the reference");
+  double rel = 0;
+  size_t n = 0;
+  for (int y = 0; y < reference.height; ++y)
+    for (int x = 0; x < reference.width; ++x)
+      for (int c = 0; c < 3; ++c, ++n) {
+        const double d = double(a.at(x, y, c)) - b.at(x, y, c), r = reference.at(x, y, c);
+        rel += d * d / 4.0 / (r * r + s.relMseEpsilon);
+      }
+  const double m = mse(toneMap(a, s.toneMap), toneMap(b, s.toneMap)) / 4.0;
+  return {rel / double(std::max<size_t>(n, 1)), m > 0 ? 10.0 * std::log10(1.0 / m) : kInfinity};
+}
+
 struct Runner {
   MethodRun run;
   std::unique_ptr<Denoiser> denoiser;  // null for the input
@@ -252,7 +289,9 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
   if (settings.shownFrame >= source.frameCount)
     throw Error("comparison: shown frame index " + std::to_string(settings.shownFrame) + " is past the last of " +
                 std::to_string(source.frameCount) + " frames");
-  const int shown = settings.shownFrame < 0 ? source.frameCount - 1 : settings.shownFrame;
+  c.shownFrame = settings.shownFrame < 0 ? source.frameCount - 1 : settings.shownFrame;
+  double halvesRelMse = 0, halvesPsnr = 0;
+  int halvesFrames = 0;
   for (int i = 0; i < source.frameCount; ++i) {
     Image reference;
     const Frame frame = source.load(i, reference);
@@ -264,10 +303,22 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
       throw Error("comparison: frame " + std::to_string(frame.number) + " is " + std::to_string(frame.width) + "x" +
                   std::to_string(frame.height) + ", the first frame was " + std::to_string(c.width) + "x" +
                   std::to_string(c.height));
-    const bool isShown = i == shown;
-    if (isShown) {
-      c.reference = reference;
-      c.shownFrameNumber = frame.number;
+    c.frameNumbers.push_back(frame.number);
+    // The report keeps every frame of every stream, tone-mapped and downscaled by an integer
+    // factor to at most reportMaxWidth pixels.
+    const int factor = std::max(1, (frame.width + std::max(1, settings.reportMaxWidth) - 1) / std::max(1, settings.reportMaxWidth));
+    const auto encode = [&](const Image& img) { return encodeReportImage(img, &c.imageMime); };
+    const auto display = [&](const Image& linear) { return encode(toneMap(downscale(linear, factor), settings.eval.toneMap)); };
+    c.referenceImages.push_back(display(reference));
+    if (source.referenceHalves) {
+      Image a, b;
+      source.referenceHalves(i, a, b);
+      const auto [rel, ps] = referenceNoise(a, b, reference, settings.eval);
+      if (i >= settings.eval.warmupFrames) {
+        halvesRelMse += rel;
+        halvesPsnr += ps;
+        ++halvesFrames;
+      }
     }
     const FrameInputs inputs = frame.inputs();  // a cut (Frame::cut) resets each denoiser's history
     if (frame.cut)
@@ -287,11 +338,10 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
           }
         result = &r.output;
       }
-      const FrameMetrics& m = r.evaluator.add(*result, prepared, isShown ? &r.run.flipMap : nullptr);
-      if (isShown) {
-        r.run.shown = *result;
-        r.run.shownFlip = m.flip;
-      }
+      Image flipMap;
+      r.evaluator.add(*result, prepared, settings.eval.computeFlip ? &flipMap : nullptr);
+      r.run.frameImages.push_back(display(*result));
+      if (!flipMap.empty()) r.run.flipImages.push_back(encode(colorize(downscale(flipMap, factor))));
     }
     if (progress) progress(i + 1, source.frameCount, "frame " + std::to_string(frame.number));
   }
@@ -299,6 +349,19 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
   for (auto& r : runners) {
     r.run.metrics = {r.run.label, r.evaluator.frames(), r.evaluator.steady(), r.evaluator.warmup()};
     c.runs.push_back(std::move(r.run));
+  }
+  if (!c.referenceImages.empty()) {
+    const int factor = std::max(1, (c.width + std::max(1, settings.reportMaxWidth) - 1) / std::max(1, settings.reportMaxWidth));
+    c.displayWidth = (c.width + factor - 1) / factor;
+    c.displayHeight = (c.height + factor - 1) / factor;
+  }
+  c.referenceQuality.spp = source.referenceSpp;
+  c.referenceQuality.exact = source.referenceExact;
+  c.referenceQuality.note = source.referenceNote;
+  if (halvesFrames > 0) {
+    c.referenceQuality.estimated = true;
+    c.referenceQuality.relMse = halvesRelMse / halvesFrames;
+    c.referenceQuality.psnr = halvesPsnr / halvesFrames;
   }
   // Crop: as asked (it must lie inside the image); by default a centred region a third of each side.
   if (settings.cropWidth > 0) {
@@ -334,8 +397,17 @@ std::string comparisonTable(const Comparison& c) {
 }
 
 std::string comparisonJson(const Comparison& c) {
+  const ReferenceQuality& q = c.referenceQuality;
+  nlohmann::json reference = {{"spp", q.spp}, {"exact", q.exact}, {"note", q.note}, {"estimated", q.estimated}};
+  if (q.estimated) {
+    reference["relMse"] = q.relMse;
+    reference["psnr"] = std::isfinite(q.psnr) ? nlohmann::json(q.psnr) : nlohmann::json("inf");
+    reference["estimate"] = "from two independent half-sample references A, B: mean (A-B)^2/4 over the frames after warm-up";
+  }
   nlohmann::json j = {{"title", c.title},   {"source", c.source},   {"width", c.width},
-                      {"height", c.height}, {"frames", c.frames},   {"shownFrame", c.shownFrameNumber},
+                      {"height", c.height}, {"frames", c.frames},
+                      {"shownFrame", c.frameNumbers.empty() ? 0 : c.frameNumbers[size_t(c.shownFrame)]},
+                      {"reference", reference},
                       {"machine", c.machine}, {"seconds", c.seconds}, {"settings", settingsJson(c.eval)},
                       {"skipped", c.skipped}, {"runs", nlohmann::json::array()}};
   for (const auto& r : c.runs) {

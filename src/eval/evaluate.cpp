@@ -332,8 +332,7 @@ std::vector<StreamMetrics> evaluateDirectories(const fs::path& referenceDir, con
 
 // ---------------------------------------------------------------------------------------------
 
-namespace {
-std::string formatValue(double v, const MetricInfo& m) {
+std::string formatMetric(const MetricInfo& m, double v) {
   char buf[32];
   if (std::isnan(v)) return "-";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
@@ -345,6 +344,8 @@ std::string formatValue(double v, const MetricInfo& m) {
     std::snprintf(buf, sizeof buf, "%.3g", v);
   return buf;
 }
+
+namespace {
 
 std::string tableFor(const std::vector<StreamMetrics>& streams, bool warmup) {
   // Columns as wide as their labels (and the names: a configuration's label tells runs apart).
@@ -361,7 +362,7 @@ std::string tableFor(const std::vector<StreamMetrics>& streams, bool warmup) {
     const MetricSummary& sum = warmup ? s.warmup : s.steady;
     out += cell(s.name, nameWidth, true) + " " + cell(std::to_string(sum.frames), 6);
     for (const auto& m : metricList())
-      out += " " + cell(formatValue(sum.mean.*m.field, m), std::max(8, int(std::string(m.label).size())));
+      out += " " + cell(formatMetric(m, sum.mean.*m.field), std::max(8, int(std::string(m.label).size())));
     if (sum.mean.nonFiniteValues) out += "  (" + std::to_string(sum.mean.nonFiniteValues) + " NaN/Inf values, counted as 0)";
     out += "\n";
   }

@@ -111,8 +111,12 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
       h.m2.data[i] = flushTiny(am * squareOrZero(l) + (1.0f - am) * hist2);
     }
   };
-  // Eight pixels at a time where all eight have bilinear history (the same arithmetic).
-  const bool vectorized = !mask && !gradient && options.luminance != MomentLuminance::CieLightness;
+  // Eight pixels at a time where all eight have bilinear history (the same arithmetic; A-SVGF's
+  // gradient for integral exponents, historyShrink's squarings in the same order).
+  const float e = options.historyExponent;
+  const bool integralExponent = e == std::floor(e) && e >= 0.0f && e <= 64.0f;
+  [[maybe_unused]] const bool vectorized =
+      !mask && (!gradient || integralExponent) && options.luminance != MomentLuminance::CieLightness;
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef RTD_SIMD_AVX2
@@ -131,14 +135,33 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
           for (int k = 0; k < 8; ++k) pixel(i + k);
           continue;
         }
-        // n = min(round(history length) + 1, max), round half away from zero as std::round.
         const __m256 len = taps8.gather(lenPrev);
-        __m256 rounded = _mm256_round_ps(len, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
-        rounded = _mm256_add_ps(rounded, _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(len, rounded), half, _CMP_GE_OQ), one));
-        const __m256 n = _mm256_min_ps(_mm256_add_ps(rounded, one), maxLen);
-        const __m256 invN = _mm256_div_ps(one, n);
-        const __m256 a = _mm256_max_ps(invN, alphas ? _mm256_loadu_ps(alphas + i) : vAlpha);
-        const __m256 am = options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha) : vMomentsAlpha;
+        __m256 n, a, am;
+        if (gradient) {
+          // A-SVGF: N' = min(N (1 - G)^e + 1, max), weights mix(max(1/N', floor), 1, G).
+          float gv[8];
+          const float* grow = gradient->row(y / gradientStride);
+          for (int k = 0; k < 8; ++k) gv[k] = std::clamp(grow[(x + k) / gradientStride], 0.0f, 1.0f);
+          const __m256 g = _mm256_loadu_ps(gv);
+          __m256 shrink = one, d = _mm256_sub_ps(one, g);
+          for (int k = int(e); k; k >>= 1) {
+            if (k & 1) shrink = _mm256_mul_ps(shrink, d);
+            d = _mm256_mul_ps(d, d);
+          }
+          n = _mm256_min_ps(_mm256_add_ps(_mm256_mul_ps(len, shrink), one), maxLen);
+          const __m256 invN = _mm256_div_ps(one, n);
+          const __m256 a0 = _mm256_max_ps(invN, vAlpha), am0 = _mm256_max_ps(invN, vMomentsAlpha);
+          a = _mm256_add_ps(a0, _mm256_mul_ps(_mm256_sub_ps(one, a0), g));
+          am = _mm256_add_ps(am0, _mm256_mul_ps(_mm256_sub_ps(one, am0), g));
+        } else {
+          // n = min(round(history length) + 1, max), round half away from zero as std::round.
+          __m256 rounded = _mm256_round_ps(len, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+          rounded = _mm256_add_ps(rounded, _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(len, rounded), half, _CMP_GE_OQ), one));
+          n = _mm256_min_ps(_mm256_add_ps(rounded, one), maxLen);
+          const __m256 invN = _mm256_div_ps(one, n);
+          a = _mm256_max_ps(invN, alphas ? _mm256_loadu_ps(alphas + i) : vAlpha);
+          am = options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha) : vMomentsAlpha;
+        }
         _mm256_storeu_ps(h.length.ptr() + i, n);
         __m256 c[3];
         for (int k = 0; k < 3; ++k) {

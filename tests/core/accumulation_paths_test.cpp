@@ -3,13 +3,16 @@
 // allocator they rely on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <set>
+#include <string>
 
 #include "passes/demodulation.h"
 #include "passes/reprojection.h"
 #include "passes/temporal_accumulation.h"
+#include "support/cpu_paths.h"
 
 namespace rtd {
 namespace {
@@ -105,6 +108,56 @@ TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(out[c].data[i], a * second[c].data[i] + (1 - a) * rp.gather(history[c], i), 1e-6f) << i;
   }
+}
+
+// A-SVGF's adaptive history (AccumulationOptions::temporalGradient) on random motion and random
+// per-stratum gradients, on every CPU path: the eight-pixel path and the scalar one against the
+// definition N' = min(N (1-G)^e + 1, cap), alpha = mix(max(1/N', floor), 1, G), for an integral
+// exponent (vectorized) and a fractional one (scalar only).
+TEST(SharedPassPaths, AdaptiveAccumulationMatchesTheDefinitionOnRandomMotion) {
+  const int w = kWidth, h = kHeight;
+  for (CpuPath path : test::supportedCpuPaths())
+    for (float exponent : {10.0f, 2.5f}) {
+      test::ScopedCpuPath force(path);
+      SCOPED_TRACE(std::string(cpuPathName(path)) + " exponent " + std::to_string(exponent));
+      Lcg rnd;
+      const TwoFrames frames(rnd);
+      const Reprojection &none = frames.none, &rp = frames.rp;
+      auto image = [&] {
+        Plane3 p;
+        resize(p, w, h);
+        for (auto& c : p)
+          for (float& v : c.data) v = rnd();
+        return p;
+      };
+      const Plane3 first = image(), second = image();
+      Plane gradient((w + 2) / 3, (h + 2) / 3);
+      for (float& g : gradient.data) g = 1.2f * rnd() - 0.1f;  // some outside [0, 1]: clamped
+      AccumulationOptions opt;
+      opt.temporalGradient = &gradient;
+      opt.historyExponent = exponent;
+      TemporalAccumulator acc;
+      acc.resize(w, h);
+      for (int k = 0; k < 3; ++k) acc.run(none, first, 0.1f, 0.01f, 256, opt);
+      const Plane3 hColor = acc.color();
+      const Plane hLength = acc.historyLength(), hM1 = acc.moment1(), hM2 = acc.moment2();
+      acc.run(rp, second, 0.1f, 0.01f, 256, opt);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const size_t i = size_t(y) * w + x;
+          if (rp.kind[i] == Reprojection::None) continue;
+          const double g = std::clamp(gradient(x / 3, y / 3), 0.0f, 1.0f);
+          const double n = std::min(rp.gather(hLength, i) * std::pow(1.0 - g, double(exponent)) + 1.0, 256.0);
+          ASSERT_NEAR(acc.historyLength().data[i], n, 1e-5 * n) << i;
+          const double a0 = std::max(1.0 / n, 0.1), a = a0 + (1 - a0) * g;
+          const double am0 = std::max(1.0 / n, 0.01), am = am0 + (1 - am0) * g;
+          const double l = luminance(second[0].data[i], second[1].data[i], second[2].data[i]);
+          for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(acc.color()[c].data[i], a * second[c].data[i] + (1 - a) * rp.gather(hColor[c], i), 1e-5) << i;
+          EXPECT_NEAR(acc.moment1().data[i], am * l + (1 - am) * rp.gather(hM1, i), 1e-5) << i;
+          EXPECT_NEAR(acc.moment2().data[i], am * l * l + (1 - am) * rp.gather(hM2, i), 1e-5) << i;
+        }
+    }
 }
 
 // Without moments (AccumulationOptions::moments = false, BMFR's phase I), the colour and the

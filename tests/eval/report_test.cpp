@@ -38,6 +38,13 @@ Comparison smallComparison() {
 }
 }  // namespace
 
+/// Occurrences of `needle` in `hay`.
+size_t count(const std::string& hay, const std::string& needle) {
+  size_t n = 0;
+  for (size_t at = hay.find(needle); at != std::string::npos; at = hay.find(needle, at + needle.size())) ++n;
+  return n;
+}
+
 TEST(Report, ContainsEveryMethodAndMetric) {
   const Comparison c = smallComparison();
   std::vector<std::string> expected = {"input"};
@@ -49,22 +56,60 @@ TEST(Report, ContainsEveryMethodAndMetric) {
   for (size_t i = 0; i < expected.size(); ++i) {
     EXPECT_EQ(c.runs[i].label, expected[i]);
     EXPECT_NE(html.find("<td class='l'>" + expected[i] + "</td>"), std::string::npos) << expected[i];
-    EXPECT_NE(html.find("FLIP " + expected[i]), std::string::npos) << expected[i];  // its error map
+    EXPECT_NE(html.find("alt='FLIP " + expected[i] + "'"), std::string::npos) << expected[i];  // its error map
+    EXPECT_NE(html.find("{label:\"" + expected[i] + "\",img:["), std::string::npos) << expected[i];  // its frames
     EXPECT_EQ(json["runs"][i]["label"], expected[i]);
     EXPECT_EQ(json["runs"][i]["frames"].size(), 5u);
   }
   for (const auto& m : metricList()) {
-    EXPECT_NE(html.find("<th title='" + std::string(m.space) + "'>" + m.label + "</th>"), std::string::npos) << m.key;
+    // A column header (ranked ones with their direction) and a per-frame plot per metric.
+    const std::string arrow = !m.ranked ? "" : m.higherIsBetter ? " &uarr;" : " &darr;";
+    EXPECT_NE(html.find(">" + std::string(m.label) + arrow + "</th>"), std::string::npos) << m.key;
     EXPECT_NE(html.find("aria-label='" + std::string(m.label) + " per frame'"), std::string::npos) << m.key;
     EXPECT_TRUE(json["runs"][0]["steady"].contains(m.key)) << m.key;
   }
   // Self-contained: no external resources.
   EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org/2000/svg"));
   EXPECT_EQ(html.find("https://"), std::string::npos);
-  EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
   // The methods improve on the noisy input after warm-up.
   for (size_t i = 1; i < c.runs.size(); ++i)
     EXPECT_LT(c.runs[i].metrics.steady.mean.relMse, c.runs[0].metrics.steady.mean.relMse) << c.runs[i].label;
+}
+
+TEST(Report, OneImagePerFramePerConfiguration) {
+  const Comparison c = smallComparison();
+  const std::string html = comparisonHtml(c);
+  // Every frame of every run and of the reference, plus a FLIP map per frame per run, each a
+  // data URI of the encoding the build has (WebP or PNG).
+  ASSERT_EQ(c.frameNumbers.size(), 5u);
+  ASSERT_EQ(c.referenceImages.size(), 5u);
+  for (const auto& r : c.runs) {
+    EXPECT_EQ(r.frameImages.size(), 5u) << r.label;
+    EXPECT_EQ(r.flipImages.size(), 5u) << r.label;
+  }
+  EXPECT_EQ(count(html, "\"data:" + c.imageMime + ";base64,"), 5 * (2 * c.runs.size() + 1));
+  std::string frames = "frames:[";
+  for (size_t i = 0; i < c.frameNumbers.size(); ++i) frames += (i ? "," : "") + std::to_string(c.frameNumbers[i]);
+  EXPECT_NE(html.find(frames + "]"), std::string::npos);
+}
+
+TEST(Report, StoresFramesAtTheDisplayWidth) {
+  synthetic::Scene scene;
+  scene.width = 100;
+  scene.height = 30;
+  FrameSource src;
+  src.frameCount = 2;
+  src.load = [scene](int i, Image& ref) { return synthetic::makeFrame(scene, i, &ref); };
+  CompareSettings cs;
+  cs.configs = {parseRunConfig("accumulate")};
+  cs.eval.warmupFrames = 0;
+  cs.reportMaxWidth = 40;  // an integer factor of 3: 34 x 10
+  const Comparison c = runComparison(src, cs);
+  EXPECT_EQ(c.displayWidth, 34);
+  EXPECT_EQ(c.displayHeight, 10);
+  ASSERT_EQ(c.runs.size(), 2u);
+  ASSERT_EQ(c.runs[1].frameImages.size(), 2u);
+  EXPECT_NE(comparisonHtml(c).find("stored at 34&times;10"), std::string::npos);
 }
 
 TEST(Report, PngRoundTrips) {
@@ -118,5 +163,35 @@ TEST(Report, RendersInHeadlessChromium) {
   stbi_image_free(px);
   EXPECT_GT(nonWhite, size_t(w) * h / 50);
   EXPECT_GT(distinct, 200u);
+
+  // The page fits 1400 px: no horizontal scroll of the page, nor of any table's own box. A
+  // probe appended to a copy of the report writes the widths into the title, which
+  // --dump-dom prints after the scripts have run.
+  const fs::path probe = dir / "probe.html";
+  {
+    std::ifstream in(html, std::ios::binary);
+    std::ofstream out(probe, std::ios::binary);
+    out << in.rdbuf()
+        << "<script>window.addEventListener('load',function(){var over=0;"
+           "document.querySelectorAll('.wrap,table,.cmp,.rows,.plots,svg').forEach(function(e){"
+           "if(e.getClientRects().length)over=Math.max(over,e.getBoundingClientRect().right-"
+           "document.documentElement.clientWidth,e.scrollWidth-e.clientWidth);});"
+           "document.title='probe page='+document.documentElement.scrollWidth+' over='+Math.ceil(over)+';';});</script>";
+  }
+  const std::string dump = std::string("timeout 120 ") + chromium +
+                           " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+                           " --disable-background-networking --disable-component-update --disable-sync"
+                           " --user-data-dir=" + (dir / "profile").string() + " --virtual-time-budget=3000"
+                           " --window-size=1400,1000 --dump-dom file://" + probe.string() + " > " +
+                           (dir / "dom.html").string() + " 2>> " + (dir / "log.txt").string();
+  ASSERT_EQ(std::system(dump.c_str()), 0) << "chromium --dump-dom failed; see " << (dir / "log.txt");
+  std::ifstream domFile(dir / "dom.html");
+  const std::string dom((std::istreambuf_iterator<char>(domFile)), std::istreambuf_iterator<char>());
+  const size_t at = dom.find("probe page=");
+  ASSERT_NE(at, std::string::npos) << "the probe did not run; see " << (dir / "dom.html");
+  int pageWidth = 0, over = 0;
+  ASSERT_EQ(std::sscanf(dom.c_str() + at, "probe page=%d over=%d;", &pageWidth, &over), 2);
+  EXPECT_LE(pageWidth, 1400);
+  EXPECT_LE(over, 0) << "an element sticks out of the page or scrolls sideways";
   fs::remove_all(dir);
 }

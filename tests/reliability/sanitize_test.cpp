@@ -4,6 +4,7 @@
 // then of every later one; a 1e30 radiance pixel and huge guides lived in history or
 // overflowed; NaN depths and normals were counted as "radiance values". Every method, both
 // backends: the outputs after such a frame stay within a stated tolerance of a clean run.
+// (The issue probed accumulate, svgf and bmfr; every registered method is held to it.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,8 +19,6 @@
 
 namespace rtd::test {
 namespace {
-
-const char* const kMethods[] = {"accumulate", "svgf", "bmfr"};
 
 std::vector<Frame> frames(int count, int w = 64, int h = 48) {
   synthetic::Scene scene;
@@ -49,7 +48,7 @@ void expectLikeCleanRun(const std::vector<Frame>& frames, int bad, int from, con
   for (Backend backend : testBackends()) {
     Device* device = testDevice(backend);
     if (!device) continue;
-    for (const char* method : kMethods) {
+    for (const std::string& method : methodsOn(backend)) {
       auto clean = device->createDenoiser(method);
       std::vector<std::unique_ptr<Denoiser>> edited;
       for (size_t e = 0; e < edits.size(); ++e) edited.push_back(device->createDenoiser(method));
@@ -119,7 +118,7 @@ TEST(RadianceSanitization, HugeRadianceIsClampedAndCounted) {
   for (Backend backend : testBackends()) {
     Device* device = testDevice(backend);
     if (!device) continue;
-    for (const char* method : kMethods) {
+    for (const std::string& method : methodsOn(backend)) {
       auto d = device->createDenoiser(method);
       Image out(seq[0].width, seq[0].height, 3);
       for (int i = 0; i < int(seq.size()); ++i) {

@@ -65,6 +65,7 @@ struct BadValue {
     text = std::to_string(v);
   }
   void operator()(const char* n, bool&, const char*) { mine(n); }
+  void operator()(const char* n, std::string&, const char*) { mine(n); }  // text: any value
   template <class E, class = std::enable_if_t<std::is_enum_v<E>>>
   void operator()(const char* n, E& v, const char*, Choices choices) {
     if (!mine(n)) return;
@@ -100,7 +101,7 @@ std::string listing(const Denoiser& d) {
 }
 
 template <class S> class TypedSettingsValidation : public ::testing::Test {};
-using AllSettings = ::testing::Types<AccumulateSettings, SvgfSettings, BmfrSettings>;
+using AllSettings = ::testing::Types<AccumulateSettings, SvgfSettings, BmfrSettings, TnndSettings, AsvgfSettings>;
 TYPED_TEST_SUITE(TypedSettingsValidation, AllSettings);
 
 TYPED_TEST(TypedSettingsValidation, EveryRefusedValueOfEveryFieldIsRejectedOnBothBackends) {

@@ -16,6 +16,14 @@ namespace rtd::test {
 
 inline std::vector<Backend> testBackends() { return {Backend::Cpu, Backend::Vulkan}; }
 
+/// Every registered method that runs on `backend`.
+inline std::vector<std::string> methodsOn(Backend backend) {
+  std::vector<std::string> out;
+  for (const MethodInfo& m : listMethods())
+    if (backend == Backend::Cpu ? m.cpu : m.vulkan) out.push_back(m.name);
+  return out;
+}
+
 /// The shared device of a backend; null when there is no Vulkan device (after ADD_FAILURE,
 /// unless RTD_SKIP_VULKAN_TESTS=1).
 inline Device* testDevice(Backend backend) {

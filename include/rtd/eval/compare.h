@@ -21,6 +21,26 @@ struct FrameSource {
   int frameCount = 0;
   int width = 0, height = 0;  ///< frame size when known before loading (0: unknown)
   std::function<Frame(int index, Image& reference)> load;
+  /// What is known of the references' own quality, for the report.
+  int referenceSpp = 0;  ///< samples per pixel of the references (0: unknown)
+  bool referenceExact = false;  ///< the references are exact (an analytic scene): no noise
+  std::string referenceNote;    ///< how the references were made (e.g. convergence steps)
+  /// Optional: two independent half-sample estimates A, B of reference frame `index`, whose
+  /// mean is the reference. Their difference estimates the reference's remaining noise.
+  std::function<void(int index, Image& halfA, Image& halfB)> referenceHalves;
+};
+
+/// The reference's own quality: how far it is from the converged image, estimated from two
+/// independent halves A and B (each of spp/2 samples): the variance of their mean is
+/// E[(A - B)^2] / 4 per pixel, so relMSE_ref = mean((A - B)^2 / 4 / (R^2 + 0.01)) is the relMSE
+/// the reference itself has against the converged image; psnr likewise on the tone-mapped
+/// halves. A method whose error approaches these is limited by the reference.
+struct ReferenceQuality {
+  int spp = 0;
+  bool exact = false;
+  std::string note;
+  bool estimated = false;  ///< halves were available
+  double relMse = 0, psnr = 0;  ///< means over the frames after warm-up
 };
 
 /// Frame source reading an input sequence and a reference directory (RgbSequence), matched by
@@ -56,7 +76,9 @@ struct CompareSettings {
   int threads = 0;
   EvalSettings eval;
   bool includeInput = true;  ///< evaluate the noisy input as a row too
-  int shownFrame = -1;       ///< frame index shown in the report's images; -1: the last
+  int shownFrame = -1;       ///< frame index the report opens at; -1: the last
+  /// The report stores every frame of every run downscaled (box filter) to at most this width.
+  int reportMaxWidth = 960;
   /// Crop shown enlarged in the report (pixels, inside the image); width 0: an automatic
   /// centred crop.
   int cropX = 0, cropY = 0, cropWidth = 0, cropHeight = 0;
@@ -77,9 +99,9 @@ struct MethodRun {
   std::vector<std::string> passOrder;
   std::map<std::string, std::vector<double>> passMs;  ///< per timed frame (after warm-up)
   std::vector<double> totalMs;                        ///< per frame, all frames
-  Image shown;    ///< linear HDR output at the shown frame
-  Image flipMap;  ///< FLIP error map at the shown frame
-  double shownFlip = 0;
+  /// Per frame: the tone-mapped output and its LDR-FLIP error map (magma), encoded (WebP, or
+  /// PNG in a build without libwebp) at the report's display size. FLIP maps: none without FLIP.
+  std::vector<std::string> frameImages, flipImages;
   double medianTotalMs() const;
   double medianPassMs(const std::string& pass) const;
 };
@@ -88,10 +110,14 @@ struct Comparison {
   std::string title = "rtdenoise comparison";
   std::string source;
   int width = 0, height = 0, frames = 0;
-  int shownFrameNumber = 0;
+  int shownFrame = 0;  ///< index of the frame the report opens at
+  std::vector<int> frameNumbers;
   EvalSettings eval;
   std::vector<MethodRun> runs;  ///< the input first (if included), then each method/backend
-  Image reference;              ///< linear HDR reference at the shown frame
+  std::vector<std::string> referenceImages;  ///< per frame, encoded as MethodRun::frameImages
+  int displayWidth = 0, displayHeight = 0;   ///< size of the encoded images
+  std::string imageMime;                     ///< "image/webp" or "image/png"
+  ReferenceQuality referenceQuality;
   int cropX = 0, cropY = 0, cropWidth = 0, cropHeight = 0;
   double seconds = 0;  ///< wall time of the whole comparison
   std::string machine; ///< CPU model
@@ -111,12 +137,16 @@ Comparison runComparison(const FrameSource& source, const CompareSettings& setti
 std::string comparisonTable(const Comparison& c);
 /// JSON text of the comparison (settings, per-frame metrics, summaries, timings).
 std::string comparisonJson(const Comparison& c);
-/// A self-contained HTML report (images as PNG data URIs, plots as inline SVG).
+/// A self-contained HTML report: a frame player with a before/after slider over every frame of
+/// every run (images as WebP or PNG data URIs), plots as inline SVG, stacked per-pass timings.
 std::string comparisonHtml(const Comparison& c);
 /// Writes comparisonHtml() to `path` atomically.
 void writeHtmlReport(const Comparison& c, const std::filesystem::path& path);
 
 /// PNG encoding of an 8-bit image (sRGB-encoded floats in [0,1]); used by the report.
 std::string encodePng(const Image& srgb);
+/// The report's image encoding of an sRGB-encoded image: lossy WebP (quality 90) where the
+/// build has libwebp, else PNG; `mime` receives its MIME type.
+std::string encodeReportImage(const Image& srgb, std::string* mime = nullptr);
 
 }  // namespace rtd::eval

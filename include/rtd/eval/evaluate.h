@@ -148,6 +148,10 @@ std::vector<StreamMetrics> evaluateDirectories(const std::filesystem::path& refe
                                                const EvalSettings& settings,
                                                const std::function<void(int, int)>& progress = {});
 
+/// A metric's value as the tables print it (PSNR 2 decimals, SSIM/FLIP 4, others 3 significant
+/// digits; "-" for NaN, "inf").
+std::string formatMetric(const MetricInfo& m, double v);
+
 /// "frames 9-32 (24)": the frames a summary covers.
 std::string coverage(const MetricSummary& s);
 

@@ -4,9 +4,11 @@
 // grid, accumulate colour and moments with the adaptive history N' and alpha, then SVGF's
 // variance, a-trous levels and feedback (svgf::Filter), remodulation and TAA.
 // docs/methods/asvgf.md has the details.
+#include <algorithm>
 #include <cmath>
 
 #include "backend/cpu/cpu_denoiser.h"
+#include "core/parallel.h"
 #include "methods/asvgf/asvgf_passes.h"
 #include "methods/svgf/svgf_filter.h"
 #include "passes/demodulation.h"
@@ -110,8 +112,10 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
     const AtrousImage& filtered = filter_.run(guide_, accumulator_, demod_, nullptr, p, stats);
     {
       PassTimer t(stats, "remodulate");
-      for (int c = 0; c < 3; ++c) filtered.color[c].copyTo(result_[c]);
-      remodulate(result_, albedo);
+      parallelRows(frame.height, [&](int y) {  // the padded filter output, remodulated row by row
+        for (int c = 0; c < 3; ++c) std::copy_n(filtered.color[c].row(y), frame.width, result_[c].row(y));
+        remodulateRow(result_, albedo, result_, y);
+      });
     }
     if (!s.taa.taa) return result_;
     PassTimer t(stats, "taa");
