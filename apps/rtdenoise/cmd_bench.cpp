@@ -24,6 +24,7 @@ struct BenchOptions {
   std::string json;
   bool sampleMask = false;
   bool ftzDaz = false;
+  bool stereo = false;
 };
 
 // CPU time of the whole process (all threads), milliseconds.
@@ -57,16 +58,30 @@ void runBench(const BenchOptions& o) {
   (void)methodInfo(o.method);
   if (o.ftzDaz) setFlushToZero();
   auto device = Device::create(o.device.desc(o.device.single()));
-  auto denoiser = device->createDenoiser(o.method);
-  applySettings(*denoiser, o.settings);
+  // --stereo: both eyes through the two-view denoiser (rtd/stereo.h); timings summed over the eyes.
+  std::unique_ptr<Denoiser> denoiser;
+  std::unique_ptr<StereoDenoiser> stereo;
+  if (o.stereo) {
+    stereo = device->createStereoDenoiser(o.method);
+    applySettings(*stereo, o.settings);
+  } else {
+    denoiser = device->createDenoiser(o.method);
+    applySettings(*denoiser, o.settings);
+  }
 
   // A few distinct frames of a moving camera, cycled, so reprojection does real work.
   synthetic::Scene scene;
   scene.width = w;
   scene.height = h;
-  std::vector<Frame> inputs;
+  std::vector<Frame> inputs, rightInputs;
   for (int i = 0; i < 4; ++i) inputs.push_back(synthetic::makeFrame(scene, i));
-  Image output(w, h, 3);
+  // The right eye (--stereo): the same view with its own noise (the synthetic scene has one
+  // camera; every pixel then reprojects into the other eye, the exchange's most work).
+  synthetic::Scene right = scene;
+  right.seed = scene.seed + 1;
+  if (o.stereo)
+    for (int i = 0; i < 4; ++i) rightInputs.push_back(synthetic::makeFrame(right, i));
+  Image output(w, h, 3), rightOutput(o.stereo ? w : 0, o.stereo ? h : 0, 3);
   // --sample-mask: a quarter of the pixels per frame (position in a 2x2 block, rotating over four
   // frames) as the frames' sampleMask, to time a progressive mode (svgf's useSampleMask). Only
   // the mask changes: the colour is left dense, which costs the same.
@@ -79,7 +94,7 @@ void runBench(const BenchOptions& o) {
       masks.push_back(std::move(m));
     }
 
-  std::map<std::string, std::vector<double>> passes;
+  std::map<std::string, std::vector<double>> passes, passesCpu;
   std::vector<std::string> order;
   std::vector<double> totals, cpuTimes;
   Progress progress("bench " + o.method, o.warmup + o.frames);
@@ -89,33 +104,54 @@ void runBench(const BenchOptions& o) {
     FrameInputs in = inputs[idx].inputs();
     if (o.sampleMask) in[Buffer::SampleMask] = masks[size_t(i % 4)].view();
     const double cpuStart = processCpuMs();
-    denoiser->denoise(in, output.view());
+    if (stereo) {
+      StereoFrameInputs pair;
+      pair.eye[0] = in;
+      pair.eye[1] = rightInputs[idx].inputs();
+      if (o.sampleMask) pair.eye[1][Buffer::SampleMask] = masks[size_t((i + 2) % 4)].view();
+      stereo->denoise(pair, output.view(), rightOutput.view());
+    } else {
+      denoiser->denoise(in, output.view());
+    }
     const double cpu = processCpuMs() - cpuStart;
+    const FrameStats& st = stereo ? stereo->stats() : denoiser->stats();
     progress.update(i + 1);
     if (i < o.warmup) continue;
-    for (const auto& p : denoiser->stats().passes) {
+    for (const auto& p : st.passes) {
       if (!passes.count(p.name)) order.push_back(p.name);
       passes[p.name].push_back(p.milliseconds);
+      passesCpu[p.name].push_back(p.cpuMilliseconds);
     }
-    totals.push_back(denoiser->stats().totalMilliseconds);
+    totals.push_back(st.totalMilliseconds);
     cpuTimes.push_back(cpu);
   }
   progress.finish();
+  const FrameStats& last = stereo ? stereo->stats() : denoiser->stats();
 
-  std::printf("method %s, %dx%d, %s, %d frames after %d warm-up (medians)%s%s\n", o.method.c_str(), w, h,
-              device->name().c_str(), o.frames, o.warmup, o.sampleMask ? ", 1/4 sample mask" : "",
-              o.ftzDaz ? ", FTZ/DAZ set in this process" : "");
+  std::printf("method %s, %s%dx%d, %s, %d frames after %d warm-up (medians)%s%s\n", o.method.c_str(),
+              o.stereo ? "both eyes of " : "", w, h, device->name().c_str(), o.frames, o.warmup,
+              o.sampleMask ? ", 1/4 sample mask" : "", o.ftzDaz ? ", FTZ/DAZ set in this process" : "");
   nlohmann::json j = {{"method", o.method}, {"width", w}, {"height", h}, {"device", device->name()},
                       {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames},
-                      {"sampleMask", o.sampleMask}, {"ftzDaz", o.ftzDaz}};
+                      {"sampleMask", o.sampleMask}, {"ftzDaz", o.ftzDaz}, {"stereo", o.stereo}};
   if (device->backend() == Backend::Cpu) {
     // The SIMD path the CPU passes dispatched to (RTD_CPU_PATH forces one).
     std::printf("  cpu path: %s\n", describeCpuPath().c_str());
     j["cpuPath"] = cpuPathName(cpuPath());
   }
+  // Per pass: the wall time, and on the CPU backend the process CPU time during the pass (all
+  // threads; with --threads 1 the pass's own cost, which other work on the machine barely moves).
+  const bool cpuColumn = device->backend() == Backend::Cpu;
+  if (cpuColumn) std::printf("  %-24s %9s    %9s\n", "pass", "wall", "cpu");
   for (const auto& name : order) {
     const double m = median(passes[name]);
-    std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
+    if (cpuColumn) {
+      const double c = median(passesCpu[name]);
+      std::printf("  %-24s %9.3f ms %9.3f ms\n", name.c_str(), m, c);
+      j["passesCpuMedianMs"][name] = c;
+    } else {
+      std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
+    }
     j["passesMedianMs"][name] = m;
   }
   const double total = median(totals);
@@ -126,6 +162,10 @@ void runBench(const BenchOptions& o) {
   const double cpu = median(cpuTimes);
   std::printf("  %-24s %9.3f ms\n", "cpu time (all threads)", cpu);
   j["cpuMedianMs"] = cpu;
+  for (const auto& m : last.memory) {  // where the method reports it (Gersthofer's Table 5.4)
+    std::printf("  memory %-17s %9.2f MiB\n", m.category.c_str(), double(m.bytes) / (1 << 20));
+    j["memoryBytes"][m.category] = m.bytes;
+  }
   if (!o.json.empty()) writeFileAtomic(o.json, j.dump(1));
 }
 }  // namespace
@@ -141,6 +181,7 @@ void addBench(CLI::App& app) {
   cmd->add_option("--warmup", o->warmup, "untimed frames first")->capture_default_str()->check(atLeast(0));
   cmd->add_option("--json", o->json, "FILE: also write the medians as JSON to FILE");
   cmd->add_flag("--sample-mask", o->sampleMask, "frames carry a rotating 1/4 sampleMask (progressive modes)");
+  cmd->add_flag("--stereo", o->stereo, "both eyes through the two-view denoiser (the right eye: other noise)");
   cmd->add_flag("--ftz-daz", o->ftzDaz,
                 "set flush-to-zero and denormals-are-zero in this process first (for comparison only; "
                 "the library never changes the caller's floating-point mode)");

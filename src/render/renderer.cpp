@@ -94,12 +94,17 @@ struct Surface {
 /// Contributions of one sample, split as the native buffers want them.
 struct Radiance {
   V3 total{0}, direct{0}, indirect{0}, diffuse{0}, specular{0};
+  V3 indirectDiffuse{0};  // indirect and diffuse: Gersthofer's separately processed component
   V3 emission{0};  // emitted by the primary hit (or the sky seen directly), also in total
   float secondaryDistance = 0;
   void add(V3 c, bool direct_, bool specular_) {
     total += c;
     (direct_ ? direct : indirect) += c;
     (specular_ ? specular : diffuse) += c;
+    if (!direct_ && !specular_) indirectDiffuse += c;
+  }
+  void scale(float k) {
+    total *= k, direct *= k, indirect *= k, diffuse *= k, specular *= k, indirectDiffuse *= k, emission *= k;
   }
 };
 
@@ -593,13 +598,27 @@ struct Renderer::Impl {
     return h & (kSeedLimit - 1);
   }
 
-  bool masked(int index, int x, int y) const {
+  bool hidden(int x, int y, Eye eye) const {
+    if (!settings.hiddenArea) return false;
+    const float u = (float(x) + 0.5f) / float(settings.width) * 2.0f - 1.0f;
+    const float v = (float(y) + 0.5f) / float(settings.height) * 2.0f - 1.0f;  // down
+    if (u * u + v * v > 1.18f) return true;  // outside the lens circle, radius sqrt(1.18)
+    // The nose: the inner bottom corner of each eye (the right side of the left eye).
+    const float inner = eye == Eye::Left ? u : eye == Eye::Right ? -u : -2.0f;
+    return inner > 0.75f && v > 0.55f;
+  }
+
+  bool masked(int index, int x, int y, Eye eye) const {
     if (settings.sampleFraction >= 1.0f) return true;
     constexpr int N = kBlueNoiseSize * kBlueNoiseSize;
     const int count = std::max(1, int(std::lround(double(settings.sampleFraction) * N)));
     // Rotate through the rank map: frame k traces ranks [k*count, (k+1)*count) modulo N, so with
-    // sampleFraction = 1/m every pixel is traced exactly once every m frames.
-    const int offset = int((int64_t(index) * count) % N);
+    // sampleFraction = 1/m every pixel is traced exactly once every m frames (Gersthofer Sec.
+    // 3.3.1: the thresholded masks, cycled). The right eye runs half the rank range (N/2) ahead,
+    // so for sampleFraction <= 1/2 the two eyes' masks of a frame are disjoint (with 1/m, m even,
+    // the right eye traces mask k + m/2 while the left traces mask k).
+    const int64_t eyeShift = eye == Eye::Right ? N / 2 : 0;
+    const int offset = int((int64_t(index) * count + eyeShift) % N);
     const int rank = blueNoiseRanks()[(y % kBlueNoiseSize) * kBlueNoiseSize + (x % kBlueNoiseSize)];
     return (rank - offset + N) % N < count;
   }
@@ -634,8 +653,7 @@ struct Renderer::Impl {
       if (settings.clampLuminance > 0) {
         const float l = luminance(r.total);
         if (l > settings.clampLuminance) {
-          const float c = settings.clampLuminance / l;
-          r.total *= c, r.direct *= c, r.indirect *= c, r.diffuse *= c, r.specular *= c, r.emission *= c;
+          r.scale(settings.clampLuminance / l);
         }
       }
       sum.total += r.total;
@@ -643,12 +661,11 @@ struct Renderer::Impl {
       sum.indirect += r.indirect;
       sum.diffuse += r.diffuse;
       sum.specular += r.specular;
+      sum.indirectDiffuse += r.indirectDiffuse;
       sum.emission += r.emission;
       if (k == 0) sum.secondaryDistance = r.secondaryDistance;
     }
-    const float inv = 1.0f / float(spp);
-    sum.total *= inv, sum.direct *= inv, sum.indirect *= inv, sum.diffuse *= inv, sum.specular *= inv,
-        sum.emission *= inv;
+    sum.scale(1.0f / float(spp));
     return sum;
   }
 
@@ -836,10 +853,12 @@ struct Renderer::Impl {
     if (settings.allBuffers)
       for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::ReflectedPosition,
                        Buffer::ReflectedNormal, Buffer::ReflectedAlbedo, Buffer::SecondaryDistance,
-                       Buffer::MirrorDirection, Buffer::ReflectedFootprint, Buffer::Seed, Buffer::SampleMask})
+                       Buffer::MirrorDirection, Buffer::ReflectedFootprint, Buffer::Seed, Buffer::SampleMask,
+                       Buffer::IndirectDiffuse})
         list.push_back(b);
     if (gradients)
       for (Buffer b : {Buffer::GradientSample, Buffer::GradientPrevious, Buffer::GradientCurrent}) list.push_back(b);
+    if (settings.hiddenArea) list.push_back(Buffer::HiddenArea);
     for (Buffer b : list) f[b] = Image(w, h, bufferChannelCount(b));
     const bool all = settings.allBuffers;
     auto put3 = [&](Buffer b, int x, int y, V3 c) {
@@ -853,6 +872,10 @@ struct Renderer::Impl {
       uint64_t rays = 0;
       for (int y = range.begin(); y != range.end(); ++y)
         for (int x = 0; x < w; ++x) {
+          if (hidden(x, y, eye)) {  // the lens hides it: no ray, no shading (the stencil prepass)
+            f[Buffer::HiddenArea].at(x, y) = 1.0f;
+            continue;
+          }
           const V3 d = pixelDirection(v, float(x) + 0.5f, float(y) + 0.5f, w, h);
           RTCRayHit rh;
           ++rays;
@@ -860,7 +883,7 @@ struct Renderer::Impl {
           const bool hit = intersect(g, v.eye, d, 1e30f, rh);
           if (hit) s = surface(g, rh, d);
           const uint32_t seed = pixelSeed(index, x, y, eye, 0);
-          const bool traced = masked(index, x, y);
+          const bool traced = masked(index, x, y, eye);
           Radiance r;
           if (traced) r = shade(g, v, x, y, seed, settings.spp, 0, &s, rays);
           put3(Buffer::Color, x, y, r.total);
@@ -870,6 +893,7 @@ struct Renderer::Impl {
             put3(Buffer::Indirect, x, y, r.indirect);
             put3(Buffer::Diffuse, x, y, r.diffuse);
             put3(Buffer::Specular, x, y, r.specular);
+            put3(Buffer::IndirectDiffuse, x, y, r.indirectDiffuse);
             f[Buffer::Seed].at(x, y) = float(seed);
             f[Buffer::SampleMask].at(x, y) = traced ? 1.0f : 0.0f;
             f[Buffer::SecondaryDistance].at(x, y) = r.secondaryDistance;
@@ -1014,6 +1038,7 @@ struct Renderer::Impl {
       uint64_t rays = 0;
       for (int y = range.begin(); y != range.end(); ++y)
         for (int x = 0; x < w; ++x) {
+          if (hidden(x, y, eye)) continue;
           const V3 d = pixelDirection(v, float(x) + 0.5f, float(y) + 0.5f, w, h);
           RTCRayHit rh;
           ++rays;
@@ -1029,6 +1054,7 @@ struct Renderer::Impl {
         uint64_t rays = 0;
         for (int y = range.begin(); y != range.end(); ++y)
           for (int x = 0; x < w; ++x) {
+            if (hidden(x, y, eye)) continue;  // never displayed: 0
             const uint32_t seed = pixelSeed(index, x, y, eye, 0x7e5f0a11u);
             const Surface& s = hits[size_t(y) * w + x];
             const Radiance r = shade(g, v, x, y, seed, n, done, &s, rays);
@@ -1084,7 +1110,8 @@ Image Renderer::renderReference(int index, int spp, double secondsBudget, Eye ey
   return impl_->renderReference(index, spp, secondsBudget, eye);
 }
 uint32_t Renderer::pixelSeed(int index, int x, int y, Eye eye) const { return impl_->pixelSeed(index, x, y, eye, 0); }
-bool Renderer::sampleMask(int index, int x, int y) const { return impl_->masked(index, x, y); }
+bool Renderer::sampleMask(int index, int x, int y, Eye eye) const { return impl_->masked(index, x, y, eye); }
+bool Renderer::hidden(int x, int y, Eye eye) const { return impl_->hidden(x, y, eye); }
 
 std::array<float, 3> Renderer::shadePixel(int index, int x, int y, uint32_t seed, Eye eye) {
   const auto& s = impl_->settings;
@@ -1119,7 +1146,8 @@ std::filesystem::path ReferenceCache::entry(const Scene& scene, const RenderSett
                           std::to_string(s.maxDepth) + "|rr" + std::to_string(s.russianRouletteDepth) + "|s" +
                           std::to_string(s.seed) + "|j" + std::to_string(int(s.pixelJitter)) + "|e" + eyeName(eye) +
                           "|ed" + std::to_string(s.eyeDistance) + "|f" + std::to_string(index) + "|spp" +
-                          std::to_string(spp) + "|b" + std::to_string(budgetSeconds) + "|v1";
+                          std::to_string(spp) + "|b" + std::to_string(budgetSeconds) + "|v1" +
+                          (s.hiddenArea ? "|hidden" : "");
   return dir / (scene.name() + "_" + hashHex(key) + ".exr");
 }
 

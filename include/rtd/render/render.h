@@ -45,6 +45,11 @@ struct RenderSettings {
   float sampleFraction = 1.0f;
   /// Distance between the eyes of a stereo pair, in world units (Eye::Left/Right only).
   float eyeDistance = 0.064f;
+  /// A synthetic head-mounted display's hidden-area mesh (Gersthofer Sec. 3.1): pixels outside
+  /// the lens circle (radius 1.086 in NDC units, about 12 % of the image) and, for Eye::Left /
+  /// Eye::Right, a nose notch in the inner bottom corner (about 3 % more) are neither traced nor
+  /// shaded: all their buffers are 0 but `hiddenArea` = 1, and their reference is 0.
+  bool hiddenArea = false;
   /// Radiance of a single path is clamped to this luminance (0 = no clamp). Off by default so
   /// the renderer stays unbiased; references are never clamped.
   float clampLuminance = 0.0f;
@@ -119,8 +124,12 @@ class Renderer {
   /// The per-pixel seed render() uses for pixel (x, y) of frame `index` (< kSeedLimit).
   uint32_t pixelSeed(int index, int x, int y, Eye eye = Eye::Center) const;
 
-  /// Whether pixel (x, y) is traced in frame `index` under settings().sampleFraction.
-  bool sampleMask(int index, int x, int y) const;
+  /// Whether pixel (x, y) of `eye` lies under the synthetic hidden-area mesh (settings().hiddenArea).
+  bool hidden(int x, int y, Eye eye = Eye::Center) const;
+
+  /// Whether pixel (x, y) is traced in frame `index` by `eye` under settings().sampleFraction
+  /// (the right eye's masks are disjoint from the left eye's for fractions <= 1/2).
+  bool sampleMask(int index, int x, int y, Eye eye = Eye::Center) const;
 
   const RenderStats& stats() const;
 
