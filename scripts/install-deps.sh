@@ -7,6 +7,8 @@ packages=(
   libopenexr-dev libimath-dev libtbb-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev libtinygltf-dev libstb-dev
+  # oneDNN: the CPU convolutions of the learned method rae (src/methods/rae).
+  libdnnl-dev
   glslc libvulkan-dev mesa-vulkan-drivers vulkan-tools
   # The sanitizer stage of scripts/test.sh: ASan/UBSan/LSan and libFuzzer (llvm-14 for symbolized reports).
   clang-14 libclang-rt-14-dev llvm-14

@@ -11,7 +11,7 @@
 #    $RUN (default build/train/<model>), resuming from its checkpoint if one exists
 #    ($TRAIN_ARGS: the model's configuration of the committed weights);
 # 4. with --install, copies the weights where the library embeds them
-#    (tnnd: src/methods/tnnd/tnnd_weights.json) and the loss curve beside docs/methods/.
+#    (src/methods/<model>/<model>_weights.json) and the loss curve beside docs/methods/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 model="${1:?usage: scripts/train.sh <model> [--install]}"
@@ -21,7 +21,13 @@ case "$model" in
     : "${DATASET_ARGS:=--seed 1 --procedural 10 --scene data/scenes/props.json --test glossy,dynamic,props --frames 4 --test-frames 6 --size 256x256 --reference-spp 64 --max-reference-spp 256 --tolerance 0.02 --threads 2}"
     : "${TRAIN_ARGS:=--steps 2000 --batch 2 --patch 128 --lr 0.005 --losses mse=1,gradient=0.5 --val-every 25 --checkpoint-every 25 --threads 1}"
     weights_target=src/methods/tnnd/tnnd_weights.json ;;
-  *) echo "unknown model '$model' (expected: tnnd)" >&2; exit 2 ;;
+  rae)
+    # The RAE trains on TNND's data set (docs/methods/rae.md "Training").
+    : "${DATA:=build/data/tnnd-v1}"
+    : "${DATASET_ARGS:=--seed 1 --procedural 10 --scene data/scenes/props.json --test glossy,dynamic,props --frames 4 --test-frames 6 --size 256x256 --reference-spp 64 --max-reference-spp 256 --tolerance 0.02 --threads 2}"
+    : "${TRAIN_ARGS:=--steps 3000 --batch 8 --patch 64 --lr 0.002 --val-every 25 --checkpoint-every 25 --val-patches 16 --threads 1 --time-limit 48}"
+    weights_target=src/methods/rae/rae_weights.json ;;
+  *) echo "unknown model '$model' (expected: tnnd, rae)" >&2; exit 2 ;;
 esac
 DATA="${DATA:-build/data/$model-v1}"
 RUN="${RUN:-build/train/$model}"

@@ -13,4 +13,5 @@
 #include "rtd/methods/svgf.h"
 #include "rtd/methods/bmfr.h"
 #include "rtd/methods/asvgf.h"
+#include "rtd/methods/rae.h"
 #include "rtd/methods/tnnd.h"

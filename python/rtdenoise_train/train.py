@@ -76,12 +76,16 @@ def train(args) -> dict:
     torch.set_num_threads(args.threads)
     torch.manual_seed(args.seed)
     os.makedirs(args.out, exist_ok=True)
+    model = models.create(args.model)
+    if args.losses is None:
+        args.losses = model.default_losses
+    if args.clip is None:
+        args.clip = model.default_clip
     weights = LossWeights.parse(args.losses)
     ds = Dataset(args.data, "train")
     train_ids, val_ids = split_patches(ds.patches(args.patch), args.val_fraction, args.seed)
     sampler = PatchSampler(ds, train_ids, args.patch, args.clip, augment=not args.no_augment, seed=args.seed)
     val_batch = to_torch(PatchSampler(ds, val_ids, args.patch, args.clip, augment=False).fixed(args.val_patches))
-    model = models.create(args.model)
     opt = torch.optim.Adam(model.parameters(), lr=args.lr)
     rng = np.random.default_rng(args.seed + 1)
     history = {"train": [], "val": [], "terms": []}
@@ -111,8 +115,11 @@ def train(args) -> dict:
 
     if step == 0:
         history["val"].append([0, evaluate(model, val_batch, weights)])
-    last = time.time()
+    last = started = time.time()
     while step < args.steps:
+        if args.time_limit and time.time() - started > 60 * args.time_limit:
+            print(f"time limit of {args.time_limit:g} min reached at step {step}", file=sys.stderr)
+            break
         batch = to_torch(sampler.sample(args.batch))
         iterations = model.sample_iterations(rng)
         pred = model.predict(batch, iterations)
@@ -136,6 +143,8 @@ def train(args) -> dict:
         if step % args.checkpoint_every == 0 or step == args.steps:
             save()
             last = time.time()
+    if history["val"][-1][0] != step:  # stopped by --time-limit between validations
+        history["val"].append([step, evaluate(model, val_batch, weights)])
     save()
     info = {"command": open(os.path.join(args.out, "command.txt")).read().strip(), "steps": step,
             "seconds": round(seconds, 1), "machine": machine(),
@@ -158,10 +167,12 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--steps", type=int, default=1000)
     p.add_argument("--batch", type=int, default=8)
     p.add_argument("--patch", type=int, default=128, help="patch side in pixels")
-    p.add_argument("--clip", type=int, default=1, help="consecutive frames per sample (>= 2 for the temporal loss)")
+    p.add_argument("--clip", type=int, default=None,
+                   help="consecutive frames per sample (>= 2 for the temporal loss; default: the model's, tnnd 1, rae 4)")
     p.add_argument("--lr", type=float, default=2e-3)
     p.add_argument("--clip-grad", type=float, default=1.0, help="gradient-norm clip (0: off)")
-    p.add_argument("--losses", default="mse=1,gradient=0.5", help="weights, e.g. mse=1,l1=0,gradient=0.5,temporal=0,ffl=0")
+    p.add_argument("--losses", default=None, help="weights, e.g. mse=1,l1=0,gradient=0.5,temporal=0,ffl=0 (default: the "
+                   "model's, tnnd mse=1,gradient=0.5, rae mse=0,l1=0.8,gradient=0.1,temporal=0.1)")
     p.add_argument("--val-fraction", type=float, default=0.2)
     p.add_argument("--val-patches", type=int, default=16, help="validation patches evaluated")
     p.add_argument("--val-every", type=int, default=50)
@@ -170,6 +181,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--threads", type=int, default=2, help="torch threads (the machine is shared: at most 2)")
     p.add_argument("--resume", action="store_true", help="continue from <out>/checkpoint.pt")
+    p.add_argument("--time-limit", type=float, default=0,
+                   help="stop (checkpoint, weights) after this many minutes of this invocation (0: none)")
     return p
 
 

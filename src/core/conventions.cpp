@@ -123,4 +123,12 @@ Camera jitterCompensated(const Camera& previous, const ConventionTransform& t, i
   return c;
 }
 
+std::array<float, 9> worldToViewRotation(const Camera& camera) {
+  std::array<float, 9> r{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  if (camera.valid)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) r[size_t(i) * 3 + j] = camera.worldToCamera[size_t(i) * 4 + j];
+  return r;
+}
+
 }  // namespace rtd

@@ -3,6 +3,7 @@
 // planes right after import (applyConventions on the CPU, the "conventions" pass on Vulkan).
 // A frame in the native conventions converts nothing and costs nothing.
 #pragma once
+#include <array>
 #include <cmath>
 
 #include "core/frame_data.h"
@@ -52,5 +53,10 @@ void applyConventions(const ConventionTransform& t, FrameData& frame);
 /// -jitter pixels, so that the history position it gives (from Buffer::Position, when the frame
 /// has no motion vectors) is the unjittered one. Unchanged when t.jitter is false.
 Camera jitterCompensated(const Camera& previous, const ConventionTransform& t, int width, int height);
+
+/// The rotation part of camera.worldToCamera, row-major 3x3 (world-space normals to view
+/// space: n_view = R n_world, as the learned methods see them); the identity without a valid
+/// camera.
+std::array<float, 9> worldToViewRotation(const Camera& camera);
 
 }  // namespace rtd

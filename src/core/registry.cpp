@@ -6,6 +6,7 @@
 #include "rtd/methods/asvgf.h"
 #include "rtd/methods/svgf.h"
 #include "rtd/methods/bmfr.h"
+#include "rtd/methods/rae.h"
 #include "rtd/methods/tnnd.h"
 
 namespace rtd {
@@ -15,6 +16,7 @@ std::unique_ptr<Denoiser> createSvgfCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createTnndCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createAsvgfCpu(tbb::task_arena&);
+std::unique_ptr<Denoiser> createRaeCpu(tbb::task_arena&);
 std::unique_ptr<StereoDenoiser> createSvgfStereoCpu(tbb::task_arena&);
 
 // Vulkan factories (src/methods/<name>/<name>_vulkan.cpp); null where the build has no Vulkan.
@@ -45,6 +47,9 @@ const std::vector<MethodEntry>& methodRegistry() {
        &defaultsOf<TnndSettings>, &createTnndCpu, RTD_VULKAN_FACTORY(createTnndVulkan)},
       {"asvgf", "adaptive SVGF: history dropped where re-shaded gradient samples changed (Schied 2018; Higginson)",
        &defaultsOf<AsvgfSettings>, &createAsvgfCpu, RTD_VULKAN_FACTORY(createAsvgfVulkan)},
+      // No Vulkan path yet (docs/methods/rae.md "Not done").
+      {"rae", "recurrent denoising autoencoder, a U-Net with a recurrent block per encoder level (Chaitanya 2017)",
+       &defaultsOf<RaeSettings>, &createRaeCpu, nullptr},
   };
   return entries;
 }

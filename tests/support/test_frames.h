@@ -1,5 +1,6 @@
 // Small helpers to build frames by hand in tests.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "core/frame_data.h"
@@ -26,6 +27,27 @@ inline FrameData toFrameData(const Frame& f) {
   FrameData d;
   importFrame(f.inputs(), {Buffer::Color}, d);
   return d;
+}
+
+/// Largest |a - e| / (1 + |e|) over the RGB values (the learned methods' cross-checks).
+inline double maxRelativeError(const Image& a, const Image& e) {
+  double m = 0;
+  for (int y = 0; y < e.height; ++y)
+    for (int x = 0; x < e.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        m = std::max(m, std::abs(double(a.at(x, y, c)) - e.at(x, y, c)) / (1.0 + std::abs(double(e.at(x, y, c)))));
+  return m;
+}
+
+/// An image from a planar [channel][y][x] array (numbers, as the PyTorch fixtures write them:
+/// python/rtdenoise_train/fixture.py); the channel count is the array's size / (w h).
+template <class Json> Image planarImage(const Json& a, int w, int h) {
+  const int channels = int(a.size()) / (w * h);
+  Image img(w, h, channels);
+  for (int c = 0; c < channels; ++c)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) img.at(x, y, c) = a[(size_t(c) * h + y) * w + x].template get<float>();
+  return img;
 }
 
 inline bool allFinite(const Image& img) {

@@ -33,4 +33,4 @@ def main(root):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "build/eval/tnnd")
+    main(sys.argv[1] if len(sys.argv) > 1 else "build/eval/learned")

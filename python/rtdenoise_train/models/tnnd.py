@@ -63,6 +63,8 @@ class TNND(nn.Module):
     # Settings of the training runs (scripts/train.sh tnnd); recorded in the weights file.
     default_iterations = 12
     train_iterations = (8, 16)
+    default_losses = "mse=1,gradient=0.5"  # Eq. 2.18 (the weights are ours)
+    default_clip = 1
 
     def __init__(self, init_scale: float = 0.01, seed: int = 0):
         super().__init__()

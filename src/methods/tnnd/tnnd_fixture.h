@@ -7,6 +7,7 @@
 #include <string>
 
 #include "rtd/rtd.h"
+#include "support/test_frames.h"
 
 namespace rtd::test {
 
@@ -27,15 +28,7 @@ inline TnndFixture loadTnndFixture() {
   const int w = j["width"], h = j["height"];
   f.iterations = j["iterations"];
   f.weights = dir + j["weights"].get<std::string>();
-  auto planar = [&](const char* key) {  // [c][y][x] -> interleaved image
-    const auto& a = j[key];
-    const int channels = int(a.size()) / (w * h);
-    Image img(w, h, channels);
-    for (int c = 0; c < channels; ++c)
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) img.at(x, y, c) = a[(size_t(c) * h + y) * w + x].get<float>();
-    return img;
-  };
+  auto planar = [&](const char* key) { return planarImage(j[key], w, h); };
   f.frame.width = w;
   f.frame.height = h;
   f.frame[Buffer::Color] = planar("color");
@@ -45,16 +38,6 @@ inline TnndFixture loadTnndFixture() {
   f.frame.camera.valid = true;
   f.expected = planar("expected");
   return f;
-}
-
-/// Largest |a - e| / (1 + |e|) over all values.
-inline double maxRelativeError(const Image& a, const Image& e) {
-  double m = 0;
-  for (int y = 0; y < e.height; ++y)
-    for (int x = 0; x < e.width; ++x)
-      for (int c = 0; c < 3; ++c)
-        m = std::max(m, std::abs(double(a.at(x, y, c)) - e.at(x, y, c)) / (1.0 + std::abs(double(e.at(x, y, c)))));
-  return m;
 }
 
 }  // namespace rtd::test

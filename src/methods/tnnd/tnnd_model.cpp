@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "core/conventions.h"
 #include "core/parallel.h"
 #include "io/small_file.h"
 #include "rtd/error.h"
@@ -91,11 +92,7 @@ void resize(State& s, int w, int h) {
 void encode(const Plane* color, const std::vector<Plane>& normal, const std::vector<Plane>& albedo, const Camera& camera,
             State& s) {
   const int w = color[0].width, h = color[0].height;
-  // Rows 0-2 of the rotation part of worldToCamera: n_view = R n_world.
-  float r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  if (camera.valid)
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) r[i * 3 + j] = camera.worldToCamera[size_t(i) * 4 + j];
+  const std::array<float, 9> r = worldToViewRotation(camera);  // n_view = R n_world
   parallelRows(h, [&](int y) {
     for (int c = 0; c < 3; ++c) {
       const float* in = color[c].row(y);

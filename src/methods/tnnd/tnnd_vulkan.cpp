@@ -3,9 +3,11 @@
 // shared reprojection and accumulation in front when "accumulate" is on. The 360 weights live
 // in a small host-visible buffer, rewritten when the "weights" setting changes.
 #if defined(RTD_HAS_VULKAN)
+#include <algorithm>
 #include <cstring>
 
 #include "backend/vulkan/vulkan_denoiser.h"
+#include "core/conventions.h"
 #include "methods/tnnd/tnnd_model.h"
 #include "rtd/methods/tnnd.h"
 
@@ -55,10 +57,9 @@ class TnndVulkan final : public vk::VulkanDenoiser<TnndSettings> {
     struct EncodePC {
       uint32_t width, height;
       float r[9];
-    } epc{w, h, {1, 0, 0, 0, 1, 0, 0, 0, 1}};
-    if (frame.cameraValue.valid)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) epc.r[i * 3 + j] = frame.cameraValue.worldToCamera[size_t(i) * 4 + j];
+    } epc{w, h, {}};
+    const std::array<float, 9> r = worldToViewRotation(frame.cameraValue);
+    std::copy(r.begin(), r.end(), epc.r);
     rec.dispatch("tnnd_encode", {*color, frame[Buffer::Normal], frame[Buffer::Albedo], state_[0]}, epc, frame.width,
                  frame.height);
     struct SizePC {
