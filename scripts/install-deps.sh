@@ -11,6 +11,8 @@ packages=(
   # The sanitizer stage of scripts/test.sh: ASan/UBSan/LSan and libFuzzer (llvm-14 for symbolized reports).
   clang-14 libclang-rt-14-dev llvm-14
   chromium help2man libwebp-dev
+  # Per-buffer input files other than EXR (PFM, HDR, PNG, TIFF; src/io/oiio) and their tests (oiiotool).
+  libopenimageio-dev openimageio-tools
   # Training of the learned methods and its tests only (python/rtdenoise_train, /usr/bin/python3).
   python3-torch python3-numpy python3-matplotlib
   # Python bindings (bindings/python: pybind11 module for /usr/bin/python3) and their tests.

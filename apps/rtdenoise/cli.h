@@ -57,6 +57,7 @@ std::vector<SettingAssignment> parseAssignments(const std::vector<std::string>& 
 /// Applies `--set key=value` texts to a denoiser with rtd::applySettings (presets first);
 /// an unknown setting, a repeated one or a bad value is a UsageError.
 void applySettings(Denoiser& d, const std::vector<std::string>& assignments);
+void applySettings(StereoDenoiser& d, const std::vector<std::string>& assignments);
 
 /// An option check: the value is a number >= `lo` (CLI11's own range message prints the type's
 /// limits).

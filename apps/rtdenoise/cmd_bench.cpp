@@ -24,6 +24,9 @@ struct BenchOptions {
   std::string json;
   bool sampleMask = false;
   bool ftzDaz = false;
+  bool stereo = false;
+  std::string input;  // a sequence to time instead of the synthetic scene
+  int inputFrames = 6;
 };
 
 // CPU time of the whole process (all threads), milliseconds.
@@ -53,20 +56,46 @@ double median(std::vector<double> v) {
 }
 
 void runBench(const BenchOptions& o) {
-  const auto [w, h] = parseSize(o.size);
+  auto [w, h] = parseSize(o.size);
   (void)methodInfo(o.method);
   if (o.ftzDaz) setFlushToZero();
   auto device = Device::create(o.device.desc(o.device.single()));
-  auto denoiser = device->createDenoiser(o.method);
-  applySettings(*denoiser, o.settings);
+  // --stereo: both eyes through the two-view denoiser (rtd/stereo.h); timings summed over the eyes.
+  std::unique_ptr<Denoiser> denoiser;
+  std::unique_ptr<StereoDenoiser> stereo;
+  if (o.stereo) {
+    stereo = device->createStereoDenoiser(o.method);
+    applySettings(*stereo, o.settings);
+  } else {
+    denoiser = device->createDenoiser(o.method);
+    applySettings(*denoiser, o.settings);
+  }
 
-  // A few distinct frames of a moving camera, cycled, so reprojection does real work.
+  // A few distinct frames of a moving camera, cycled, so reprojection does real work: the
+  // synthetic scene's, or the first --input-frames of a sequence (read before timing).
+  std::vector<Frame> inputs, rightInputs;
   synthetic::Scene scene;
-  scene.width = w;
-  scene.height = h;
-  std::vector<Frame> inputs;
-  for (int i = 0; i < 4; ++i) inputs.push_back(synthetic::makeFrame(scene, i));
-  Image output(w, h, 3);
+  if (!o.input.empty()) {
+    const auto seq = SequenceReader::open(o.input);
+    for (int i = 0; i < std::min(o.inputFrames, seq->frameCount()); ++i) inputs.push_back(seq->read(i));
+    if (inputs.empty()) throw Error("bench: input '" + o.input + "' has no frames");
+    w = seq->width();
+    h = seq->height();
+  } else {
+    scene.width = w;
+    scene.height = h;
+    for (int i = 0; i < 4; ++i) inputs.push_back(synthetic::makeFrame(scene, i));
+  }
+  // The right eye (--stereo, synthetic scene only): the same view with its own noise (the
+  // synthetic scene has one camera; every pixel then reprojects into the other eye, the
+  // exchange's most work).
+  if (o.stereo) {
+    synthetic::Scene right = scene;
+    right.seed = scene.seed + 1;
+    for (int i = 0; i < 4; ++i) rightInputs.push_back(synthetic::makeFrame(right, i));
+  }
+  const int cycle = std::max(1, 2 * int(inputs.size()) - 2);
+  Image output(w, h, 3), rightOutput(o.stereo ? w : 0, o.stereo ? h : 0, 3);
   // --sample-mask: a quarter of the pixels per frame (position in a 2x2 block, rotating over four
   // frames) as the frames' sampleMask, to time a progressive mode (svgf's useSampleMask). Only
   // the mask changes: the colour is left dense, which costs the same.
@@ -79,43 +108,66 @@ void runBench(const BenchOptions& o) {
       masks.push_back(std::move(m));
     }
 
-  std::map<std::string, std::vector<double>> passes;
+  std::map<std::string, std::vector<double>> passes, passesCpu;
   std::vector<std::string> order;
   std::vector<double> totals, cpuTimes;
   Progress progress("bench " + o.method, o.warmup + o.frames);
   for (int i = 0; i < o.warmup + o.frames; ++i) {
-    // Cycle 0,1,2,3,2,1,0,... so consecutive frames are always one camera step apart.
-    const int k = i % 6, idx = k < 4 ? k : 6 - k;
+    // Cycle 0,1,..,n-1,n-2,..,1,0,... so consecutive frames are always one camera step apart.
+    const int n = int(inputs.size()), k = i % cycle, idx = k < n ? k : cycle - k;
     FrameInputs in = inputs[idx].inputs();
     if (o.sampleMask) in[Buffer::SampleMask] = masks[size_t(i % 4)].view();
     const double cpuStart = processCpuMs();
-    denoiser->denoise(in, output.view());
+    if (stereo) {
+      StereoFrameInputs pair;
+      pair.eye[0] = in;
+      pair.eye[1] = rightInputs[idx].inputs();
+      if (o.sampleMask) pair.eye[1][Buffer::SampleMask] = masks[size_t((i + 2) % 4)].view();
+      stereo->denoise(pair, output.view(), rightOutput.view());
+    } else {
+      denoiser->denoise(in, output.view());
+    }
     const double cpu = processCpuMs() - cpuStart;
+    const FrameStats& st = stereo ? stereo->stats() : denoiser->stats();
     progress.update(i + 1);
     if (i < o.warmup) continue;
-    for (const auto& p : denoiser->stats().passes) {
+    for (const auto& p : st.passes) {
       if (!passes.count(p.name)) order.push_back(p.name);
       passes[p.name].push_back(p.milliseconds);
+      passesCpu[p.name].push_back(p.cpuMilliseconds);
     }
-    totals.push_back(denoiser->stats().totalMilliseconds);
+    totals.push_back(st.totalMilliseconds);
     cpuTimes.push_back(cpu);
   }
   progress.finish();
+  const FrameStats& last = stereo ? stereo->stats() : denoiser->stats();
 
-  std::printf("method %s, %dx%d, %s, %d frames after %d warm-up (medians)%s%s\n", o.method.c_str(), w, h,
-              device->name().c_str(), o.frames, o.warmup, o.sampleMask ? ", 1/4 sample mask" : "",
-              o.ftzDaz ? ", FTZ/DAZ set in this process" : "");
+  std::printf("method %s, %s%dx%d, %s, %d frames after %d warm-up (medians)%s%s%s%s\n", o.method.c_str(),
+              o.stereo ? "both eyes of " : "", w, h, device->name().c_str(), o.frames, o.warmup,
+              o.sampleMask ? ", 1/4 sample mask" : "", o.ftzDaz ? ", FTZ/DAZ set in this process" : "",
+              o.input.empty() ? "" : ", input ", o.input.c_str());
   nlohmann::json j = {{"method", o.method}, {"width", w}, {"height", h}, {"device", device->name()},
                       {"backend", std::string(backendName(device->backend()))}, {"frames", o.frames},
-                      {"sampleMask", o.sampleMask}, {"ftzDaz", o.ftzDaz}};
+                      {"sampleMask", o.sampleMask}, {"ftzDaz", o.ftzDaz}, {"stereo", o.stereo}};
+  if (!o.input.empty()) j["input"] = o.input;
   if (device->backend() == Backend::Cpu) {
     // The SIMD path the CPU passes dispatched to (RTD_CPU_PATH forces one).
     std::printf("  cpu path: %s\n", describeCpuPath().c_str());
     j["cpuPath"] = cpuPathName(cpuPath());
   }
+  // Per pass: the wall time, and on the CPU backend the process CPU time during the pass (all
+  // threads; with --threads 1 the pass's own cost, which other work on the machine barely moves).
+  const bool cpuColumn = device->backend() == Backend::Cpu;
+  if (cpuColumn) std::printf("  %-24s %9s    %9s\n", "pass", "wall", "cpu");
   for (const auto& name : order) {
     const double m = median(passes[name]);
-    std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
+    if (cpuColumn) {
+      const double c = median(passesCpu[name]);
+      std::printf("  %-24s %9.3f ms %9.3f ms\n", name.c_str(), m, c);
+      j["passesCpuMedianMs"][name] = c;
+    } else {
+      std::printf("  %-24s %9.3f ms\n", name.c_str(), m);
+    }
     j["passesMedianMs"][name] = m;
   }
   const double total = median(totals);
@@ -126,13 +178,17 @@ void runBench(const BenchOptions& o) {
   const double cpu = median(cpuTimes);
   std::printf("  %-24s %9.3f ms\n", "cpu time (all threads)", cpu);
   j["cpuMedianMs"] = cpu;
+  for (const auto& m : last.memory) {  // where the method reports it (Gersthofer's Table 5.4)
+    std::printf("  memory %-17s %9.2f MiB\n", m.category.c_str(), double(m.bytes) / (1 << 20));
+    j["memoryBytes"][m.category] = m.bytes;
+  }
   if (!o.json.empty()) writeFileAtomic(o.json, j.dump(1));
 }
 }  // namespace
 
 void addBench(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
-  auto* cmd = addSubcommand(app, "bench", "time a method's passes on a synthetic scene (medians)");
+  auto* cmd = addSubcommand(app, "bench", "time a method's passes on a synthetic scene or a sequence (medians)");
   cmd->add_option("--method,-m", o->method, "method name (see `rtdenoise methods`)")->capture_default_str();
   cmd->add_option("--size", o->size, "WIDTHxHEIGHT")->capture_default_str();
   o->device.add(cmd);
@@ -141,6 +197,15 @@ void addBench(CLI::App& app) {
   cmd->add_option("--warmup", o->warmup, "untimed frames first")->capture_default_str()->check(atLeast(0));
   cmd->add_option("--json", o->json, "FILE: also write the medians as JSON to FILE");
   cmd->add_flag("--sample-mask", o->sampleMask, "frames carry a rotating 1/4 sampleMask (progressive modes)");
+  auto* input = cmd->add_option("--input,-i", o->input,
+                                "time on the first frames of this sequence (e.g. a rendered mirrorfloor) instead of the "
+                                "synthetic scene; --size is then the sequence's");
+  cmd->add_option("--input-frames", o->inputFrames, "with --input: frames read and cycled")
+      ->capture_default_str()
+      ->check(atLeast(2))
+      ->needs(input);
+  cmd->add_flag("--stereo", o->stereo, "both eyes through the two-view denoiser (the right eye: other noise)")
+      ->excludes(input);
   cmd->add_flag("--ftz-daz", o->ftzDaz,
                 "set flush-to-zero and denormals-are-zero in this process first (for comparison only; "
                 "the library never changes the caller's floating-point mode)");

@@ -59,6 +59,7 @@ eval::FrameSource syntheticScene(const DemoOptions& o, int w, int h) {
                     std::to_string(w) + "x" + std::to_string(h);
   src.frameCount = o.frames;
   src.load = [scene](int index, Image& reference) { return synthetic::makeFrame(scene, index, &reference); };
+  src.referenceExact = true;
   return src;
 }
 
@@ -82,12 +83,36 @@ eval::FrameSource demoScene(const DemoOptions& o) {
     src.description = "built-in scene '" + scene->name() + "' path traced at 1 spp, references at " +
                       std::to_string(o.referenceSpp) + " spp, " + std::to_string(w) + "x" + std::to_string(h);
     src.frameCount = o.frames;
-    const int spp = o.referenceSpp;
-    src.load = [renderer, scene, cache, spp](int index, Image& reference) {
+    // The reference is the mean of two independent halves of referenceSpp / 2 samples (the
+    // second from a renderer with another seed), so the report can estimate the reference's
+    // own remaining noise from their difference (eval::ReferenceQuality).
+    render::RenderSettings rsB = rs;
+    rsB.seed = rs.seed + 7919u;
+    auto rendererB = std::make_shared<render::Renderer>(scene, rsB);
+    struct Halves {
+      int index = -1;
+      Image a, b;
+    };
+    auto halves = std::make_shared<Halves>();
+    const int half = std::max(1, o.referenceSpp / 2);
+    src.load = [renderer, rendererB, scene, cache, half, halves](int index, Image& reference) {
       Frame f = renderer->render(index);
-      reference = cache.fetchOrRender(*renderer, *scene, index, spp, 0.0, render::Eye::Center);
+      halves->a = cache.fetchOrRender(*renderer, *scene, index, half, 0.0, render::Eye::Center);
+      halves->b = cache.fetchOrRender(*rendererB, *scene, index, half, 0.0, render::Eye::Center);
+      halves->index = index;
+      reference = halves->a;
+      for (size_t i = 0; i < reference.pixels.size(); ++i) reference.pixels[i] = 0.5f * (halves->a.pixels[i] + halves->b.pixels[i]);
       return f;
     };
+    src.referenceHalves = [halves](int index, Image& a, Image& b) {
+      if (halves->index != index) throw Error("demo: reference halves asked for frame index " + std::to_string(index) + " before it was loaded");
+      a = halves->a;
+      b = halves->b;
+    };
+    src.referenceSpp = 2 * half;
+    src.referenceNote = "Path traced with the renderer's reference mode (no firefly clamping). The metal ball's caustic "
+                        "paths converge slowly, so isolated fireflies remain at this sample count; raise "
+                        "--reference-spp (the references are cached) to push them down.";
 #else
     throw Error("this build has no path tracer; use --scene synthetic");
 #endif

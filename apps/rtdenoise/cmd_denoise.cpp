@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
-#include "rtd/eval/compare.h"
+#include "denoise_stereo.h"
 #include "sanitize_report.h"
 
 namespace rtd::cli {
@@ -14,19 +14,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-struct DenoiseOptions {
-  std::string method = "svgf";
-  std::string input;
-  OutputOptions output;
-  std::vector<std::string> settings;
-  DeviceOptions device;
-  int maxFrames = 0;
-  bool half = false;
-  bool preview = false;
-  std::string toneMap = "aces";
-  float exposure = 0.0f;
-  SequenceOptions sequence;  // --cut, --continuous
-};
 
 /// What `denoise` writes into its output directory (and --overwrite replaces).
 const std::vector<std::string> kDenoiseOutputs = {R"(frame_\d+\.(exr|png))", R"(timings\.json)"};
@@ -43,6 +30,7 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   }
   previewToneMap.exposure = o.exposure;
   (void)methodInfo(o.method);
+  if (isStereoSequence(o.input)) return runDenoiseStereo(o, previewToneMap);  // render --stereo output: both eyes
   auto reader = SequenceReader::open(o.input, o.sequence);
   const int frames = framesToUse(o.maxFrames, reader->frameCount());
   auto device = Device::create(o.device.desc(backend));
@@ -58,7 +46,7 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   o.output.prepare(kDenoiseOutputs);
   const fs::path out(o.output.dir);
   std::fprintf(stderr, "denoising %d frames (%dx%d, %s input) with '%s' on %s\n", frames, reader->width(),
-               reader->height(), reader->kind() == SequenceKind::Native ? "native" : "Blender", o.method.c_str(),
+               reader->height(), std::string(sequenceKindName(reader->kind())).c_str(), o.method.c_str(),
                device->name().c_str());
 
   json timing;
@@ -125,8 +113,8 @@ void addDenoise(CLI::App& app) {
   auto o = std::make_shared<DenoiseOptions>();
   auto* cmd = addSubcommand(app, "denoise", "denoise a sequence (native, per-buffer image files or Blender multilayer EXR)");
   cmd->add_option("--method,-m", o->method, "method name (see `rtdenoise methods`)")->capture_default_str();
-  cmd->add_option("--input,-i", o->input, "sequence directory (docs/sequence-format.md)")->required();
-  o->output.add(cmd, "frame_NNNN.exr + timings.json");
+  cmd->add_option("--input,-i", o->input, "sequence directory (docs/sequence-format.md); a stereo one (left/, right/) denoises both eyes")->required();
+  o->output.add(cmd, "frame_NNNN.exr + timings.json (stereo: left/, right/ + timings.json)");
   cmd->add_option("--set,-s", o->settings, "setting as key=value (repeatable; presets such as variant= apply first)");
   o->device.add(cmd);
   cmd->add_option("--frames", o->maxFrames, "denoise only the first N frames (0 = all)")->capture_default_str();

@@ -36,6 +36,7 @@ struct RenderOptions {
   int seed = -1;
   float sampleFraction = 1.0f;
   bool stereo = false;
+  bool hiddenArea = false;
   float eyeDistance = -1;
   bool jitter = false;
   bool minimal = false;
@@ -84,6 +85,7 @@ void runRender(const RenderOptions& o, const CLI::App& cmd) {
   if (o.maxDepth > 0) s.maxDepth = o.maxDepth;
   if (o.seed >= 0) s.seed = uint32_t(o.seed);
   s.sampleFraction = o.sampleFraction;
+  s.hiddenArea = o.hiddenArea;
   if (o.eyeDistance >= 0) s.eyeDistance = o.eyeDistance;
   s.pixelJitter = s.pixelJitter || o.jitter;
   s.allBuffers = !o.minimal;
@@ -149,6 +151,7 @@ void runRender(const RenderOptions& o, const CLI::App& cmd) {
                            {"seed", s.seed},
                            {"pixelJitter", s.pixelJitter},
                            {"sampleFraction", s.sampleFraction},
+                           {"hiddenArea", s.hiddenArea},
                            {"seedBits", 24}};
     if (refWriter)
       meta["reference"] = {{"dir", "reference"}, {"spp", o.referenceSpp}, {"secondsBudget", o.referenceSeconds},
@@ -186,6 +189,7 @@ void addRender(CLI::App& app) {
   cmd->add_option("--sample-fraction", o->sampleFraction, "fraction of pixels traced per frame (sparse, blue-noise mask)")
       ->default_val(1.0f)->check(CLI::Range(1e-6f, 1.0f));
   cmd->add_flag("--stereo", o->stereo, "render left and right eyes into <output>/left and <output>/right");
+  cmd->add_flag("--hidden-area", o->hiddenArea, "a synthetic HMD hidden-area mesh: lens border and nose not traced (buffer hiddenArea)");
   cmd->add_option("--eye-distance", o->eyeDistance, "stereo eye distance in world units (default 0.064; with --stereo)")
       ->check(atLeast(0));
   cmd->add_flag("--jitter", o->jitter, "jitter primary rays within the pixel (default: pixel centres)");

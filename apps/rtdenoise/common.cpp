@@ -32,13 +32,18 @@ std::vector<SettingAssignment> parseAssignments(const std::vector<std::string>& 
   return out;
 }
 
-void applySettings(Denoiser& d, const std::vector<std::string>& assignments) {
+namespace {
+template <class D> void applySetTexts(D& d, const std::vector<std::string>& assignments) {
   try {
     rtd::applySettings(d, parseAssignments(assignments));
   } catch (const Error& e) {
     throw UsageError(std::string("--set: ") + e.what());
   }
 }
+}  // namespace
+
+void applySettings(Denoiser& d, const std::vector<std::string>& assignments) { applySetTexts(d, assignments); }
+void applySettings(StereoDenoiser& d, const std::vector<std::string>& assignments) { applySetTexts(d, assignments); }
 
 CLI::Validator atLeast(double lo) {
   return CLI::Validator(

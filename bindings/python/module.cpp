@@ -426,7 +426,7 @@ PYBIND11_MODULE(_core, m) {
   py::class_<rtd::SequenceReader>(m, "SequenceReader",
                                   "Reads a sequence directory (native, or Blender Cycles multilayer EXR) frame by frame.")
       .def(py::init([](const std::filesystem::path& dir) { return rtd::SequenceReader::open(dir); }), py::arg("path"))
-      .def_property_readonly("kind", [](rtd::SequenceReader& r) { return r.kind() == rtd::SequenceKind::Native ? "native" : "blender"; })
+      .def_property_readonly("kind", [](rtd::SequenceReader& r) { return std::string(rtd::sequenceKindName(r.kind())); })
       .def_property_readonly("width", &rtd::SequenceReader::width)
       .def_property_readonly("height", &rtd::SequenceReader::height)
       .def_property_readonly("buffers", [](rtd::SequenceReader& r) {

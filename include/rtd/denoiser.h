@@ -19,6 +19,9 @@
 
 namespace rtd {
 
+class StereoDenoiser;  // rtd/stereo.h
+namespace detail { struct DenoiserAccess; }
+
 enum class Backend { Cpu, Vulkan };
 std::string_view backendName(Backend b);
 
@@ -26,6 +29,10 @@ std::string_view backendName(Backend b);
 struct PassTiming {
   std::string name;
   double milliseconds = 0;
+  /// CPU backend: the CPU time the process spent during the pass, all threads together (on a
+  /// machine shared with other work this grows far less than the wall time; with one thread it
+  /// is the pass's own cost). 0 where not measured (Vulkan).
+  double cpuMilliseconds = 0;
 };
 
 /// What import did to the values of one buffer of a frame (both backends alike; the ranges are
@@ -42,6 +49,15 @@ struct SanitizeCounts {
   uint64_t total() const { return nonFinite + outOfRange + renormalized; }
 };
 
+/// Memory a denoiser holds for one purpose (the categories of Gersthofer's Table 5.4).
+struct MemoryUse {
+  /// "frames": the imported inputs (this frame's and the previous frame's buffers, the
+  /// G-buffer's counterpart); "history": what carries over to the next frame; "intermediate":
+  /// per-frame working planes.
+  std::string category;
+  uint64_t bytes = 0;
+};
+
 /// What the last denoise() call did.
 struct FrameStats {
   std::vector<PassTiming> passes;
@@ -51,6 +67,9 @@ struct FrameStats {
   /// The same per buffer, indexed by int(Buffer).
   std::array<SanitizeCounts, kBufferCount> sanitized{};
   uint64_t pixels = 0;
+  /// Memory held after the call, by category; filled by the methods that account for it
+  /// (svgf with components = composite), empty otherwise.
+  std::vector<MemoryUse> memory;
   /// Parts of the method that were asked for but did not run on this frame, and why (e.g.
   /// "glossyBandwidth off: the frame has no 'reflectedFootprint' buffer").
   std::vector<std::string> notes;
@@ -97,6 +116,7 @@ class Denoiser {
   /// Validates `settings` (a settings struct of `method`) and makes them current.
   virtual void assignSettings(std::string_view method, const void* settings) = 0;
   virtual void settingsChanged() {}
+  friend struct detail::DenoiserAccess;  // two-view denoisers made of two Denoisers reach these
 };
 
 struct DeviceDesc {
@@ -124,6 +144,13 @@ class Device {
     d->setSettings(settings);
     return d;
   }
+
+  /// A two-view denoiser (rtd/stereo.h) of any method, default settings: the method's stereo
+  /// pipeline where it has one (svgf: Gersthofer's eye reprojection), else one history per eye.
+  virtual std::unique_ptr<StereoDenoiser> createStereoDenoiser(std::string_view method) = 0;
+  template <class S>
+    requires requires { S::kMethod; }
+  std::unique_ptr<StereoDenoiser> createStereoDenoiser(const S& settings);
 };
 
 /// A device `rtdenoise devices` lists.

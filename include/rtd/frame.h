@@ -78,6 +78,14 @@ enum class Buffer : int {
   DiffuseAlbedo,
   /// Colour that demodulates the Specular stream (Blender's GlossCol), RGB.
   SpecularAlbedo,
+  /// Indirect diffuse part of Color, RGB: light reaching the primary hit through a diffuse
+  /// first bounce (Gersthofer Sec. 3.3: the component shared between the eyes). Color minus it
+  /// is "direct + indirect specular"; the two are composited before filtering.
+  IndirectDiffuse,
+  /// 1 where the head-mounted display's lens hides the pixel (the hidden-area mesh, Gersthofer
+  /// Sec. 3.1), 0 where it is visible, V. Hidden pixels are neither traced nor filtered and come
+  /// out 0.
+  HiddenArea,
   Count
 };
 constexpr int kBufferCount = int(Buffer::Count);

@@ -7,6 +7,7 @@
 #include "rtd/sequence.h"
 #include "rtd/settings.h"
 #include "rtd/config.h"
+#include "rtd/stereo.h"
 #include "rtd/version.h"
 #include "rtd/methods/accumulate.h"
 #include "rtd/methods/svgf.h"

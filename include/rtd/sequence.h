@@ -1,10 +1,11 @@
 // rtdenoise — frame sequences on disk: the native format (docs/sequence-format.md) and
-// Blender Cycles multilayer EXR sequences, plus writing denoised frames.
+// per-buffer image files and Blender Cycles multilayer EXR sequences, plus writing denoised frames.
 #pragma once
 #include <array>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rtd/frame.h"
@@ -29,7 +30,9 @@ struct Frame {
   FrameInputs inputs() const;
 };
 
-enum class SequenceKind { Native, Blender };
+enum class SequenceKind { Native, PerBuffer, Blender };
+/// "native", "per-buffer" or "blender".
+std::string_view sequenceKindName(SequenceKind kind);
 
 /// Frame numbers lie in [0, kMaxFrameNumber] (a sequence claiming others is refused).
 constexpr int kMaxFrameNumber = 2147483647;
@@ -45,8 +48,10 @@ struct SequenceOptions {
 };
 
 /// Reads a sequence directory frame by frame. open() detects the kind: a directory with
-/// sequence.json is native; one with multilayer EXR files holding a `<layer>.Combined.R`
-/// channel is a Blender Cycles sequence. Frame numbers are unique, sorted and within
+/// sequence.json is native; one with per-buffer files `<buffer>_<number>.<ext>` (color_0001.exr,
+/// albedo_0001.pfm, ...; EXR, PFM, HDR, PNG or TIFF, the latter through OpenImageIO) is
+/// per-buffer, with cameras from an optional cameras.json; one with multilayer EXR files
+/// holding a `<layer>.Combined.R` channel is a Blender Cycles sequence. Frame numbers are unique, sorted and within
 /// [0, kMaxFrameNumber]. Files are untrusted: headers are checked against limits and the file
 /// size before anything is allocated, and reading a frame is bounded in time
 /// (docs/input-validation.md). Errors (rtd::Error) name the file, frame and channel.

@@ -2,10 +2,13 @@
 #include <algorithm>
 
 #include "rtd/denoiser.h"
+#include "rtd/stereo.h"
 
 namespace rtd {
 
-void applySettings(Denoiser& denoiser, const std::vector<SettingAssignment>& assignments) {
+namespace {
+// Denoiser and StereoDenoiser have the same settings interface.
+template <class D> void applyAssignments(D& denoiser, const std::vector<SettingAssignment>& assignments) {
   const auto known = denoiser.settings();
   const auto info = [&](const std::string& name) -> const SettingInfo* {
     const auto it = std::find_if(known.begin(), known.end(), [&](const SettingInfo& s) { return s.name == name; });
@@ -25,6 +28,14 @@ void applySettings(Denoiser& denoiser, const std::vector<SettingAssignment>& ass
   }
   for (const auto& [name, value] : presets) denoiser.set(name, value);
   for (const auto& [name, value] : others) denoiser.set(name, value);
+}
+}  // namespace
+
+void applySettings(Denoiser& denoiser, const std::vector<SettingAssignment>& assignments) {
+  applyAssignments(denoiser, assignments);
+}
+void applySettings(StereoDenoiser& denoiser, const std::vector<SettingAssignment>& assignments) {
+  applyAssignments(denoiser, assignments);
 }
 
 }  // namespace rtd

@@ -21,7 +21,8 @@ constexpr BufferDesc kBuffers[kBufferCount] = {
     {"secondaryDistance", "Z"}, {"mirrorDirection", "XYZ"}, {"seed", "I"},
     {"sampleMask", "V"},      {"emission", "RGB"},        {"gradientSample", "V"},
     {"gradientPrevious", "V"}, {"gradientCurrent", "V"},  {"reflectedFootprint", "V"},
-    {"diffuseAlbedo", "RGB"}, {"specularAlbedo", "RGB"},
+    {"diffuseAlbedo", "RGB"}, {"specularAlbedo", "RGB"}, {"indirectDiffuse", "RGB"},
+    {"hiddenArea", "V"},
 };
 }  // namespace
 

@@ -19,7 +19,7 @@ namespace rtd {
 bool isRadianceBuffer(Buffer b) {
   switch (b) {
     case Buffer::Color: case Buffer::Direct: case Buffer::Indirect:
-    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: return true;
+    case Buffer::Diffuse: case Buffer::Specular: case Buffer::Emission: case Buffer::IndirectDiffuse: return true;
     default: return false;
   }
 }
@@ -27,7 +27,7 @@ bool isRadianceBuffer(Buffer b) {
 std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const std::vector<Buffer>& extra,
                                     const ReprojectionSettings& reprojection) {
   std::vector<Buffer> shared = {Buffer::Color, Buffer::Albedo, Buffer::Normal, Buffer::Position, Buffer::Motion,
-                                Buffer::Emission};
+                                Buffer::Emission, Buffer::HiddenArea};
   if (reprojection.testDepth) {
     shared.push_back(Buffer::Depth);
     shared.push_back(Buffer::DepthGradient);
@@ -103,10 +103,28 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
   }
   sanitizeUnitVectors(out, stats);
   separateEmission(out);
+  applyHiddenArea(out);
   uint64_t total = 0;
   for (const SanitizeCounts& c : stats) total += c.total();
   if (counts) *counts = stats;
   return total;
+}
+
+void applyHiddenArea(FrameData& f) {
+  if (!f.has(Buffer::HiddenArea)) return;
+  const Plane& hidden = f.plane(Buffer::HiddenArea);
+  for (int i = 0; i < kBufferCount; ++i) {
+    const Buffer b = Buffer(i);
+    if (!f.has(b) || !(isRadianceBuffer(b) || b == Buffer::Normal)) continue;
+    parallelRows(f.height, [&](int y) {
+      const float* m = hidden.row(y);
+      for (auto& plane : f.buffers[i]) {
+        float* v = plane.row(y);
+        for (int x = 0; x < f.width; ++x)
+          if (m[x] > 0.5f) v[x] = 0.0f;
+      }
+    });
+  }
 }
 
 void separateEmission(FrameData& f) {

@@ -38,15 +38,20 @@ std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const s
 /// Checks the views first (checkInputViews: required buffers present, one size, formats,
 /// alignment, strides); throws rtd::Error naming the buffer otherwise. Every value is
 /// sanitized on the way (core/sanitize.h: non-finite to 0, clamped into its buffer's range),
-/// then unit vectors are renormalized (sanitizeUnitVectors) and emission is separated
-/// (separateEmission). Returns the number of values replaced; `counts`, if given, receives
-/// them per buffer.
+/// then unit vectors are renormalized (sanitizeUnitVectors), emission is separated
+/// (separateEmission) and the hidden area cleared (applyHiddenArea). Returns the number of
+/// values replaced; `counts`, if given, receives them per buffer.
 uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out,
                      const std::vector<Buffer>* used = nullptr, SanitizeStats* counts = nullptr);
 
 /// Subtracts Buffer::Emission (if present) from Color, Direct and Diffuse, clamped at 0, so
 /// methods filter only the noisy part; importFrame() calls it.
 void separateEmission(FrameData& frame);
+
+/// Buffer::HiddenArea (if present): the pixels the lens hides carry nothing. Their radiance
+/// buffers and normals become 0, so every method treats them as background (a zero normal
+/// weighs 0 in the spatial filters) and they neither take nor give light; importFrame() calls it.
+void applyHiddenArea(FrameData& frame);
 
 /// Whether a pass writing `bytes` of pixels that the next passes will not read right away
 /// writes them around the caches (non-temporal stores): when they exceed what a last-level

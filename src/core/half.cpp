@@ -2,10 +2,8 @@
 
 #include <cstring>
 #include <string>
-#ifdef __F16C__
-#include <immintrin.h>
-#endif
 
+#include "core/half_kernels.h"
 #include "core/parallel.h"
 #include "rtd/error.h"
 
@@ -53,31 +51,11 @@ uint16_t floatToHalf(float v) {
 }
 
 void halvesToFloats(const void* halves, float* dst, size_t n) {
-  const char* src = static_cast<const char*>(halves);
-  size_t i = 0;
-#ifdef __F16C__
-  for (; i + 8 <= n; i += 8)
-    _mm256_storeu_ps(dst + i, _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(src + 2 * i))));
-#endif
-  for (; i < n; ++i) {
-    uint16_t h;
-    std::memcpy(&h, src + 2 * i, 2);
-    dst[i] = halfToFloat(h);
-  }
+  RTD_SIMD(halvesToFloatsBulk)(static_cast<const char*>(halves), dst, n);
 }
 
 void floatsToHalves(const float* src, void* halves, size_t n) {
-  char* dst = static_cast<char*>(halves);
-  size_t i = 0;
-#ifdef __F16C__
-  for (; i + 8 <= n; i += 8)
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(dst + 2 * i),
-                     _mm256_cvtps_ph(_mm256_loadu_ps(src + i), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
-#endif
-  for (; i < n; ++i) {
-    const uint16_t h = floatToHalf(src[i]);
-    std::memcpy(dst + 2 * i, &h, 2);
-  }
+  RTD_SIMD(floatsToHalvesBulk)(src, static_cast<char*>(halves), n);
 }
 
 void importHalfRow(const char* src, size_t pixelStride, int nc, float* const* dst, int w, ValueRange range,

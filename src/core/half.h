@@ -19,7 +19,8 @@ float halfToFloat(uint16_t h);
 uint16_t floatToHalf(float v);
 
 /// n halves (at any address: 2-byte alignment is not required) into floats, and back; F16C
-/// instructions where the build has them, the exact scalar conversions above otherwise.
+/// instructions on the avx2 and avx512 CPU paths (core/cpu_path.h), the exact scalar
+/// conversions above on sse2.
 void halvesToFloats(const void* halves, float* dst, size_t n);
 void floatsToHalves(const float* src, void* halves, size_t n);
 

@@ -15,6 +15,7 @@ std::unique_ptr<Denoiser> createSvgfCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createBmfrCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createTnndCpu(tbb::task_arena&);
 std::unique_ptr<Denoiser> createAsvgfCpu(tbb::task_arena&);
+std::unique_ptr<StereoDenoiser> createSvgfStereoCpu(tbb::task_arena&);
 
 // Vulkan factories (src/methods/<name>/<name>_vulkan.cpp); null where the build has no Vulkan.
 #ifdef RTD_HAS_VULKAN
@@ -24,6 +25,7 @@ std::unique_ptr<Denoiser> createSvgfVulkan(vk::Context&);
 std::unique_ptr<Denoiser> createBmfrVulkan(vk::Context&);
 std::unique_ptr<Denoiser> createTnndVulkan(vk::Context&);
 std::unique_ptr<Denoiser> createAsvgfVulkan(vk::Context&);
+std::unique_ptr<StereoDenoiser> createSvgfStereoVulkan(vk::Context&);
 #else
 #define RTD_VULKAN_FACTORY(f) nullptr
 #endif
@@ -35,7 +37,8 @@ const std::vector<MethodEntry>& methodRegistry() {
       {"accumulate", "temporal accumulation with robust reprojection (baseline of SVGF/BMFR)",
        &defaultsOf<AccumulateSettings>, &createAccumulateCpu, RTD_VULKAN_FACTORY(createAccumulateVulkan)},
       {"svgf", "spatiotemporal variance-guided filtering (Schied 2017; Dundr, Gersthofer, Voorhuis variants)",
-       &defaultsOf<SvgfSettings>, &createSvgfCpu, RTD_VULKAN_FACTORY(createSvgfVulkan)},
+       &defaultsOf<SvgfSettings>, &createSvgfCpu, RTD_VULKAN_FACTORY(createSvgfVulkan), &createSvgfStereoCpu,
+       RTD_VULKAN_FACTORY(createSvgfStereoVulkan)},
       {"bmfr", "blockwise multi-order feature regression (Koskela et al. 2019)", &defaultsOf<BmfrSettings>,
        &createBmfrCpu, RTD_VULKAN_FACTORY(createBmfrVulkan)},
       {"tnnd", "tiny neural network denoiser, a 360-parameter neural cellular automaton (Higginson 2023)",

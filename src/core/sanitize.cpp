@@ -10,14 +10,14 @@ namespace rtd {
 ValueRange importRange(Buffer b) {
   switch (b) {
     case Buffer::Color: case Buffer::Direct: case Buffer::Indirect: case Buffer::Diffuse:
-    case Buffer::Specular: case Buffer::Emission:
+    case Buffer::Specular: case Buffer::Emission: case Buffer::IndirectDiffuse:
     case Buffer::Albedo: case Buffer::ReflectedAlbedo:
     case Buffer::GradientPrevious: case Buffer::GradientCurrent: return {0.0f, kMaxRadiance};
     case Buffer::Depth: case Buffer::SecondaryDistance: return {0.0f, kMaxGuideMagnitude};
     case Buffer::Motion: return {-kMaxMotion, kMaxMotion};
     case Buffer::ObjectId: case Buffer::MaterialId: case Buffer::Seed: return {-kMaxId, kMaxId};
     case Buffer::Roughness: case Buffer::Metalness: case Buffer::SampleMask:
-    case Buffer::GradientSample: return {0.0f, 1.0f};
+    case Buffer::GradientSample: case Buffer::HiddenArea: return {0.0f, 1.0f};
     default: return {-kMaxGuideMagnitude, kMaxGuideMagnitude};  // normals, positions, gradients, directions
   }
 }

@@ -230,6 +230,21 @@ FrameSource directorySource(const fs::path& inputDir, const fs::path& referenceD
                   "' for input frame '" + input->framePath(i).string() + "'");
   FrameSource s;
   s.description = "input " + inputDir.string() + ", reference " + referenceDir.string();
+  // `rtdenoise render --reference-spp` records the references' sample count in render.json
+  // beside them.
+  const fs::path referenceAbs = fs::weakly_canonical(referenceDir);
+  const fs::path renderJson = referenceAbs.parent_path() / "render.json";
+  std::error_code ec;
+  if (fs::is_regular_file(renderJson, ec) && fs::file_size(renderJson, ec) < (1u << 20)) {
+    std::ifstream in(renderJson);
+    const auto j = nlohmann::json::parse(in, nullptr, false);
+    if (j.is_object() && j.contains("reference") && j["reference"].is_object() &&
+        j["reference"].value("dir", "") == referenceAbs.filename().string() && j["reference"].contains("spp") &&
+        j["reference"]["spp"].is_number_integer()) {
+      s.referenceSpp = j["reference"]["spp"].get<int>();
+      s.referenceNote = "Sample count from " + renderJson.string() + ".";
+    }
+  }
   s.frameCount = n;
   s.width = input->width();
   s.height = input->height();

@@ -338,7 +338,10 @@ std::string comparisonHtml(const Comparison& c) {
   for (size_t k = 0; k <= nRuns; ++k)
     h << "<option value='" << k << "'" << (k == ref ? " selected" : "") << ">" << esc(streamLabel(k)) << "</option>";
   h << "</select> split <input type='range' id='split' min='0' max='100' value='50' aria-label='before/after'></div>\n";
-  const int cmpWidth = std::max(c.width, std::min(2 * c.width, 1300));
+  // The split view at the largest whole multiple of the stored size that fits the page (1360 px
+  // of content), so that small frames are enlarged with square pixels.
+  const int stored = std::max(1, c.displayWidth > 0 ? c.displayWidth : c.width);
+  const int cmpWidth = stored * std::max(1, 1360 / stored);
   h << "<div class='cmp' style='width:" << cmpWidth << "px'><img id='cmpB' alt='right'><div class='top'><img id='cmpA' alt='left'></div>"
     << "<span class='lab' id='labA' style='left:6px'></span><span class='lab' id='labB' style='right:6px'></span></div>\n";
 
@@ -360,7 +363,8 @@ std::string comparisonHtml(const Comparison& c) {
   h << "</div>\n";
 
   // Crops, enlarged, from the same per-frame images.
-  const int zoom = c.cropWidth * 2 <= 440 ? 2 : 1;
+  // Crops enlarged by a whole factor to about 250 px wide (five fit a row), at least 1x.
+  const int zoom = std::max(1, 250 / std::max(1, c.cropWidth));
   const double cw = c.cropWidth * zoom, ch = c.cropHeight * zoom, px = c.cropX * zoom, py = c.cropY * zoom;
   h << "<h2>Crops (" << c.cropWidth << "&times;" << c.cropHeight << " at " << c.cropX << "," << c.cropY << ", " << zoom
     << "&times;)</h2>\n<div class='crops'>";

@@ -1,4 +1,4 @@
-// Native and Blender sequence readers, the native writer, and RGB EXR helpers.
+// Native, per-buffer and Blender sequence readers, the native writer, and RGB EXR helpers.
 #include "rtd/sequence.h"
 
 #include <unistd.h>
@@ -13,11 +13,14 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "core/validate.h"
 #include "io/exr.h"
+#include "io/image_file.h"
 #include "io/small_file.h"
 #include "io/temp_files.h"
+#include "passes/tonemap.h"
 #include "rtd/error.h"
 
 namespace rtd {
@@ -292,6 +295,48 @@ struct BlenderLightPasses {
   bool any() const { return glossy || diffuseColor || emit || env; }
 };
 
+// cameras.json as tools/blender/make_fixture.py writes it: "cameras": {"<frame>":
+// {"world_to_camera": 4x4, "projection": 4x4, ...}}, row-major (Blender's matrices); or the
+// list form, "cameras": [{"frame": N, ...}, ...] (or the list alone), keyed by each entry's
+// "frame". An entry may say "cut": true (history is reset at that frame).
+void loadCameraFile(const fs::path& path, std::map<int, Camera>& cameras, std::set<int>& cutFrames) {
+  json j = readJson(path);
+  const std::string where = "'" + path.string() + "'";
+  try {
+    const json& cams = j.is_array() ? j : j.at("cameras");
+    auto add = [&](int frame, const json& cam) {
+      const std::string at = where + ", camera of frame " + std::to_string(frame);
+      if (!cam.is_object()) throw Error(at + ": must be an object");
+      if (cameras.count(frame)) throw Error(at + ": the frame has two cameras");
+      Camera c;
+      c.worldToCamera = matrixFromJson(cam.at("world_to_camera"), at);
+      c.projection = matrixFromJson(cam.at("projection"), at);
+      c.valid = true;
+      cameras[frame] = c;
+      if (boolField(cam, "cut", at)) cutFrames.insert(frame);
+    };
+    if (cams.is_array()) {
+      for (const auto& cam : cams) {
+        if (!cam.is_object() || !cam.contains("frame"))
+          throw Error(where + ": every entry of the camera list needs a field 'frame' (the frame number)");
+        add(frameNumberFromJson(cam["frame"], where), cam);
+      }
+    } else if (cams.is_object()) {
+      for (const auto& [key, cam] : cams.items()) {
+        auto frame = frameNumberFromText(key);
+        if (!frame)
+          throw Error(where + ": camera key '" + key + "' is not a frame number in [0, " + std::to_string(kMaxFrameNumber) + "]");
+        add(*frame, cam);
+      }
+    } else {
+      throw Error(where + ": field 'cameras' must be an object keyed by frame number or a list");
+    }
+  } catch (const json::exception& e) {
+    throw Error(where + ": " + e.what());
+  }
+}
+
+
 class BlenderReader final : public SequenceReader {
  public:
   BlenderReader(const fs::path& dir, std::vector<std::pair<int, fs::path>> files, const std::string& layer)
@@ -324,7 +369,7 @@ class BlenderReader final : public SequenceReader {
     }
     if (light_.emit || light_.env) add(Buffer::Emission);
     const fs::path cameras = dir / "cameras.json";
-    if (fs::exists(cameras)) loadCameras(cameras);
+    if (fs::exists(cameras)) loadCameraFile(cameras, cameras_, cutFrames_);
   }
   SequenceKind kind() const override { return SequenceKind::Blender; }
   int frameCount() const override { return int(files_.size()); }
@@ -421,47 +466,6 @@ class BlenderReader final : public SequenceReader {
   std::string channelName(const BlenderPass& p, size_t c) const {
     return layer_ + "." + p.pass + "." + std::string(1, p.channels[c]);
   }
-  // cameras.json as tools/blender/make_fixture.py writes it: "cameras": {"<frame>":
-  // {"world_to_camera": 4x4, "projection": 4x4, ...}}, row-major (Blender's matrices); or the
-  // list form, "cameras": [{"frame": N, ...}, ...] (or the list alone), keyed by each entry's
-  // "frame". An entry may say "cut": true (history is reset at that frame).
-  void loadCameras(const fs::path& path) {
-    json j = readJson(path);
-    const std::string where = "'" + path.string() + "'";
-    try {
-      const json& cams = j.is_array() ? j : j.at("cameras");
-      auto add = [&](int frame, const json& cam) {
-        const std::string at = where + ", camera of frame " + std::to_string(frame);
-        if (!cam.is_object()) throw Error(at + ": must be an object");
-        if (cameras_.count(frame)) throw Error(at + ": the frame has two cameras");
-        Camera c;
-        c.worldToCamera = matrixFromJson(cam.at("world_to_camera"), at);
-        c.projection = matrixFromJson(cam.at("projection"), at);
-        c.valid = true;
-        cameras_[frame] = c;
-        if (boolField(cam, "cut", at)) cutFrames_.insert(frame);
-      };
-      if (cams.is_array()) {
-        for (const auto& cam : cams) {
-          if (!cam.is_object() || !cam.contains("frame"))
-            throw Error(where + ": every entry of the camera list needs a field 'frame' (the frame number)");
-          add(frameNumberFromJson(cam["frame"], where), cam);
-        }
-      } else if (cams.is_object()) {
-        for (const auto& [key, cam] : cams.items()) {
-          auto frame = frameNumberFromText(key);
-          if (!frame)
-            throw Error(where + ": camera key '" + key + "' is not a frame number in [0, " + std::to_string(kMaxFrameNumber) + "]");
-          add(*frame, cam);
-        }
-      } else {
-        throw Error(where + ": field 'cameras' must be an object keyed by frame number or a list");
-      }
-    } catch (const json::exception& e) {
-      throw Error(where + ": " + e.what());
-    }
-  }
-
   fs::path dir_;
   std::vector<std::pair<int, fs::path>> files_;
   std::string layer_;
@@ -473,7 +477,150 @@ class BlenderReader final : public SequenceReader {
   std::set<int> cutFrames_;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Per-buffer image files: <buffer>_<number>.<ext> (color_0001.exr, albedo_0001.pfm, ...), one
+// file per buffer per frame, any format readImageFile() reads (docs/sequence-format.md).
+
+/// A per-buffer file name: a buffer's canonical name (any case), an optional '_', '.' or '-',
+/// the frame number, and an image extension.
+std::optional<std::pair<Buffer, int>> perBufferFile(const fs::path& p) {
+  static const std::regex pattern(R"(^([A-Za-z]+)[_.-]?(\d+)\.(exr|pfm|hdr|png|tif|tiff)$)", std::regex::icase);
+  std::smatch m;
+  const std::string name = p.filename().string();
+  if (!std::regex_match(name, m, pattern)) return std::nullopt;
+  std::string stem = m[1].str();
+  std::transform(stem.begin(), stem.end(), stem.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+  for (int b = 0; b < kBufferCount; ++b) {
+    std::string canonical(bufferName(Buffer(b)));
+    std::transform(canonical.begin(), canonical.end(), canonical.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    if (canonical != stem) continue;
+    auto n = frameNumberFromText(m[2].str());
+    if (!n)
+      throw Error("file '" + p.string() + "': frame number " + m[2].str() + " is out of range [0, " +
+                  std::to_string(kMaxFrameNumber) + "]");
+    return std::pair{Buffer(b), *n};
+  }
+  return std::nullopt;
+}
+
+/// The buffer `b` from one file's pixels. Channels: the first bufferChannelCount(b) of the
+/// file's; a single-channel file fills an RGB buffer (a grey albedo). Integer files (PNG,
+/// 8/16-bit TIFF) hold display values: RGB buffers are sRGB-decoded when the file says sRGB,
+/// normals map [0, 1] to [-1, 1]; other buffers need a floating-point file.
+Image bufferFromFile(const io::ImageFile& file, Buffer b, const fs::path& path, const std::string& context) {
+  const std::string where = context + ", buffer '" + std::string(bufferName(b)) + "', file '" + path.string() + "'";
+  const std::string_view layout = bufferChannels(b);
+  const int n = int(layout.size()), c = file.image.channels;
+  if (c < n && !(c == 1 && layout == "RGB"))
+    throw Error(where + ": " + std::to_string(c) + " channel(s), the buffer needs " + std::to_string(n));
+  const bool normalLike = b == Buffer::Normal || b == Buffer::ReflectedNormal || b == Buffer::MirrorDirection;
+  if (file.integer && layout != "RGB" && !normalLike)
+    throw Error(where + ": an integer image (PNG or 8/16-bit TIFF) cannot hold " + std::string(bufferName(b)) +
+                "; use a floating-point format (EXR, PFM, HDR or float TIFF)");
+  Image out(file.image.width, file.image.height, n);
+  const size_t pixels = size_t(out.width) * out.height;
+  for (size_t i = 0; i < pixels; ++i)
+    for (int k = 0; k < n; ++k) {
+      float v = file.image.pixels[i * size_t(c) + size_t(c == 1 ? 0 : k)];
+      if (file.integer) v = layout == "RGB" ? (file.srgb ? tonemap::srgbDecode(v) : v) : 2.0f * v - 1.0f;
+      out.pixels[i * size_t(n) + size_t(k)] = v;
+    }
+  return out;
+}
+
+class PerBufferReader final : public SequenceReader {
+ public:
+  /// `files`: every per-buffer file of the directory (perBufferFile()), with its buffer and number.
+  PerBufferReader(const fs::path& dir, const std::vector<std::tuple<Buffer, int, fs::path>>& files) : dir_(dir) {
+    std::map<int, std::map<Buffer, fs::path>> byFrame;
+    std::set<Buffer> present;
+    for (const auto& [b, number, path] : files) {
+      auto [it, fresh] = byFrame[number].emplace(b, path);
+      if (!fresh)
+        throw Error("input '" + dir.string() + "': files '" + it->second.filename().string() + "' and '" +
+                    path.filename().string() + "' are both buffer '" + std::string(bufferName(b)) + "' of frame " +
+                    std::to_string(number));
+      present.insert(b);
+    }
+    if (!present.count(Buffer::Color))
+      throw Error("input '" + dir.string() + "': per-buffer files but no color_<number> file (e.g. color_0001.exr)");
+    buffers_.assign(present.begin(), present.end());
+    for (auto& [number, buffers] : byFrame) {
+      for (Buffer b : buffers_)
+        if (!buffers.count(b))
+          throw Error("input '" + dir.string() + "', frame " + std::to_string(number) + ": no file for buffer '" +
+                      std::string(bufferName(b)) + "', which other frames have (e.g. " +
+                      std::string(bufferName(b)) + "_" + std::to_string(number) + ".exr)");
+      frames_.push_back({number, std::move(buffers)});
+    }
+    const io::ImageFile first = io::readImageFile(frames_.front().files.at(Buffer::Color), "frame " + std::to_string(frames_.front().number));
+    width_ = first.image.width;
+    height_ = first.image.height;
+    const fs::path cameras = dir / "cameras.json";
+    if (fs::exists(cameras)) loadCameraFile(cameras, cameras_, cutFrames_);
+  }
+  SequenceKind kind() const override { return SequenceKind::PerBuffer; }
+  int frameCount() const override { return int(frames_.size()); }
+  int frameNumber(int i) const override {
+    checkIndex(i, frameCount(), dir_);
+    return frames_[size_t(i)].number;
+  }
+  fs::path framePath(int i) const override {
+    checkIndex(i, frameCount(), dir_);
+    return frames_[size_t(i)].files.at(Buffer::Color);
+  }
+  int width() const override { return width_; }
+  int height() const override { return height_; }
+  std::vector<Buffer> buffers() const override { return buffers_; }
+
+  Frame read(int index) const override {
+    checkIndex(index, frameCount(), dir_);
+    const Entry& e = frames_[size_t(index)];
+    const std::string context = "frame " + std::to_string(e.number);
+    Frame f;
+    f.number = e.number;
+    f.width = width_;
+    f.height = height_;
+    for (const auto& [b, path] : e.files) {
+      const io::ImageFile file = io::readImageFile(path, context);
+      if (file.image.width != width_ || file.image.height != height_)
+        throw Error(context + ", buffer '" + std::string(bufferName(b)) + "', file '" + path.string() + "': size " +
+                    std::to_string(file.image.width) + "x" + std::to_string(file.image.height) +
+                    " differs from the first colour file's " + std::to_string(width_) + "x" + std::to_string(height_));
+      f[b] = bufferFromFile(file, b, path, context);
+    }
+    auto cam = cameras_.find(e.number);
+    if (cam != cameras_.end()) f.camera = cam->second;
+    f.cut = cutAt(index);
+    return f;
+  }
+
+ protected:
+  bool markedCut(int index) const override { return cutFrames_.count(frames_[size_t(index)].number) > 0; }
+
+ private:
+  struct Entry {
+    int number;
+    std::map<Buffer, fs::path> files;
+  };
+  fs::path dir_;
+  int width_ = 0, height_ = 0;
+  std::vector<Buffer> buffers_;
+  std::vector<Entry> frames_;
+  std::map<int, Camera> cameras_;
+  std::set<int> cutFrames_;
+};
+
 }  // namespace
+
+std::string_view sequenceKindName(SequenceKind kind) {
+  switch (kind) {
+    case SequenceKind::Native: return "native";
+    case SequenceKind::PerBuffer: return "per-buffer";
+    case SequenceKind::Blender: return "blender";
+  }
+  return "?";
+}
 
 std::unique_ptr<SequenceReader> SequenceReader::open(const fs::path& dir, const SequenceOptions& options) {
   auto reader = openKind(dir);
@@ -486,15 +633,22 @@ std::unique_ptr<SequenceReader> SequenceReader::openKind(const fs::path& dir) {
   if (!fs::is_directory(dir, ec)) throw Error("input '" + dir.string() + "' is not a directory");
   if (fs::exists(dir / "sequence.json", ec)) return std::make_unique<NativeReader>(dir);
   std::vector<std::pair<int, fs::path>> files;
+  std::vector<std::tuple<Buffer, int, fs::path>> perBuffer;
   fs::directory_iterator it(dir, ec);
   if (ec) throw Error("input '" + dir.string() + "': cannot list the directory (" + ec.message() + ")");
   for (const auto& entry : it) {
+    if (auto pb = perBufferFile(entry.path())) {
+      perBuffer.emplace_back(pb->first, pb->second, entry.path());
+      continue;
+    }
     if (entry.path().extension() != ".exr") continue;
     auto n = frameNumberOf(entry.path());
     if (n) files.emplace_back(*n, entry.path());
   }
+  if (!perBuffer.empty()) return std::make_unique<PerBufferReader>(dir, perBuffer);
   if (files.empty())
-    throw Error("input '" + dir.string() + "' has neither sequence.json (native format) nor numbered .exr frames (Blender)");
+    throw Error("input '" + dir.string() + "' has neither sequence.json (native format), per-buffer files "
+                "(color_0001.exr, albedo_0001.pfm, ...) nor numbered .exr frames (Blender)");
   std::sort(files.begin(), files.end());
   for (size_t i = 1; i < files.size(); ++i)
     if (files[i].first == files[i - 1].first)

@@ -122,11 +122,27 @@ struct AtrousLevel {
   /// levels fill holes), one with none stays 0 with colour 0. Both null: dense.
   const PaddedPlane* validIn = nullptr;
   PaddedPlane* validOut = nullptr;
+  /// Gersthofer's glossy weights (Eq. 3.2), both null for none:
+  /// w_zi = exp(-|z_i(p) - z_i(q)| k_zi(p) / (sqrt(g3x3(Var)(p)) + eps_l)) with z_i =
+  /// `indirectDistance` (the accumulated indirect ray length) and k_zi = `indirectDistanceScale`
+  /// (1 - roughness(p), 0 where the weight is off). w_r is a per-pixel factor on every
+  /// neighbour tap, which under the normalization equals dividing the centre weight by it:
+  /// `centreScale` holds 1/w_r(p) (1 where w_r is off); may be null alone.
+  const PaddedPlane* indirectDistance = nullptr;
+  const PaddedPlane* indirectDistanceScale = nullptr;
+  const PaddedPlane* centreScale = nullptr;
   /// Voorhuis Eq. 6 (glossy pixels): where this plane holds c(p) > 0, every tap's weight is
   /// multiplied by exp(-c(p) |k|^2), k the tap's offset in kernel units (-2..2 per axis, not
   /// pixels). glossySpatialFalloff() turns Eq. 6's sigma_spatial into c. Null: off.
   const PaddedPlane* spatialFalloff = nullptr;
 };
+
+/// Gersthofer's glossy weight w_r = 0.01 + sqrt(roughness(p)) (Sec. 3.4.3).
+inline float roughnessWeight(float roughness) { return 0.01f + std::sqrt(std::max(0.0f, roughness)); }
+/// Gersthofer Eq. 3.2: w_zi = exp(-|z_i(p) - z_i(q)| (1 - roughness(p)) / (sqrt(g3x3(Var)) + eps)).
+inline float indirectDistanceWeight(float zp, float zq, float roughnessP, float filteredVariance, float eps) {
+  return std::exp(-std::abs(zp - zq) * (1.0f - roughnessP) / (std::sqrt(std::max(0.0f, filteredVariance)) + eps));
+}
 
 /// c(p) of AtrousLevel::spatialFalloff for Voorhuis' Eq. 6 bandwidth sigma (<= 1, kernel
 /// units): the B3 spline is close to a Gaussian of variance 1 in kernel units, and multiplying
@@ -149,9 +165,11 @@ void atrousLevel(const AtrousGuide& guide, const AtrousLevel& level, const Atrou
 /// `shortHistory`, var = E_w[b] - E_w[a]^2 over the (2 radius + 1)^2 window with weights
 /// w_z w_n (offsets in pixels, centre weight 1); a, b are the luminance and its square, or
 /// the accumulated moments (Voorhuis). Other pixels keep their `var`. radius <= a.pad.
+/// `objectId` (optional): neighbours with another object id weigh 0 (Gersthofer Sec. 3.4.3:
+/// "guided by differences in depth, normal and mesh ID").
 void spatialVariance(const AtrousGuide& guide, const PaddedPlane& a, const PaddedPlane& b, const Plane& historyLength,
                      float shortHistory, int radius, float sigmaDepth, float depthEpsilon, int normalExponent,
-                     PaddedPlane& var);
+                     PaddedPlane& var, const PaddedPlane* objectId = nullptr);
 
 /// 3x3 Gaussian (binomial 1/16, 1/8, 1/4) of a plane, clamped to edge (SVGF's g3x3, run once
 /// in Dundr's variant). Inside atrousLevel the same kernel reads the zero border instead.

@@ -2,6 +2,7 @@
 // spatialVariance (atrous.cpp) call them through RTD_SIMD. kLanes pixels at a time (4, 8 or 16),
 // all taps accumulated in registers.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <type_traits>
@@ -76,7 +77,7 @@ template <class Fn> void stridedRows(int height, int step, Fn&& fn) {
   });
 }
 
-template <bool kPropagate, bool kLogNormal, bool kMasked, bool kFalloff>
+template <bool kPropagate, bool kLogNormal, bool kMasked, bool kFalloff, bool kGlossy>
 void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
                 const AtrousTap* taps, int tapCount, float h0) {
   const PaddedPlane& z = g.depth;
@@ -100,6 +101,9 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const float* pvalid = kMasked ? lv.validIn->data.data() : nullptr;
   float* qvalid = kMasked ? lv.validOut->data.data() : nullptr;
   const float* pfall = kFalloff ? lv.spatialFalloff->data.data() : nullptr;
+  const float* pzi = kGlossy ? lv.indirectDistance->data.data() : nullptr;
+  const float* pziScale = kGlossy ? lv.indirectDistanceScale->data.data() : nullptr;
+  const float* pcentre = lv.centreScale ? lv.centreScale->data.data() : nullptr;
 
   stridedRows(z.height, lv.step, [&](int y) {
     for (int x = 0; x < w; x += kLanes) {
@@ -107,7 +111,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
       const vf lc = load(pl + c);
-      vf inv;
+      vf inv, ziInv, zic;
       {
         // w_l bandwidth from the (3x3-Gaussian-prefiltered) variance at the centre.
         vf v = load(pv + c);
@@ -118,9 +122,15 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         const vf sd = useVar ? v : vsqrt(v);
         const vf k = pscale ? load(pscale + c) : splat(1.0f);
         inv = k > 0.0f ? 1.0f / (sigmaL * k * sd + epsL) : splat(0.0f);
+        if constexpr (kGlossy) {
+          // Gersthofer Eq. 3.2: (1 - roughness(p)) / (sqrt(g3x3(Var)) + eps), folded into one factor.
+          ziInv = load(pziScale + c) / ((useVar ? vsqrt(v) : sd) + epsL);
+          zic = load(pzi + c);
+        }
       }
       const vf fall = kFalloff ? load(pfall + c) : splat(0.0f);
-      const vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
+      vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
+      if (pcentre) w0 *= load(pcentre + c);  // w_r on every neighbour = 1/w_r on the centre
       vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
       vf sv = kPropagate ? w0 * w0 * load(pv + c) : splat(0.0f);
       auto tap = [&](const AtrousTap& t, vf depthScale) {
@@ -129,6 +139,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         vf expo = kExpShift + vabs(zc - load(pz + q)) * depthScale;  // fused: expNegShifted
         expo = expo + vabs(lc - load(pl + q)) * inv;
         if constexpr (kFalloff) expo += fall * t.k2;
+        if constexpr (kGlossy) expo += vabs(zic - load(pzi + q)) * ziInv;
         vf wt;
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
@@ -191,7 +202,9 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
 
 template <bool kLogNormal>
 void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const PaddedPlane& pb, const Plane& len,
-                         float shortHistory, int R, float sigmaZ, float epsZ, int e, PaddedPlane& var) {
+                         float shortHistory, int R, float sigmaZ, float epsZ, int e, PaddedPlane& var,
+                         const PaddedPlane* objectId) {
+  const float* pid = objectId ? objectId->data.data() : nullptr;
   const PaddedPlane& z = g.depth;
   const int w = z.width;
   const ptrdiff_t S = z.stride;
@@ -213,6 +226,7 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
       vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
+      const vf idc = pid ? load(pid + c) : splat(0.0f);
       for (int dy = -R; dy <= R; ++dy)
         for (int dx = -R; dx <= R; ++dx) {
           if (!dx && !dy) continue;
@@ -229,6 +243,7 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
             const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * expNegShifted(expo);
             wt = wn >= kMinWeight ? wn : splat(0.0f);
           }
+          if (pid) wt = load(pid + q) == idc ? wt : splat(0.0f);  // the mesh-id term
           sw += wt;
           s1 += wt * load(A + q);
           s2 += wt * load(B + q);
@@ -248,23 +263,32 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
   // ones use the exact power.
   const bool series = lv.normalExponent >= 16;
   const bool p = lv.propagateVariance, masked = lv.validIn && lv.validOut, falloff = lv.spatialFalloff;
-  // One instantiation per combination of the four switches.
-  auto run = [&](auto prop, auto logNormal, auto mask, auto fall) {
-    atrousRowsT<decltype(prop)::value, decltype(logNormal)::value, decltype(mask)::value, decltype(fall)::value>(
-        g, lv, in, out, taps, tapCount, h0);
+  const bool glossy = lv.indirectDistance && lv.indirectDistanceScale;
+  // One instantiation per combination of the switches (Gersthofer's glossy weights only dense:
+  // his masked pixels are black samples, not holes).
+  assert(!(glossy && masked));
+  auto run = [&](auto prop, auto logNormal, auto mask, auto fall, auto gl) {
+    atrousRowsT<decltype(prop)::value, decltype(logNormal)::value, decltype(mask)::value, decltype(fall)::value,
+                decltype(gl)::value>(g, lv, in, out, taps, tapCount, h0);
   };
   using T = std::true_type;
   using F = std::false_type;
-  auto withFalloff = [&](auto prop, auto logNormal, auto mask) { falloff ? run(prop, logNormal, mask, T{}) : run(prop, logNormal, mask, F{}); };
-  auto withMask = [&](auto prop, auto logNormal) { masked ? withFalloff(prop, logNormal, T{}) : withFalloff(prop, logNormal, F{}); };
+  auto withFalloff = [&](auto prop, auto logNormal, auto mask, auto gl) {
+    falloff ? run(prop, logNormal, mask, T{}, gl) : run(prop, logNormal, mask, F{}, gl);
+  };
+  auto withMask = [&](auto prop, auto logNormal) {
+    if (glossy) withFalloff(prop, logNormal, F{}, T{});
+    else masked ? withFalloff(prop, logNormal, T{}, F{}) : withFalloff(prop, logNormal, F{}, F{});
+  };
   auto withSeries = [&](auto prop) { series ? withMask(prop, T{}) : withMask(prop, F{}); };
   p ? withSeries(T{}) : withSeries(F{});
 }
 
 void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,
-                         float shortHistory, int R, float sigmaDepth, float depthEpsilon, int e, PaddedPlane& var) {
-  if (e >= 16) spatialVarianceRowsT<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var);
-  else spatialVarianceRowsT<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var);
+                         float shortHistory, int R, float sigmaDepth, float depthEpsilon, int e, PaddedPlane& var,
+                         const PaddedPlane* objectId) {
+  if (e >= 16) spatialVarianceRowsT<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var, objectId);
+  else spatialVarianceRowsT<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var, objectId);
 }
 
 }  // namespace rtd::RTD_SIMD_NS

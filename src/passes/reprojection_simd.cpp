@@ -27,11 +27,9 @@ struct TapTest {
   const float *n[3] = {}, *nPrev[3] = {};
   const float *id = nullptr, *idPrev = nullptr;
   const float *p[3] = {}, *pPrev[3] = {};
-  float positionTolerance2;
 
   TapTest(const FrameData& cur, const FrameData& prev, const ReprojectionSettings& st)
-      : s(st), width(prev.width), height(prev.height),
-        positionTolerance2(st.positionTolerance * st.positionTolerance) {
+      : s(st), width(prev.width), height(prev.height) {
     if (st.testDepth && cur.has(Buffer::Depth) && prev.has(Buffer::Depth)) {
       z = cur.plane(Buffer::Depth).ptr();
       zPrev = prev.plane(Buffer::Depth).ptr();
@@ -46,7 +44,7 @@ struct TapTest {
       id = cur.plane(Buffer::ObjectId).ptr();
       idPrev = prev.plane(Buffer::ObjectId).ptr();
     }
-    if (st.positionTolerance > 0 && cur.has(Buffer::Position) && prev.has(Buffer::Position))
+    if ((st.positionTolerance > 0 || st.positionFootprints > 0) && cur.has(Buffer::Position) && prev.has(Buffer::Position))
       for (int c = 0; c < 3; ++c) { p[c] = cur.plane(Buffer::Position, c).ptr(); pPrev[c] = prev.plane(Buffer::Position, c).ptr(); }
   }
 
@@ -62,12 +60,31 @@ struct TapTest {
     return std::max(gx, gy);
   }
 
+  // Squared position tolerance of pixel (x, y): positionTolerance + positionFootprints times
+  // its world-space footprint, per axis the smaller one-sided distance to the neighbour's world
+  // position (the other side only at the frame's border), the larger of the two axes. The
+  // footprint is distance x pixel angle / cos(incidence), so it scales with the scene.
+  float positionTolerance2(int x, int y, int w, int h) const {
+    const size_t i = size_t(y) * w + x;
+    auto d2 = [&](size_t j) {
+      const float dx = p[0][j] - p[0][i], dy = p[1][j] - p[1][i], dz = p[2][j] - p[2][i];
+      return dx * dx + dy * dy + dz * dz;
+    };
+    auto side = [](int v, int d, int n) { return std::clamp(v + d >= 0 && v + d < n ? v + d : v - d, 0, n - 1); };
+    const size_t row = size_t(y) * w;
+    const size_t left = row + side(x, -1, w), right = row + side(x, 1, w);
+    const size_t up = size_t(side(y, -1, h)) * w + x, down = size_t(side(y, 1, h)) * w + x;
+    const float f2 = std::max(std::min(d2(left), d2(right)), std::min(d2(up), d2(down)));
+    const float tol = s.positionTolerance + s.positionFootprints * std::sqrt(f2);
+    return tol * tol;
+  }
+
   // The current pixel's features, loaded once for its up to 13 tap tests.
   struct Pixel {
-    float z, n[3], id, p[3], depthTol;
+    float z, n[3], id, p[3], depthTol, positionTol2;
     bool background;  // zero normal: a miss (sky) in Cycles' and our renderer's buffers
   };
-  Pixel load(size_t i, float depthTol) const {
+  Pixel load(size_t i, float depthTol, float positionTol2) const {
     Pixel c{};
     if (z) c.z = z[i];
     if (n[0]) for (int k = 0; k < 3; ++k) c.n[k] = n[k][i];
@@ -75,6 +92,7 @@ struct TapTest {
     if (id) c.id = id[i];
     if (p[0]) for (int k = 0; k < 3; ++k) c.p[k] = p[k][i];
     c.depthTol = depthTol;
+    c.positionTol2 = positionTol2;
     return c;
   }
 
@@ -117,8 +135,23 @@ struct TapTest {
       background = _mm256_cmp_ps(len2, _mm256_set1_ps(0.25f), _CMP_LT_OQ);
     }
     if (id) cid = _mm256_loadu_ps(id + i);
-    if (p[0])
+    __m256 positionTol2 = _mm256_setzero_ps();
+    if (p[0]) {
       for (int k = 0; k < 3; ++k) cp[k] = _mm256_loadu_ps(p[k] + i);
+      // positionTolerance2() for eight interior pixels (one-sided only at the top and bottom).
+      const size_t up = y > 0 ? i - w : i + w, down = y < h - 1 ? i + w : i - w;
+      auto d2 = [&](size_t j) {
+        __m256 r = _mm256_setzero_ps();
+        for (int k = 0; k < 3; ++k) {
+          const __m256 d = _mm256_sub_ps(_mm256_loadu_ps(p[k] + j), cp[k]);
+          r = _mm256_fmadd_ps(d, d, r);
+        }
+        return r;
+      };
+      const __m256 f2 = _mm256_max_ps(_mm256_min_ps(d2(i - 1), d2(i + 1)), _mm256_min_ps(d2(up), d2(down)));
+      const __m256 tol = _mm256_fmadd_ps(_mm256_set1_ps(s.positionFootprints), _mm256_sqrt_ps(f2), _mm256_set1_ps(s.positionTolerance));
+      positionTol2 = _mm256_mul_ps(tol, tol);
+    }
 
     __m256 wt[4], sum = _mm256_setzero_ps();
     for (int t = 0; t < 4; ++t) {
@@ -146,7 +179,7 @@ struct TapTest {
           const __m256 d = _mm256_sub_ps(cp[k], fetch(pPrev[k]));
           d2 = _mm256_fmadd_ps(d, d, d2);
         }
-        ok = _mm256_and_ps(ok, _mm256_cmp_ps(d2, _mm256_set1_ps(positionTolerance2), _CMP_LE_OQ));
+        ok = _mm256_and_ps(ok, _mm256_cmp_ps(d2, positionTol2, _CMP_LE_OQ));
       }
       wt[t] = _mm256_and_ps(ok, taps.weight[t]);
       sum = _mm256_add_ps(sum, wt[t]);
@@ -198,7 +231,7 @@ struct TapTest {
     if (id && c.id != idPrev[j]) return false;
     if (p[0]) {
       const float dx = c.p[0] - pPrev[0][j], dy = c.p[1] - pPrev[1][j], dz = c.p[2] - pPrev[2][j];
-      if (!(dx * dx + dy * dy + dz * dz <= positionTolerance2)) return false;
+      if (!(dx * dx + dy * dy + dz * dz <= c.positionTol2)) return false;
     }
     return true;
   }
@@ -229,7 +262,8 @@ void reprojectRows(const FrameData& cur, const FrameData* previous, const Reproj
   auto classify = [&](int x, int y) {
     const size_t i = size_t(y) * w + x;
     const float px = out.prevX.data[i], py = out.prevY.data[i];
-    const TapTest::Pixel pixel = test.load(i, test.z ? test.depthTolerance(x, y, w, h) : 0.0f);
+    const TapTest::Pixel pixel = test.load(i, test.z ? test.depthTolerance(x, y, w, h) : 0.0f,
+                                           test.p[0] ? test.positionTolerance2(x, y, w, h) : 0.0f);
     out.kind[i] = Reprojection::None;
     if (!(std::abs(px) < 1e6f && std::abs(py) < 1e6f)) return;
     // valid() checks the frame bounds itself.

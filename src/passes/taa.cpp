@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "passes/taa_kernels.h"
+#include "passes/tonemap.h"
 
 namespace rtd {
 
@@ -17,31 +18,44 @@ void Taa::resize(int w, int h) {
   valid_ = false;
 }
 
-const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, float alpha) {
-  begin(color[0].width, color[0].height);
+const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, const TaaSettings& s) {
+  begin(color[0].width, color[0].height, s);
   tbb::parallel_for(tbb::blocked_range<int>(0, color[0].height, 8), [&](const tbb::blocked_range<int>& range) {
-    runRows(rp, color, alpha, range.begin(), range.end());
+    runRows(rp, color, range.begin(), range.end());
   });
   return result();
 }
 
-void Taa::begin(int w, int h) {
+void Taa::begin(int w, int h, const TaaSettings& s) {
   if (width_ != w || history_[0][0].height != h) resize(w, h);
+  params_ = TaaParams::of(s);
+  if (params_.display && (linear_[0].width != w || linear_[0].height != h)) rtd::resize(linear_, w, h);
   cur_ ^= 1;
-  first_ = !valid_;
+  first_ = !valid_ || display_ != params_.display;  // a history in the other domain is no history
+  display_ = params_.display;
   valid_ = true;
 }
 
-void Taa::runRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBegin, int rowEnd) {
+void Taa::runRows(const Reprojection& rp, const Plane3& color, int rowBegin, int rowEnd) {
   const int w = color[0].width;
   Plane3& next = history_[cur_];
   if (first_) {  // no history yet: the output is the current colour
-    for (int c = 0; c < 3; ++c) std::copy(color[c].row(rowBegin), color[c].row(rowBegin) + size_t(rowEnd - rowBegin) * w, next[c].row(rowBegin));
+    const size_t n = size_t(rowEnd - rowBegin) * w;
+    for (int c = 0; c < 3; ++c) {
+      const float* in = color[c].row(rowBegin);
+      if (!params_.display) {
+        std::copy(in, in + n, next[c].row(rowBegin));
+        continue;
+      }
+      std::copy(in, in + n, linear_[c].row(rowBegin));
+      float* e = next[c].row(rowBegin);
+      for (size_t i = 0; i < n; ++i) e[i] = tonemap::taaEncode(in[i]);
+    }
     return;
   }
   Window& win = windows_.local();
   if (win.rows.size() != size_t(3 * kTaaSlotRows + 3) * w) win.rows.assign(size_t(3 * kTaaSlotRows + 3) * w, 0.0f);
-  RTD_SIMD(taaRows)(rp, color, alpha, rowBegin, rowEnd, history_[cur_ ^ 1], next, win.rows.data(), win.slotRow);
+  RTD_SIMD(taaRows)(rp, color, params_, rowBegin, rowEnd, history_[cur_ ^ 1], next, linear_, win.rows.data(), win.slotRow);
 }
 
 }  // namespace rtd

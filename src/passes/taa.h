@@ -1,6 +1,8 @@
 // Shared pass: temporal anti-aliasing with neighbourhood clamping (Karis 2014): the previous
 // output, reprojected bilinearly, is clamped to the min/max box of the current 3x3
-// neighbourhood in YCoCg and blended with the current frame.
+// neighbourhood in YCoCg (optionally averaged with the 5-tap cross's, as the BMFR code) and
+// blended with the current frame, on linear radiance or on display-encoded values
+// (TaaSettings::taaDomain; tonemap::taaEncode before, taaDecode after).
 #pragma once
 #include <tbb/enumerable_thread_specific.h>
 
@@ -12,24 +14,36 @@
 
 namespace rtd {
 
+/// What the TAA kernel computes (rtd::TaaSettings, decoded once per frame).
+struct TaaParams {
+  float alpha;        ///< weight of the current frame
+  bool display;       ///< clamp and blend taaEncode()d values; the history holds them too
+  float crossWeight;  ///< bounds = box + crossWeight * (cross - box): 0 box3x3, 0.5 boxCross (BMFR)
+  static TaaParams of(const TaaSettings& s) {
+    return {s.taaAlpha, s.taaDomain == TaaDomain::display, s.taaNeighbourhood == TaaNeighbourhood::boxCross ? 0.5f : 0.0f};
+  }
+};
+
 class Taa {
  public:
   void resize(int w, int h);
   void reset() { valid_ = false; }
-  /// `color` is the current remodulated output; returns the result, which is also the next
-  /// frame's history (valid until the next run()). Uses the reprojected positions of `rp` (no
-  /// consistency tests: the clamp rejects ghosts).
-  const Plane3& run(const Reprojection& rp, const Plane3& color, float alpha);
+  /// `color` is the current remodulated output (linear); returns the result, linear, valid
+  /// until the next run(). Uses the reprojected positions of `rp` (no consistency tests: the
+  /// clamp rejects ghosts). `s.taa` is not looked at (the caller decides whether to run TAA).
+  const Plane3& run(const Reprojection& rp, const Plane3& color, const TaaSettings& s);
 
   /// run() in steps, for methods that run their passes on bands of rows: begin() once per
   /// frame, then runRows() once for every row, from any thread, each call once rows
   /// [rowBegin - 1, rowEnd] of `color` are final (the 3x3 box); the output is then result().
-  void begin(int width, int height);
-  void runRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBegin, int rowEnd);
-  const Plane3& result() const { return history_[cur_]; }
-  /// Both histories and this thread's window rows (PlaneVisitor).
+  void begin(int width, int height, const TaaSettings& s);
+  void runRows(const Reprojection& rp, const Plane3& color, int rowBegin, int rowEnd);
+  /// The linear output: the history itself in the linear domain, its decode in the display one.
+  const Plane3& result() const { return params_.display ? linear_ : history_[cur_]; }
+  /// Both histories, the decoded output and this thread's window rows (PlaneVisitor).
   void forEachPlane(const PlaneVisitor& visit) const {
     for (const Plane3& h : history_) visitPlanes(visit, "taa history", h);
+    visitPlanes(visit, "taa output", linear_);
     for (const Window& w : windows_) visit("taa window", w.rows.data(), w.rows.size());
   }
 
@@ -40,8 +54,11 @@ class Taa {
     std::vector<float> rows;  // 3 slots x {Y, Co, Cg, min Y, min Co, min Cg, max Y, max Co, max Cg} + 3 history rows
     int slotRow[3] = {-1, -1, -1};
   };
-  Plane3 history_[2];
+  Plane3 history_[2];  // in the frame's domain (display-encoded or linear)
+  Plane3 linear_;      // display domain: the decoded output
   int cur_ = 0;
+  TaaParams params_{0.1f, false, 0.0f};
+  bool display_ = false;  // the domain the history holds
   int width_ = 0;
   tbb::enumerable_thread_specific<Window> windows_;
   bool valid_ = false;

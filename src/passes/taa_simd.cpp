@@ -6,6 +6,7 @@
 
 #include "core/flush.h"
 #include "passes/taa_kernels.h"
+#include "passes/tonemap.h"
 #include "core/simd.h"
 #include "passes/bilinear8.h"
 
@@ -16,15 +17,43 @@ namespace {
 inline float fmin(float a, float b) { return a < b ? a : b; }
 inline float fmax(float a, float b) { return a > b ? a : b; }
 
-// YCoCg of row y and its horizontal 3-tap min/max (border pixel repeated) into `slot`.
-void buildSlot(const Plane3& color, int y, int w, float* slot) {
+// Display encoding (tonemap::taaEncode) of n values, kLanes at a time.
+void encodeRow(const float* in, float* out, int n) {
+  int x = 0;
+  for (; x + kLanes <= n; x += kLanes) {
+    const vf v = vmin(vmax(load(in + x), splat(0.0f)), splat(1e30f));  // NaN -> 0, as taaEncode
+    store(out + x, vsqrt(v / (splat(1.0f) + v)));
+  }
+  for (; x < n; ++x) out[x] = tonemap::taaEncode(in[x]);
+}
+
+// YCoCg of row y (of its display encoding with kDisplay) and its horizontal 3-tap min/max
+// (border pixel repeated) into `slot`; with kDisplay also the horizontal 3-tap max of the
+// largest encoded channel, which bounds the decoded output.
+template <bool kDisplay> void buildSlot(const Plane3& color, int y, int w, float* slot) {
   const float *r = color[0].row(y), *g = color[1].row(y), *b = color[2].row(y);
   float* c[3] = {slot, slot + w, slot + 2 * w};
+  if constexpr (kDisplay) {
+    encodeRow(r, c[0], w);
+    encodeRow(g, c[1], w);
+    encodeRow(b, c[2], w);
+    r = c[0], g = c[1], b = c[2];
+    float* m = slot + 9 * w;
+#pragma GCC ivdep
+    for (int x = 0; x < w; ++x) m[x] = fmax(fmax(r[x], g[x]), b[x]);
+    float prev = m[0];
+    for (int x = 0; x < w; ++x) {  // in place: keep the left neighbour's original value
+      const float cur = m[x], next = m[x + 1 < w ? x + 1 : x];
+      m[x] = fmax(fmax(prev, cur), next);
+      prev = cur;
+    }
+  }
 #pragma GCC ivdep
   for (int x = 0; x < w; ++x) {
-    c[0][x] = 0.25f * r[x] + 0.5f * g[x] + 0.25f * b[x];
-    c[1][x] = 0.5f * r[x] - 0.5f * b[x];
-    c[2][x] = -0.25f * r[x] + 0.5f * g[x] - 0.25f * b[x];
+    const float R = r[x], G = g[x], B = b[x];  // in place with kDisplay
+    c[0][x] = 0.25f * R + 0.5f * G + 0.25f * B;
+    c[1][x] = 0.5f * R - 0.5f * B;
+    c[2][x] = -0.25f * R + 0.5f * G - 0.25f * B;
   }
   for (int k = 0; k < 3; ++k) {
     const float* in = c[k];
@@ -41,15 +70,16 @@ void buildSlot(const Plane3& color, int y, int w, float* slot) {
     hi[w - 1] = fmax(in[w - 2], in[w - 1]);
   }
 }
-}  // namespace
 
-void taaRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBegin, int rowEnd, const Plane3& hist,
-             Plane3& next, float* window, int slotRow[3]) {
+template <bool kDisplay>
+void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
+          Plane3& next, Plane3& linearOut, float* window, int slotRow[3]) {
+  const float alpha = p.alpha, cw = p.crossWeight;
   const int w = color[0].width, h = color[0].height;
   constexpr int kSlotRows = kTaaSlotRows;
   auto slot = [&](int y) {
     float* s = window + size_t(y % 3) * kSlotRows * w;
-    if (slotRow[y % 3] != y) { buildSlot(color, y, w, s); slotRow[y % 3] = y; }
+    if (slotRow[y % 3] != y) { buildSlot<kDisplay>(color, y, w, s); slotRow[y % 3] = y; }
     return s;
   };
   float *hr = window + size_t(3 * kSlotRows) * w, *hg = hr + w, *hb = hg + w;
@@ -66,7 +96,11 @@ void taaRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBe
     auto fetch = [&](int x) {
       const float px = prevX[x] - 0.5f, py = prevY[x] - 0.5f;
       if (!(px > -1.0f && py > -1.0f && px < float(w) && py < float(h))) {
-        hr[x] = r[x]; hg[x] = g[x]; hb[x] = bl[x];
+        if constexpr (kDisplay) {
+          hr[x] = tonemap::taaEncode(r[x]); hg[x] = tonemap::taaEncode(g[x]); hb[x] = tonemap::taaEncode(bl[x]);
+        } else {
+          hr[x] = r[x]; hg[x] = g[x]; hb[x] = bl[x];
+        }
         return;
       }
       const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
@@ -101,23 +135,52 @@ void taaRows(const Reprojection& rp, const Plane3& color, float alpha, int rowBe
       }
 #endif
     for (; x < w; ++x) fetch(x);
-    // Clamp to the 3x3 YCoCg box and blend (vectorized over the row).
+    // Clamp to the 3x3 YCoCg box (moved towards the 5-tap cross's bounds by cw) and blend
+    // (vectorized over the row).
     float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
 #pragma GCC ivdep  // outputs never alias the window rows: lets GCC vectorize
     for (int x = 0; x < w; ++x) {
-      float hy = 0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x];
-      float hco = 0.5f * hr[x] - 0.5f * hb[x];
-      float hcg = -0.25f * hr[x] + 0.5f * hg[x] - 0.25f * hb[x];
-      hy = fmin(fmax(hy, fmin(fmin(a[3 * w + x], c[3 * w + x]), b[3 * w + x])), fmax(fmax(a[6 * w + x], c[6 * w + x]), b[6 * w + x]));
-      hco = fmin(fmax(hco, fmin(fmin(a[4 * w + x], c[4 * w + x]), b[4 * w + x])), fmax(fmax(a[7 * w + x], c[7 * w + x]), b[7 * w + x]));
-      hcg = fmin(fmax(hcg, fmin(fmin(a[5 * w + x], c[5 * w + x]), b[5 * w + x])), fmax(fmax(a[8 * w + x], c[8 * w + x]), b[8 * w + x]));
-      const float by = alpha * c[x] + (1 - alpha) * hy;
-      const float bco = alpha * c[w + x] + (1 - alpha) * hco;
-      const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hcg;
-      const float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
+      float hc[3] = {0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x], 0.5f * hr[x] - 0.5f * hb[x],
+                     -0.25f * hr[x] + 0.5f * hg[x] - 0.25f * hb[x]};
+      for (int k = 0; k < 3; ++k) {
+        const float boxLo = fmin(fmin(a[(3 + k) * w + x], c[(3 + k) * w + x]), b[(3 + k) * w + x]);
+        const float boxHi = fmax(fmax(a[(6 + k) * w + x], c[(6 + k) * w + x]), b[(6 + k) * w + x]);
+        const float crossLo = fmin(fmin(a[k * w + x], c[(3 + k) * w + x]), b[k * w + x]);
+        const float crossHi = fmax(fmax(a[k * w + x], c[(6 + k) * w + x]), b[k * w + x]);
+        const float lo = boxLo + cw * (crossLo - boxLo), hi = boxHi + cw * (crossHi - boxHi);
+        hc[k] = fmin(fmax(hc[k], lo), hi);
+      }
+      const float by = alpha * c[x] + (1 - alpha) * hc[0];
+      const float bco = alpha * c[w + x] + (1 - alpha) * hc[1];
+      const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hc[2];
+      float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
+      if constexpr (kDisplay) {
+        // A YCoCg box corner can lie outside the RGB cube: bound the encoded channels by the
+        // neighbourhood's largest one, so the decode stays within the neighbourhood's range.
+        const float top = fmax(fmax(a[9 * w + x], c[9 * w + x]), b[9 * w + x]);
+        for (int k = 0; k < 3; ++k) rgb[k] = fmin(rgb[k], top);
+      }
       for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);  // history: never subnormal (core/flush.h)
     }
+    if constexpr (kDisplay) {
+      for (int k = 0; k < 3; ++k) {
+        const float* e = n[k];
+        float* o = linearOut[k].row(y);
+#pragma GCC ivdep
+        for (int x = 0; x < w; ++x) {  // tonemap::taaDecode
+          const float t = fmin(e[x], tonemap::kTaaMaxEncoded) * fmin(e[x], tonemap::kTaaMaxEncoded);
+          o[x] = t / (1.0f - t);
+        }
+      }
+    }
   }
+}
+}  // namespace
+
+void taaRows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
+             Plane3& next, Plane3& linearOut, float* window, int slotRow[3]) {
+  if (p.display) rows<true>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow);
+  else rows<false>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow);
 }
 
 }  // namespace rtd::RTD_SIMD_NS

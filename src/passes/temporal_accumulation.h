@@ -74,6 +74,11 @@ struct AccumulationOptions {
   /// histories, Voorhuis Sec. 6); false: w = momentsAlpha wherever there is history (plain
   /// EMA, Schied et al. 2017).
   bool cumulativeMoments = true;
+  /// false: colour and moments blend with exactly alpha (momentsAlpha) wherever the pixel has
+  /// history, the current sample alone where it has none (Gersthofer Sec. 3.4.1: "a fixed
+  /// aggregation factor of alpha = 0.2" if reprojection succeeded); true: the colour weight is
+  /// max(1/n, alpha).
+  bool cumulativeColor = true;
   /// Progressive rendering with fewer than one sample per pixel (Dundr Sec. 5): where this
   /// plane (Buffer::SampleMask) is 0 the pixel got no sample, so colour, moments and history
   /// length are the reprojected history unchanged (0 where there is none: still missing).

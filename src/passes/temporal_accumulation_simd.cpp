@@ -57,6 +57,7 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
   const float* alphas = options.alphaPlane ? options.alphaPlane->ptr() : nullptr;
   const Plane* clipLo = options.clipLow ? options.clipLow->data() : nullptr;
   const Plane* clipHi = options.clipHigh ? options.clipHigh->data() : nullptr;
+  const bool fixed = !options.cumulativeColor;
   // One fused pass per pixel: history length, colour and both moments from the same taps.
   auto pixel = [&](size_t i) {
     float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
@@ -89,10 +90,14 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
       return;
     }
     const float n = none ? 1.0f : std::min(std::round(histLength) + 1.0f, maxLength);
-    const float a = newSampleWeight(n, alphas ? alphas[i] : alpha);
+    // Fixed weights (Gersthofer): alpha wherever there is history, 1 where there is none
+    // (reprojection failed, or the taps hold no data yet: n = 1).
+    const float floorAlpha = alphas ? alphas[i] : alpha;
+    const float a = fixed ? (n <= 1.0f ? 1.0f : floorAlpha) : newSampleWeight(n, floorAlpha);
     // Moments: cumulative-then-EMA like the colour (Voorhuis Sec. 6), or a plain EMA
     // wherever there is history (Schied et al. 2017).
-    const float am = options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
+    const float am = fixed ? (n <= 1.0f ? 1.0f : momentsAlpha)
+                           : options.cumulativeMoments ? newSampleWeight(n, momentsAlpha) : (none ? 1.0f : momentsAlpha);
     if (mask && mask[i] == 0.0f) {
       // No sample this frame (Dundr Sec. 5): the history carries over unchanged; without
       // history the pixel stays missing (length 0).
@@ -112,11 +117,13 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
     }
   };
   // Eight pixels at a time where all eight have bilinear history (the same arithmetic; A-SVGF's
-  // gradient for integral exponents, historyShrink's squarings in the same order).
+  // gradient for integral exponents, historyShrink's squarings in the same order). (CIE L* has
+  // no vector form here: its moments take the scalar path; without moments the luminance is
+  // not needed.)
   const float e = options.historyExponent;
   const bool integralExponent = e == std::floor(e) && e >= 0.0f && e <= 64.0f;
-  [[maybe_unused]] const bool vectorized =
-      !mask && (!gradient || integralExponent) && options.luminance != MomentLuminance::CieLightness;
+  [[maybe_unused]] const bool vectorized = !mask && (!gradient || integralExponent) &&
+                                           (options.luminance != MomentLuminance::CieLightness || !moments);
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef RTD_SIMD_AVX2
@@ -159,8 +166,13 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
           rounded = _mm256_add_ps(rounded, _mm256_and_ps(_mm256_cmp_ps(_mm256_sub_ps(len, rounded), half, _CMP_GE_OQ), one));
           n = _mm256_min_ps(_mm256_add_ps(rounded, one), maxLen);
           const __m256 invN = _mm256_div_ps(one, n);
-          a = _mm256_max_ps(invN, alphas ? _mm256_loadu_ps(alphas + i) : vAlpha);
-          am = options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha) : vMomentsAlpha;
+          const __m256 floorAlpha = alphas ? _mm256_loadu_ps(alphas + i) : vAlpha;
+          // Fixed weights (Gersthofer): alpha, or 1 where the taps hold no data yet (n = 1).
+          const __m256 first = _mm256_cmp_ps(n, one, _CMP_LE_OQ);
+          a = fixed ? _mm256_blendv_ps(floorAlpha, one, first) : _mm256_max_ps(invN, floorAlpha);
+          am = fixed                       ? _mm256_blendv_ps(vMomentsAlpha, one, first)
+               : options.cumulativeMoments ? _mm256_max_ps(invN, vMomentsAlpha)
+                                           : vMomentsAlpha;
         }
         _mm256_storeu_ps(h.length.ptr() + i, n);
         __m256 c[3];

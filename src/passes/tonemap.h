@@ -47,6 +47,24 @@ inline float toneMapToSrgb(float linear, Operator op, float scale) {
   return srgbEncode(toneMapChannel(linear, op, scale));
 }
 
+/// Invertible display encoding of the TAA's display domain (rtd/methods/taa.h): Reinhard
+/// x/(1+x) (Reinhard et al. 2002, eq. 3) then gamma 2 (a square root: the gamma-2.2 encoding of
+/// the papers within a few percent, at the cost of one sqrt). Negative and NaN give 0, +inf 1.
+inline float taaEncode(float x) {
+  x = x > 0.0f ? std::min(x, 1e30f) : 0.0f;
+  return std::sqrt(x / (1.0f + x));
+}
+/// Largest encoded value taaDecode accepts: 1 - 2^-21, which decodes to 2^20 - 1 (about 1e6,
+/// the brightest radiance the display-domain TAA returns; float resolves the encoding near 1
+/// to 2^-24, so radiance x comes back to about x * 2^-23 * (1 + x) relative precision).
+constexpr float kTaaMaxEncoded = 1.0f - 1.0f / 2097152.0f;
+/// Inverse of taaEncode: t = y^2, x = t / (1 - t).
+inline float taaDecode(float y) {
+  y = std::clamp(y, 0.0f, kTaaMaxEncoded);
+  const float t = y * y;
+  return t / (1.0f - t);
+}
+
 /// Relative luminance of linear Rec.709/sRGB primaries (ITU-R BT.709 weights). Applied to
 /// sRGB-encoded values it gives luma, which is what the temporal error uses (see docs).
 inline float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }

@@ -94,12 +94,17 @@ struct Surface {
 /// Contributions of one sample, split as the native buffers want them.
 struct Radiance {
   V3 total{0}, direct{0}, indirect{0}, diffuse{0}, specular{0};
+  V3 indirectDiffuse{0};  // indirect and diffuse: Gersthofer's separately processed component
   V3 emission{0};  // emitted by the primary hit (or the sky seen directly), also in total
   float secondaryDistance = 0;
   void add(V3 c, bool direct_, bool specular_) {
     total += c;
     (direct_ ? direct : indirect) += c;
     (specular_ ? specular : diffuse) += c;
+    if (!direct_ && !specular_) indirectDiffuse += c;
+  }
+  void scale(float k) {
+    total *= k, direct *= k, indirect *= k, diffuse *= k, specular *= k, indirectDiffuse *= k, emission *= k;
   }
 };
 
@@ -593,13 +598,27 @@ struct Renderer::Impl {
     return h & (kSeedLimit - 1);
   }
 
-  bool masked(int index, int x, int y) const {
+  bool hidden(int x, int y, Eye eye) const {
+    if (!settings.hiddenArea) return false;
+    const float u = (float(x) + 0.5f) / float(settings.width) * 2.0f - 1.0f;
+    const float v = (float(y) + 0.5f) / float(settings.height) * 2.0f - 1.0f;  // down
+    if (u * u + v * v > 1.18f) return true;  // outside the lens circle, radius sqrt(1.18)
+    // The nose: the inner bottom corner of each eye (the right side of the left eye).
+    const float inner = eye == Eye::Left ? u : eye == Eye::Right ? -u : -2.0f;
+    return inner > 0.75f && v > 0.55f;
+  }
+
+  bool masked(int index, int x, int y, Eye eye) const {
     if (settings.sampleFraction >= 1.0f) return true;
     constexpr int N = kBlueNoiseSize * kBlueNoiseSize;
     const int count = std::max(1, int(std::lround(double(settings.sampleFraction) * N)));
     // Rotate through the rank map: frame k traces ranks [k*count, (k+1)*count) modulo N, so with
-    // sampleFraction = 1/m every pixel is traced exactly once every m frames.
-    const int offset = int((int64_t(index) * count) % N);
+    // sampleFraction = 1/m every pixel is traced exactly once every m frames (Gersthofer Sec.
+    // 3.3.1: the thresholded masks, cycled). The right eye runs half the rank range (N/2) ahead,
+    // so for sampleFraction <= 1/2 the two eyes' masks of a frame are disjoint (with 1/m, m even,
+    // the right eye traces mask k + m/2 while the left traces mask k).
+    const int64_t eyeShift = eye == Eye::Right ? N / 2 : 0;
+    const int offset = int((int64_t(index) * count + eyeShift) % N);
     const int rank = blueNoiseRanks()[(y % kBlueNoiseSize) * kBlueNoiseSize + (x % kBlueNoiseSize)];
     return (rank - offset + N) % N < count;
   }
@@ -631,25 +650,56 @@ struct Renderer::Impl {
                                                                 settings.height);
         r = tracePath(g, v.eye, d, centreHit->object >= 0 ? centreHit : nullptr, sampler, rays);
       }
-      if (settings.clampLuminance > 0) {
-        const float l = luminance(r.total);
-        if (l > settings.clampLuminance) {
-          const float c = settings.clampLuminance / l;
-          r.total *= c, r.direct *= c, r.indirect *= c, r.diffuse *= c, r.specular *= c, r.emission *= c;
-        }
-      }
+      clampSample(r);
       sum.total += r.total;
       sum.direct += r.direct;
       sum.indirect += r.indirect;
       sum.diffuse += r.diffuse;
       sum.specular += r.specular;
+      sum.indirectDiffuse += r.indirectDiffuse;
       sum.emission += r.emission;
       if (k == 0) sum.secondaryDistance = r.secondaryDistance;
     }
-    const float inv = 1.0f / float(spp);
-    sum.total *= inv, sum.direct *= inv, sum.indirect *= inv, sum.diffuse *= inv, sum.specular *= inv,
-        sum.emission *= inv;
+    sum.scale(1.0f / float(spp));
     return sum;
+  }
+
+  /// Samples per pixel of `color`: one (the guide ray) with guide-ray supersampling.
+  int colorSpp() const { return settings.guideRays ? 1 : settings.spp; }
+
+  /// Non-guide sample k of pixel (x, y) (guide-ray supersampling, Voorhuis Sec. 5): jittered
+  /// inside the pixel with the k-th sample's random numbers, as shade() jitters; `offset` is
+  /// its position minus the pixel centre, `depth` / `normal` its primary hit's (sky: kSkyDepth, 0).
+  Radiance jitteredSample(const FrameGeometry& g, const View& v, int x, int y, uint32_t seed, int k, float offset[2],
+                          float& depth, V3& normal, uint64_t& rays) const {
+    Sampler sampler(seed, uint32_t(k));
+    const auto [jx, jy] = sampler.next2D();
+    offset[0] = jx - 0.5f;
+    offset[1] = jy - 0.5f;
+    const V3 d = pixelDirection(v, float(x) + jx, float(y) + jy, settings.width, settings.height);
+    RTCRayHit rh;
+    ++rays;
+    Radiance r;
+    depth = kSkyDepth;
+    normal = V3(0);
+    if (intersect(g, v.eye, d, 1e30f, rh)) {
+      const Surface s = surface(g, rh, d);
+      depth = dot(s.p - v.eye, v.forward);
+      normal = s.ns;
+      r = tracePath(g, v.eye, d, &s, sampler, rays);
+    } else {
+      r = tracePath(g, v.eye, d, nullptr, sampler, rays);
+    }
+    clampSample(r);
+    return r;
+  }
+
+  void clampSample(Radiance& r) const {
+    if (settings.clampLuminance <= 0) return;
+    const float l = luminance(r.total);
+    if (l > settings.clampLuminance) {
+      r.scale(settings.clampLuminance / l);
+    }
   }
 
   /// Pixel coordinates of world point p seen by view v (perspective), or nullopt behind it.
@@ -791,7 +841,7 @@ struct Renderer::Impl {
       const Projected& p = proj[k];
       uint64_t rays = 0;
       const Surface s = surface(g, p.hit, p.dir);
-      const Radiance r = shade(g, v, p.x, p.y, src.candidates[k].sample.seed, settings.spp, 0, &s, rays, &p.dir);
+      const Radiance r = shade(g, v, p.x, p.y, src.candidates[k].sample.seed, colorSpp(), 0, &s, rays, &p.dir);
       f[Buffer::GradientSample].at(p.x, p.y) = 1.0f;
       f[Buffer::GradientPrevious].at(p.x, p.y) = src.candidates[k].sample.luminance;
       f[Buffer::GradientCurrent].at(p.x, p.y) = luminance(r.total);
@@ -810,7 +860,7 @@ struct Renderer::Impl {
     return it->second;
   }
 
-  Frame render(int index, Eye eye, bool withGradients = true) {
+  Frame render(int index, Eye eye, bool withGradients = true, GuideRaySamples* guideSamples = nullptr) {
     const auto start = std::chrono::steady_clock::now();
     if (index < 0) throw Error("render: frame index " + std::to_string(index) + " is negative");
     const int w = settings.width, h = settings.height;
@@ -836,10 +886,12 @@ struct Renderer::Impl {
     if (settings.allBuffers)
       for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::ReflectedPosition,
                        Buffer::ReflectedNormal, Buffer::ReflectedAlbedo, Buffer::SecondaryDistance,
-                       Buffer::MirrorDirection, Buffer::ReflectedFootprint, Buffer::Seed, Buffer::SampleMask})
+                       Buffer::MirrorDirection, Buffer::ReflectedFootprint, Buffer::Seed, Buffer::SampleMask,
+                       Buffer::IndirectDiffuse})
         list.push_back(b);
     if (gradients)
       for (Buffer b : {Buffer::GradientSample, Buffer::GradientPrevious, Buffer::GradientCurrent}) list.push_back(b);
+    if (settings.hiddenArea) list.push_back(Buffer::HiddenArea);
     for (Buffer b : list) f[b] = Image(w, h, bufferChannelCount(b));
     const bool all = settings.allBuffers;
     auto put3 = [&](Buffer b, int x, int y, V3 c) {
@@ -847,12 +899,31 @@ struct Renderer::Impl {
       p[0] = c.x, p[1] = c.y, p[2] = c.z;
     };
     std::vector<PrimarySample> samples(gradients ? size_t(w) * h : 0);
+    if (guideSamples) {
+      if (!settings.guideRays) throw Error("render: guide-ray samples asked for without RenderSettings::guideRays");
+      const int n = std::max(0, settings.spp - 1);
+      guideSamples->samples.assign(size_t(n), Frame{});
+      guideSamples->offsets.assign(size_t(n), Image(w, h, 2));
+      for (Frame& sf : guideSamples->samples) {
+        sf.number = index + 1;
+        sf.width = w;
+        sf.height = h;
+        for (Buffer b : {Buffer::Color, Buffer::Emission, Buffer::Depth, Buffer::Normal}) sf[b] = Image(w, h, bufferChannelCount(b));
+        if (all)
+          for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular})
+            sf[b] = Image(w, h, bufferChannelCount(b));
+      }
+    }
 
     std::atomic<uint64_t> rayCount{0};
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& range) {
       uint64_t rays = 0;
       for (int y = range.begin(); y != range.end(); ++y)
         for (int x = 0; x < w; ++x) {
+          if (hidden(x, y, eye)) {  // the lens hides it: no ray, no shading (the stencil prepass)
+            f[Buffer::HiddenArea].at(x, y) = 1.0f;
+            continue;
+          }
           const V3 d = pixelDirection(v, float(x) + 0.5f, float(y) + 0.5f, w, h);
           RTCRayHit rh;
           ++rays;
@@ -860,9 +931,29 @@ struct Renderer::Impl {
           const bool hit = intersect(g, v.eye, d, 1e30f, rh);
           if (hit) s = surface(g, rh, d);
           const uint32_t seed = pixelSeed(index, x, y, eye, 0);
-          const bool traced = masked(index, x, y);
+          const bool traced = masked(index, x, y, eye);
           Radiance r;
-          if (traced) r = shade(g, v, x, y, seed, settings.spp, 0, &s, rays);
+          if (traced) r = shade(g, v, x, y, seed, colorSpp(), 0, &s, rays);
+          if (guideSamples)
+            for (int k = 1; k < settings.spp; ++k) {
+              Frame& sf = guideSamples->samples[size_t(k - 1)];
+              float depth;
+              V3 n;
+              const Radiance sr = jitteredSample(g, v, x, y, seed, k, guideSamples->offsets[size_t(k - 1)].pixel(x, y), depth, n, rays);
+              for (auto [b, c] : {std::pair{Buffer::Color, sr.total}, {Buffer::Emission, sr.emission}}) {
+                float* p = sf[b].pixel(x, y);
+                p[0] = c.x, p[1] = c.y, p[2] = c.z;
+              }
+              if (all)
+                for (auto [b, c] : {std::pair{Buffer::Direct, sr.direct}, {Buffer::Indirect, sr.indirect},
+                                    {Buffer::Diffuse, sr.diffuse}, {Buffer::Specular, sr.specular}}) {
+                  float* p = sf[b].pixel(x, y);
+                  p[0] = c.x, p[1] = c.y, p[2] = c.z;
+                }
+              sf[Buffer::Depth].at(x, y) = depth;
+              float* pn = sf[Buffer::Normal].pixel(x, y);
+              pn[0] = n.x, pn[1] = n.y, pn[2] = n.z;
+            }
           put3(Buffer::Color, x, y, r.total);
           put3(Buffer::Emission, x, y, r.emission);
           if (all) {
@@ -870,6 +961,7 @@ struct Renderer::Impl {
             put3(Buffer::Indirect, x, y, r.indirect);
             put3(Buffer::Diffuse, x, y, r.diffuse);
             put3(Buffer::Specular, x, y, r.specular);
+            put3(Buffer::IndirectDiffuse, x, y, r.indirectDiffuse);
             f[Buffer::Seed].at(x, y) = float(seed);
             f[Buffer::SampleMask].at(x, y) = traced ? 1.0f : 0.0f;
             f[Buffer::SecondaryDistance].at(x, y) = r.secondaryDistance;
@@ -1014,6 +1106,7 @@ struct Renderer::Impl {
       uint64_t rays = 0;
       for (int y = range.begin(); y != range.end(); ++y)
         for (int x = 0; x < w; ++x) {
+          if (hidden(x, y, eye)) continue;
           const V3 d = pixelDirection(v, float(x) + 0.5f, float(y) + 0.5f, w, h);
           RTCRayHit rh;
           ++rays;
@@ -1029,6 +1122,7 @@ struct Renderer::Impl {
         uint64_t rays = 0;
         for (int y = range.begin(); y != range.end(); ++y)
           for (int x = 0; x < w; ++x) {
+            if (hidden(x, y, eye)) continue;  // never displayed: 0
             const uint32_t seed = pixelSeed(index, x, y, eye, 0x7e5f0a11u);
             const Surface& s = hits[size_t(y) * w + x];
             const Radiance r = shade(g, v, x, y, seed, n, done, &s, rays);
@@ -1064,6 +1158,8 @@ static void validate(const RenderSettings& s) {
   if (!(s.sampleFraction > 0.0f && s.sampleFraction <= 1.0f)) bad("sampleFraction", "must be in (0, 1]");
   if (!(s.eyeDistance >= 0.0f) || !std::isfinite(s.eyeDistance)) bad("eyeDistance", "must be >= 0");
   if (!(s.clampLuminance >= 0.0f)) bad("clampLuminance", "must be >= 0");
+  if (s.guideRays && (s.pixelJitter || s.sampleFraction < 1.0f))
+    bad("guideRays", "needs unjittered guide rays at every pixel (no pixelJitter, sampleFraction 1)");
 }
 
 Renderer::Renderer(std::shared_ptr<const Scene> scene, RenderSettings settings) : impl_(std::make_unique<Impl>()) {
@@ -1080,11 +1176,13 @@ Renderer::~Renderer() = default;
 const RenderSettings& Renderer::settings() const { return impl_->settings; }
 const RenderStats& Renderer::stats() const { return impl_->stats; }
 Frame Renderer::render(int index, Eye eye) { return impl_->render(index, eye); }
+Frame Renderer::render(int index, Eye eye, GuideRaySamples& samples) { return impl_->render(index, eye, true, &samples); }
 Image Renderer::renderReference(int index, int spp, double secondsBudget, Eye eye) {
   return impl_->renderReference(index, spp, secondsBudget, eye);
 }
 uint32_t Renderer::pixelSeed(int index, int x, int y, Eye eye) const { return impl_->pixelSeed(index, x, y, eye, 0); }
-bool Renderer::sampleMask(int index, int x, int y) const { return impl_->masked(index, x, y); }
+bool Renderer::sampleMask(int index, int x, int y, Eye eye) const { return impl_->masked(index, x, y, eye); }
+bool Renderer::hidden(int x, int y, Eye eye) const { return impl_->hidden(x, y, eye); }
 
 std::array<float, 3> Renderer::shadePixel(int index, int x, int y, uint32_t seed, Eye eye) {
   const auto& s = impl_->settings;
@@ -1098,7 +1196,7 @@ std::array<float, 3> Renderer::shadePixel(int index, int x, int y, uint32_t seed
   Surface hit;
   if (Impl::intersect(*geom, v.eye, d, 1e30f, rh)) hit = impl_->surface(*geom, rh, d);
   uint64_t rays = 1;
-  const auto r = impl_->shade(*geom, v, x, y, seed, s.spp, 0, &hit, rays);
+  const auto r = impl_->shade(*geom, v, x, y, seed, impl_->colorSpp(), 0, &hit, rays);
   return {r.total.x, r.total.y, r.total.z};
 }
 
@@ -1119,7 +1217,8 @@ std::filesystem::path ReferenceCache::entry(const Scene& scene, const RenderSett
                           std::to_string(s.maxDepth) + "|rr" + std::to_string(s.russianRouletteDepth) + "|s" +
                           std::to_string(s.seed) + "|j" + std::to_string(int(s.pixelJitter)) + "|e" + eyeName(eye) +
                           "|ed" + std::to_string(s.eyeDistance) + "|f" + std::to_string(index) + "|spp" +
-                          std::to_string(spp) + "|b" + std::to_string(budgetSeconds) + "|v1";
+                          std::to_string(spp) + "|b" + std::to_string(budgetSeconds) + "|v1" +
+                          (s.hiddenArea ? "|hidden" : "");
   return dir / (scene.name() + "_" + hashHex(key) + ".exr");
 }
 

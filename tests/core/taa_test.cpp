@@ -1,15 +1,26 @@
 // The shared TAA pass (Karis 2014): fixed points, exact reprojection of a shifted image, the
-// YCoCg neighbourhood clamp and the blend, on hand-computed values.
+// YCoCg neighbourhood clamp (box and box + cross) and the blend, on hand-computed values, in the
+// linear and the display domain (rtd/methods/taa.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "passes/taa.h"
+#include "passes/tonemap.h"
 
 namespace rtd {
 namespace {
 
 constexpr int kW = 23, kH = 17;
+
+TaaSettings settings(float alpha, TaaDomain domain = TaaDomain::linear,
+                     TaaNeighbourhood shape = TaaNeighbourhood::box3x3) {
+  TaaSettings s;
+  s.taaAlpha = alpha;
+  s.taaDomain = domain;
+  s.taaNeighbourhood = shape;
+  return s;
+}
 
 // Every pixel's history comes from (x + shiftX, y): prev = p + 0.5 + shift.
 Reprojection shifted(float shiftX) {
@@ -29,14 +40,101 @@ template <class F> Plane3 image(F f) {
   return p;
 }
 
+// In both domains; HDR values (up to 20) in the display one, to the precision of the
+// encoding near 1 (tonemap.h: about 2^-23 (1 + x) relative).
 TEST(Taa, ConstantImageIsAFixedPoint) {
   const Plane3 in = image([](int, int, int c) { return 0.2f + 0.3f * c; });
-  Taa taa;
-  Plane3 out;
-  const Reprojection rp = shifted(0.37f);
-  for (int f = 0; f < 4; ++f) out = taa.run(rp, in, 0.1f);
-  for (int c = 0; c < 3; ++c)
-    for (size_t i = 0; i < out[c].size(); ++i) EXPECT_NEAR(out[c].data[i], in[c].data[i], 1e-6f);
+  const Plane3 hdr = image([](int, int, int c) { return 0.05f + 10.0f * c; });
+  for (TaaDomain d : {TaaDomain::linear, TaaDomain::display})
+    for (const Plane3* img : {&in, &hdr}) {
+      Taa taa;
+      Plane3 out;
+      const Reprojection rp = shifted(0.37f);
+      for (int f = 0; f < 4; ++f) out = taa.run(rp, *img, settings(0.1f, d));
+      const float top = img == &hdr ? 20.05f : 0.8f;  // the largest channel sets the rounding
+      for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < out[c].size(); ++i) {
+          const float v = (*img)[c].data[i];
+          EXPECT_NEAR(out[c].data[i], v, 1e-6f * (1 + top) * (1 + top)) << "domain " << int(d);
+        }
+    }
+}
+
+// The transfer pair round-trips on LDR and HDR values, maps [0, inf) into [0, 1), and gives
+// NaN and negative values 0.
+TEST(Taa, DisplayEncodingRoundTrips) {
+  for (float x : {0.0f, 1e-6f, 0.01f, 0.18f, 0.5f, 1.0f, 4.0f, 100.0f, 1e4f}) {
+    const float e = tonemap::taaEncode(x);
+    EXPECT_GE(e, 0.0f);
+    EXPECT_LT(e, 1.0f);
+    EXPECT_NEAR(e, std::sqrt(double(x) / (1.0 + x)), 1e-7);
+    EXPECT_NEAR(tonemap::taaDecode(e), x, 4e-7 * (1.0 + x) * (1.0 + x)) << x;
+  }
+  EXPECT_EQ(tonemap::taaEncode(-1.0f), 0.0f);
+  EXPECT_EQ(tonemap::taaEncode(std::nanf("")), 0.0f);
+  EXPECT_EQ(tonemap::taaEncode(INFINITY), 1.0f);
+  EXPECT_LE(tonemap::taaDecode(1.0f), 1.1e6f);  // clamped below the pole
+}
+
+// On an LDR image both domains do the same thing where the history is the image itself (a
+// static scene), within the transfer functions' float precision: frame 0 passes through
+// exactly, later frames return the image.
+TEST(Taa, LinearAndDisplayAgreeOnAStaticLdrImage) {
+  const Plane3 in = image([](int x, int y, int c) { return float((x * 7 + y * 13 + c * 5) % 17) / 16.0f; });
+  Taa linear, display;
+  for (int f = 0; f < 3; ++f) {
+    const Plane3& a = linear.run(shifted(0.0f), in, settings(0.1f, TaaDomain::linear));
+    const Plane3& b = display.run(shifted(0.0f), in, settings(0.1f, TaaDomain::display));
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < in[c].size(); ++i) {
+        if (f == 0) { EXPECT_EQ(b[c].data[i], in[c].data[i]); }
+        EXPECT_NEAR(a[c].data[i], in[c].data[i], 1e-6f);
+        EXPECT_NEAR(b[c].data[i], a[c].data[i], 4e-6f) << "frame " << f;
+      }
+  }
+}
+
+// One pixel at 1000x the others' radiance (a small emitter), seen through a reprojection half a
+// pixel off (jitter without motion vectors): the neighbour on its left fetches half of its
+// history and, the emitter being in its 3x3 box, keeps it. In linear radiance the neighbour
+// converges to v = a*0.5 + (1 - a)(E/2 + v/2), hundreds of times its own value; in the display
+// domain the same recurrence runs on encoded values bounded by 1, so v stays below
+// decode((a e(0.5) + (1 - a)/2) / (1 - (1 - a)/2)), computed here in double.
+TEST(Taa, BrightPixelDoesNotDominateItsNeighboursInTheDisplayDomain) {
+  const int ex = 11, ey = 8;
+  const float base = 0.5f, bright = 500.0f, a = 0.1f;
+  const Plane3 in = image([&](int x, int y, int) { return x == ex && y == ey ? bright : base; });
+  double neighbour[2];
+  for (TaaDomain d : {TaaDomain::linear, TaaDomain::display}) {
+    Taa taa;
+    Plane3 out;
+    for (int f = 0; f < 40; ++f) out = taa.run(shifted(0.5f), in, settings(a, d));
+    neighbour[int(d)] = out[1](ex - 1, ey);
+    EXPECT_NEAR(out[1](ex - 3, ey), base, 1e-5f) << "pixels outside the emitter's box are untouched";
+  }
+  const double e0 = std::sqrt(base / (1.0 + base));
+  const double bound = (a * e0 + (1 - a) / 2) / (1 - (1 - a) / 2), boundLinear = bound * bound / (1 - bound * bound);
+  EXPECT_GT(neighbour[0], 100.0 * base) << "linear: the emitter's history spreads";
+  EXPECT_LE(neighbour[1], boundLinear);
+  EXPECT_LT(neighbour[1], 12.0 * base);
+}
+
+// A grey 0.5 frame whose diagonal neighbours are 0.9 (pixels with odd x and y): the 3x3 box
+// reaches 0.9, the 5-tap cross only 0.5. A grey history of 0.8 is inside the box (kept) but
+// clamped by the BMFR code's mean bounds to (0.9 + 0.5) / 2 = 0.7.
+TEST(Taa, BoxCrossBoundsAreTheMeanOfTheBoxAndTheCross) {
+  const float alpha = 0.25f;
+  const Plane3 cur = image([](int x, int y, int) { return x % 2 && y % 2 ? 0.9f : 0.5f; });
+  const Plane3 hist = image([](int, int, int) { return 0.8f; });
+  for (TaaNeighbourhood shape : {TaaNeighbourhood::box3x3, TaaNeighbourhood::boxCross}) {
+    Taa taa;
+    Plane3 out = taa.run(shifted(0.0f), hist, settings(alpha, TaaDomain::linear, shape));
+    out = taa.run(shifted(0.0f), cur, settings(alpha, TaaDomain::linear, shape));
+    const float clamped = shape == TaaNeighbourhood::box3x3 ? 0.8f : 0.7f;
+    for (int y = 2; y < kH - 2; y += 2)
+      for (int x = 2; x < kW - 2; x += 2)
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c](x, y), alpha * 0.5f + (1 - alpha) * clamped, 1e-6f) << x << "," << y;
+  }
 }
 
 // An image moving one pixel left per frame, with motion saying so: the history of every
@@ -48,16 +146,16 @@ TEST(Taa, ExactMotionReproducesAMovingImage) {
   };
   Taa taa;
   Plane3 out;
-  out = taa.run(shifted(1.0f), frame(0), 0.1f);
+  out = taa.run(shifted(1.0f), frame(0), settings(0.1f));
   const Plane3 cur = frame(1);
-  out = taa.run(shifted(1.0f), cur, 0.1f);
+  out = taa.run(shifted(1.0f), cur, settings(0.1f));
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW - 1; ++x)
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c](x, y), cur[c](x, y), 2e-6f) << x << "," << y;
 
   Taa still;
-  out = still.run(shifted(0.0f), frame(0), 0.1f);
-  out = still.run(shifted(0.0f), cur, 0.1f);
+  out = still.run(shifted(0.0f), frame(0), settings(0.1f));
+  out = still.run(shifted(0.0f), cur, settings(0.1f));
   double err = 0;
   for (int c = 0; c < 3; ++c)
     for (size_t i = 0; i < out[c].size(); ++i) err = std::max(err, double(std::abs(out[c].data[i] - cur[c].data[i])));
@@ -69,8 +167,8 @@ TEST(Taa, ExactMotionReproducesAMovingImage) {
 TEST(Taa, ClampRejectsHistoryOutsideTheNeighbourhood) {
   Taa taa;
   Plane3 out;
-  out = taa.run(shifted(0.0f), image([](int, int, int) { return 1.0f; }), 0.1f);
-  out = taa.run(shifted(0.0f), image([](int, int, int) { return 0.0f; }), 0.1f);
+  out = taa.run(shifted(0.0f), image([](int, int, int) { return 1.0f; }), settings(0.1f));
+  out = taa.run(shifted(0.0f), image([](int, int, int) { return 0.0f; }), settings(0.1f));
   for (int c = 0; c < 3; ++c)
     for (float v : out[c].data) EXPECT_EQ(v, 0.0f);
 }
@@ -81,22 +179,44 @@ TEST(Taa, HistoryInsideTheBoxIsBlendedWithAlpha) {
   Taa taa;
   Plane3 out;
   const float alpha = 0.25f;
-  out = taa.run(shifted(0.0f), image([](int, int, int) { return 0.5f; }), alpha);
+  out = taa.run(shifted(0.0f), image([](int, int, int) { return 0.5f; }), settings(alpha));
   const Plane3 checker = image([](int x, int y, int) { return (x + y) % 2 ? 0.6f : 0.4f; });
-  out = taa.run(shifted(0.0f), checker, alpha);
+  out = taa.run(shifted(0.0f), checker, settings(alpha));
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x)
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(out[c](x, y), alpha * checker[c](x, y) + (1 - alpha) * 0.5f, 1e-6f) << x << "," << y;
 }
 
+// The same in the display domain: the blend runs on encoded values, e = sqrt(x / (1 + x)),
+// and the output is their decode, computed here in double.
+TEST(Taa, DisplayDomainBlendsEncodedValues) {
+  Taa taa;
+  Plane3 out;
+  const float alpha = 0.25f;
+  auto e = [](double x) { return std::sqrt(x / (1.0 + x)); };
+  out = taa.run(shifted(0.0f), image([](int, int, int) { return 3.0f; }), settings(alpha, TaaDomain::display));
+  const Plane3 checker = image([](int x, int y, int) { return (x + y) % 2 ? 8.0f : 1.0f; });
+  out = taa.run(shifted(0.0f), checker, settings(alpha, TaaDomain::display));
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const double b = alpha * e(checker[0](x, y)) + (1 - alpha) * e(3.0), want = b * b / (1 - b * b);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c](x, y), want, 2e-6 * want * (1 + want)) << x << "," << y;
+    }
+}
+
 // A pixel whose reprojected centre is outside the previous frame keeps its current colour.
 TEST(Taa, PixelsWithoutHistoryKeepTheCurrentColour) {
   Taa taa;
   Plane3 out;
-  out = taa.run(shifted(0.0f), image([](int, int, int) { return 0.9f; }), 0.1f);
+  out = taa.run(shifted(0.0f), image([](int, int, int) { return 0.9f; }), settings(0.1f));
   const Plane3 cur = image([](int x, int, int c) { return 0.1f * c + 0.01f * x; });
-  out = taa.run(shifted(-float(kW) - 2.0f), cur, 0.1f);
+  out = taa.run(shifted(-float(kW) - 2.0f), cur, settings(0.1f));
+  for (int c = 0; c < 3; ++c)
+    for (size_t i = 0; i < out[c].size(); ++i) EXPECT_NEAR(out[c].data[i], cur[c].data[i], 1e-6f);
+  Taa display;
+  out = display.run(shifted(0.0f), image([](int, int, int) { return 0.9f; }), settings(0.1f, TaaDomain::display));
+  out = display.run(shifted(-float(kW) - 2.0f), cur, settings(0.1f, TaaDomain::display));
   for (int c = 0; c < 3; ++c)
     for (size_t i = 0; i < out[c].size(); ++i) EXPECT_NEAR(out[c].data[i], cur[c].data[i], 1e-6f);
 }

@@ -87,11 +87,13 @@ Outcome denoise(const std::vector<std::pair<std::string, std::string>>& settings
 // blend on the glossy lobe) beats Schied on the combined colour (`components=color`, which
 // demodulates by the Denoising Albedo: on the glossy floor and the mirror the albedo of
 // whatever the sampled reflection hit, so colour blotches) by a clear margin, with no more
-// flicker. Measured: 19.93 vs 15.11 dB, temporal error 0.0075 vs 0.0259.
+// flicker. Measured with the display-domain TAA (issue 12), which lifts the combined colour the
+// most (its blotches no longer dominate the TAA box): 20.11 vs 17.96 dB (linear TAA: 19.93 vs
+// 15.11), temporal error no higher.
 TEST(BlenderLightPasses, VoorhuisBeatsFilteringTheCombinedColour) {
   const Outcome color = denoise({{"components", "color"}});
   const Outcome ours = denoise({{"variant", "voorhuis"}});
-  EXPECT_GT(ours.psnr, color.psnr + 3.0) << ours.psnr << " vs " << color.psnr;
+  EXPECT_GT(ours.psnr, color.psnr + 1.5) << ours.psnr << " vs " << color.psnr;
   EXPECT_LE(ours.temporal, color.temporal) << ours.temporal << " vs " << color.temporal;
   // The parts that need reflection features or roughness are off, and say why.
   ASSERT_FALSE(ours.notes.empty());

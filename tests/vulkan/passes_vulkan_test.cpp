@@ -107,7 +107,9 @@ void checkReprojection(bool motion, const ReprojectionSettings& s) {
   const auto counts = cpu.counts();
   EXPECT_GT(counts[Reprojection::Bilinear], n / 2) << "the scene should reproject most pixels";
   EXPECT_GT(counts[Reprojection::None], 0u);
-  if (s.positionTolerance == 0) { EXPECT_GT(counts[Reprojection::Fallback3x3], 0u); }  // else the 3x3 taps fail it too
+  if (s.positionTolerance == 0 && s.positionFootprints == 0) {  // else the 3x3 taps fail it too
+    EXPECT_GT(counts[Reprojection::Fallback3x3], 0u);
+  }
   for (size_t i = 0; i < n; ++i) {
     const uint32_t kind = word(0, i) & 3u;
     ASSERT_EQ(kind, cpu.kind[i]) << "pixel " << i % kWidth << "," << i / kWidth;
@@ -133,6 +135,14 @@ TEST(VulkanPasses, ReprojectionMatchesCpuFromCameraWithPositionTest) {
   s.positionTolerance = 0.05f;
   s.normalTolerance = 0.95f;
   checkReprojection(false, s);
+}
+
+// The scale-free position tolerance (BMFR's default: 4 pixel footprints), with motion vectors.
+TEST(VulkanPasses, ReprojectionMatchesCpuWithFootprintPositionTest) {
+  RTD_REQUIRE_VULKAN();
+  ReprojectionSettings s;
+  s.positionFootprints = 4.0f;
+  checkReprojection(true, s);
 }
 
 // The GPU accumulator's planes (colour, both moments, history length) against the CPU's:
@@ -244,45 +254,55 @@ TEST(VulkanPasses, TemporalAccumulationWithSampleMaskMatchesCpu) {
   EXPECT_GT(carried, 0u) << "some unsampled pixels should reproject exactly onto one pixel";
 }
 
+// In both domains and with both neighbourhoods.
 TEST(VulkanPasses, TaaMatchesCpu) {
   REQUIRE_CONTEXT();
   auto frames = syntheticFrames(3);
-  Taa cpu;
-  cpu.resize(kWidth, kHeight);
-  vk::GpuTaa gpu;
-  gpu.resize(ctx, kWidth, kHeight);
-  vk::Planes rp, color;
-  rp.allocate(ctx, kWidth, kHeight, 8);
-  FrameData prevCpu;
-  vk::GpuFrame prevGpu;
-  for (int k = 0; k < 3; ++k) {
-    FrameData f = toCpu(frames[size_t(k)], true);
-    Reprojection r;
-    reproject(f, k ? &prevCpu : nullptr, {}, r);
-    Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
-    const Plane3& cpuOut = cpu.run(r, c, 0.1f);
+  for (const auto& [domain, shape] : {std::pair{TaaDomain::linear, TaaNeighbourhood::box3x3},
+                                      std::pair{TaaDomain::display, TaaNeighbourhood::box3x3},
+                                      std::pair{TaaDomain::display, TaaNeighbourhood::boxCross}}) {
+    TaaSettings s;
+    s.taaDomain = domain;
+    s.taaNeighbourhood = shape;
+    const std::string name = std::string(domain == TaaDomain::linear ? "linear" : "display") +
+                             (shape == TaaNeighbourhood::box3x3 ? " box3x3" : " boxCross");
+    Taa cpu;
+    cpu.resize(kWidth, kHeight);
+    vk::GpuTaa gpu;
+    gpu.resize(ctx, kWidth, kHeight);
+    vk::Planes rp, color;
+    rp.allocate(ctx, kWidth, kHeight, 8);
+    FrameData prevCpu;
+    vk::GpuFrame prevGpu;
+    for (int k = 0; k < 3; ++k) {
+      FrameData f = toCpu(frames[size_t(k)], true);
+      Reprojection r;
+      reproject(f, k ? &prevCpu : nullptr, {}, r);
+      Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
+      const Plane3& cpuOut = cpu.run(r, c, s);
 
-    vk::GpuFrame g;
-    toGpu(ctx, f, g);
-    uploadPlanes(ctx, f.planes(Buffer::Color), color);
-    const vk::Planes* result = nullptr;
-    recordAndRun(ctx, [&](vk::Recorder& rec) {
-      vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
-      result = &gpu.run(rec, rp, color, 0.1f);
-    });
-    const std::vector<float> out = download(ctx, *result);
-    const size_t n = size_t(kWidth) * kHeight;
-    double maxErr = 0, maxRef = 0, changed = 0;
-    for (int p = 0; p < 3; ++p)
-      for (size_t i = 0; i < n; ++i) {
-        maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - cpuOut[p].data[i])));
-        maxRef = std::max(maxRef, double(std::abs(cpuOut[p].data[i])));
-        changed = std::max(changed, double(std::abs(cpuOut[p].data[i] - c[p].data[i])));
-      }
-    EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << k;
-    if (k > 0) { EXPECT_GT(changed, 0.1) << "TAA should blend history on frame " << k; }
-    prevCpu = std::move(f);
-    prevGpu = std::move(g);
+      vk::GpuFrame g;
+      toGpu(ctx, f, g);
+      uploadPlanes(ctx, f.planes(Buffer::Color), color);
+      const vk::Planes* result = nullptr;
+      recordAndRun(ctx, [&](vk::Recorder& rec) {
+        vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
+        result = &gpu.run(rec, rp, color, s);
+      });
+      const std::vector<float> out = download(ctx, *result);
+      const size_t n = size_t(kWidth) * kHeight;
+      double maxErr = 0, maxRef = 0, changed = 0;
+      for (int p = 0; p < 3; ++p)
+        for (size_t i = 0; i < n; ++i) {
+          maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - cpuOut[p].data[i])));
+          maxRef = std::max(maxRef, double(std::abs(cpuOut[p].data[i])));
+          changed = std::max(changed, double(std::abs(cpuOut[p].data[i] - c[p].data[i])));
+        }
+      EXPECT_LE(maxErr, 1e-5 * maxRef) << name << ", frame " << k;
+      if (k > 0) { EXPECT_GT(changed, 0.1) << "TAA should blend history on frame " << k << " (" << name << ")"; }
+      prevCpu = std::move(f);
+      prevGpu = std::move(g);
+    }
   }
 }
 

@@ -95,7 +95,9 @@ TEST(VulkanSvgfPasses, VarianceMatchesCpu) {
     ctx.runOnce([&](VkCommandBuffer cmd) {
       vk::Recorder rec(ctx, cache, cmd, VK_NULL_HANDLE, 0);
       vk::atrousGuide(rec, g, 0.0f, gradient);
-      rec.dispatch("svgf_variance", {g[Buffer::Depth], g[Buffer::Normal], gradient, accGpu, curGpu, out, scale}, pc, w, h);
+      rec.dispatch("svgf_variance",
+                   {g[Buffer::Depth], g[Buffer::Normal], gradient, accGpu, curGpu, out, scale, vk::Binding(ctx.dummy())}, pc,
+                   w, h);
     });
     std::vector<float> o(n * 5), k(n);
     ctx.download(out.buffer, o.data(), o.size() * 4);

@@ -14,8 +14,13 @@ namespace {
 // leaves room for GPUs whose exp and division are less exact.
 constexpr double kMaxRel = 1e-4, kMeanRel = 2e-6;
 
+// FXAA (the gersthofer preset) flips a few edge decisions on inputs that differ by ~1e-6:
+// up to 1 % of the pixels may differ more (measured on lavapipe: at most 9 of 2747, 0.33 %), the others
+// keep the tolerance above.
+constexpr double kFlippedShare = 0.01;
+
 void runBoth(const std::vector<std::string>& settings, bool split, int frames, const std::string& what,
-             bool emission = false) {
+             bool emission = false, bool decisions = false) {
   auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto cpu = cpuDevice->createDenoiser("svgf");
   auto gpu = vulkanDevice()->createDenoiser("svgf");
@@ -46,7 +51,8 @@ void runBoth(const std::vector<std::string>& settings, bool split, int frames, c
     Image a(f.width, f.height, 3), b(f.width, f.height, 3);
     cpu->denoise(f.inputs(), a.view());
     gpu->denoise(f.inputs(), b.view());
-    expectClose(b, a, kMaxRel, kMeanRel, what + ", frame " + std::to_string(i));
+    if (decisions) expectCloseExceptFlips(b, a, kMaxRel, kMeanRel, kFlippedShare, what + ", frame " + std::to_string(i));
+    else expectClose(b, a, kMaxRel, kMeanRel, what + ", frame " + std::to_string(i));
   }
 }
 
@@ -65,7 +71,9 @@ TEST(VulkanSvgf, MatchesCpuDundr) {
 }
 TEST(VulkanSvgf, MatchesCpuGersthofer) {
   RTD_REQUIRE_VULKAN();
-  runBoth({"variant=gersthofer"}, false, 5, "gersthofer");
+  // The composite pipeline up to the output, then with FXAA and the ACES tone map.
+  runBoth({"variant=gersthofer", "fxaa=false"}, false, 5, "gersthofer without fxaa");
+  runBoth({"variant=gersthofer", "toneMap=aces"}, false, 5, "gersthofer", true, true);
 }
 TEST(VulkanSvgf, MatchesCpuVoorhuisWithSplitComponents) {
   RTD_REQUIRE_VULKAN();

@@ -22,14 +22,17 @@ TransDir/TransInd/TransCol, Emit, Env) and renders <output>/reference/frame_NNNN
 """
 
 import argparse
-import json
 import math
 import os
-import re
 import sys
 
 import bpy
 from mathutils import Euler, Vector
+
+# The passes, render settings and camera matrices come from the set-up script users run on
+# their own .blend, so the fixtures show what it produces.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import rtdenoise_setup as setup  # noqa: E402
 
 WIDTH, HEIGHT = 64, 36
 FRAME_START, FRAME_END = 1, 5
@@ -53,6 +56,9 @@ def parse_args():
                    help="also write the light passes (diffuse, glossy, transmission, emission, environment)")
     p.add_argument("--half", action="store_true", help="16-bit half float instead of 32-bit")
     p.add_argument("--size", default=None, help="WxH (default 64x36)")
+    p.add_argument("--save-blend", default=None,
+                   help="save the scene as built (before the rtdenoise set-up) to this .blend and stop: "
+                        "the worked example of docs/blender.md")
     p.add_argument("--reference-samples", type=int, default=0,
                    help="also render <output>/reference/frame_NNNN.exr with this many samples")
     return p.parse_args(argv)
@@ -270,56 +276,19 @@ def build_glossy_scene():
 
 
 def configure_render(scene, output, filter_width, last_frame, light_passes=False, half=False):
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
     scene.render.resolution_x = WIDTH
     scene.render.resolution_y = HEIGHT
     scene.render.resolution_percentage = 100
     scene.render.pixel_aspect_x = 1.0
     scene.render.pixel_aspect_y = 1.0
-    scene.render.use_motion_blur = False  # required for the Vector pass
-    scene.render.use_border = False
     scene.render.film_transparent = False
-    scene.frame_start = FRAME_START
-    scene.frame_end = last_frame
-
-    cy = scene.cycles
-    cy.samples = 1
-    cy.use_adaptive_sampling = False
-    cy.use_denoising = False
-    cy.use_preview_denoising = False
-    cy.use_animated_seed = True
-    cy.seed = 0
-    if filter_width is not None:
-        cy.filter_width = filter_width
-
-    vl = scene.view_layers[0]
-    vl.name = "ViewLayer"
-    vl.use_pass_combined = True
-    vl.use_pass_normal = True
-    vl.use_pass_vector = True
-    vl.use_pass_z = True
-    vl.use_pass_position = True
-    vl.use_pass_object_index = True
-    vl.use_pass_diffuse_color = True
-    vl.cycles.denoising_store_passes = True
-    if light_passes:
-        for lobe in ("diffuse", "glossy", "transmission"):
-            for part in ("direct", "indirect", "color"):
-                setattr(vl, "use_pass_%s_%s" % (lobe, part), True)
-        vl.use_pass_emit = True
-        vl.use_pass_environment = True
-
-    img = scene.render.image_settings
-    img.file_format = "OPEN_EXR_MULTILAYER"
-    img.color_depth = "16" if half else "32"
-    img.exr_codec = "ZIP"
-    scene.render.use_file_extension = True
-    scene.render.filepath = os.path.join(output, "frame_####")
+    scene.cycles.seed = 0
+    scene.view_layers[0].name = "ViewLayer"
+    setup.configure(scene, output, light_passes=light_passes, half=half, samples=1, filter_width=filter_width,
+                    frame_start=FRAME_START, frame_end=last_frame)
 
 
-def rowmajor(m):
-    return [[float(m[r][c]) for c in range(4)] for r in range(4)]
+rowmajor = setup.rowmajor
 
 
 def export_matrices(scene, cam, objects, output, moving=("Sphere",)):
@@ -328,15 +297,8 @@ def export_matrices(scene, cam, objects, output, moving=("Sphere",)):
     for f in export_frames:
         scene.frame_set(f)
         depsgraph = bpy.context.evaluated_depsgraph_get()
-        cam_eval = cam.evaluated_get(depsgraph)
-        frames[str(f)] = {
-            "world_to_camera": rowmajor(cam_eval.matrix_world.inverted()),
-            "camera_to_world": rowmajor(cam_eval.matrix_world),
-            "projection": rowmajor(cam_eval.calc_matrix_camera(depsgraph, x=WIDTH, y=HEIGHT)),
-            "objects": {
-                o.name: rowmajor(o.evaluated_get(depsgraph).matrix_world) for o in objects
-            },
-        }
+        frames[str(f)] = setup.camera_entry(scene, cam)
+        frames[str(f)]["objects"] = {o.name: rowmajor(o.evaluated_get(depsgraph).matrix_world) for o in objects}
     scene.frame_set(FRAME_START)
     data = {
         "width": WIDTH,
@@ -371,11 +333,7 @@ def export_matrices(scene, cam, objects, output, moving=("Sphere",)):
             "view_layer": scene.view_layers[0].name,
         },
     }
-    text = json.dumps(data, indent=1)
-    # Put each list of numbers (matrix row, frame list) on one line.
-    text = re.sub(r"\[\s*(-?[0-9][^\[\]{}\"]*?)\s*\]",
-                  lambda m: "[" + ", ".join(v.strip() for v in m.group(1).split(",")) + "]",
-                  text)
+    text = setup.compact_json(data)
     with open(os.path.join(output, "cameras.json"), "w") as fh:
         fh.write(text + "\n")
 
@@ -392,20 +350,19 @@ def main():
         scene, cam, objects, moving = build_glossy_scene()
     else:
         (scene, cam, objects), moving = build_scene(), ["Sphere"]
+    if args.save_blend:
+        scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
+        scene.render.resolution_percentage = 100
+        scene.frame_start, scene.frame_end = FRAME_START, args.frames
+        bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.save_blend))
+        return
     configure_render(scene, output, args.filter_width, args.frames, args.light_passes, args.half)
     export_matrices(scene, cam, objects, output, moving)
     bpy.ops.render.render(animation=True)
     if args.reference_samples > 0:
         # The reference: the same frames with many samples (animated seed, no denoising), as a
         # plain RGB EXR that `rtdenoise eval --reference` reads.
-        scene.cycles.samples = args.reference_samples
-        img = scene.render.image_settings
-        img.file_format = "OPEN_EXR"
-        img.color_mode = "RGB"
-        img.color_depth = "16" if args.half else "32"
-        os.makedirs(os.path.join(output, "reference"), exist_ok=True)
-        scene.render.filepath = os.path.join(output, "reference", "frame_####")
-        bpy.ops.render.render(animation=True)
+        setup.render_reference(scene, output, args.reference_samples, args.half)
 
 
 if __name__ == "__main__":

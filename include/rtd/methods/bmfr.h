@@ -52,8 +52,10 @@ struct BmfrSettings {
   bool accumulateFiltered = true;
 
   /// Phase I/III reprojection: BMFR tests only world position and shading normal per tap.
-  /// positionTolerance 0.04 is the authors' Sponza value (sqrt(0.0016)); it is in world units
-  /// and must be set per scene. normalTolerance 0.875 is |dn|^2 < 0.25 for unit normals.
+  /// The authors' position limit is an absolute 0.04 (Sponza, sqrt(0.0016)), right for one
+  /// scene's scale only; the default here is scale-free, 4 pixel footprints (positionFootprints;
+  /// positionTolerance=0.04 positionFootprints=0 restores the authors' test). normalTolerance
+  /// 0.875 is |dn|^2 < 0.25 for unit normals.
   /// The depth and object-id tests and the 3x3 fallback are off.
   ReprojectionSettings reprojection = defaultReprojection();
   /// Final TAA; the authors' code blends 20% of the current frame.
@@ -64,7 +66,8 @@ struct BmfrSettings {
     s.testDepth = false;
     s.normalTolerance = 0.875f;
     s.testObjectId = false;
-    s.positionTolerance = 0.04f;
+    s.positionTolerance = 0.0f;   // scale-free instead of the authors' 0.04 m (see reprojection.h)
+    s.positionFootprints = 4.0f;
     s.fallback3x3 = false;
     return s;
   }
@@ -72,6 +75,7 @@ struct BmfrSettings {
     TaaSettings s;
     s.taa = true;
     s.taaAlpha = 0.2f;
+    s.taaNeighbourhood = TaaNeighbourhood::boxCross;  // the BMFR code's bounds
     return s;
   }
 

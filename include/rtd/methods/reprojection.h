@@ -21,9 +21,14 @@ struct ReprojectionSettings {
   float normalTolerance = 0.9f;
   /// Reject a tap whose object id differs (SVGF's mesh-id test).
   bool testObjectId = true;
-  /// Reject a tap whose world position is farther than this (world units); 0 disables.
-  /// BMFR's code: sqrt(0.0016) = 0.04 for Sponza.
+  /// Reject a tap whose world position is farther than positionTolerance (world units) plus
+  /// positionFootprints times the pixel's world-space footprint (the distance to its nearest
+  /// neighbour's world position per screen axis, the larger axis: distance x pixel angle /
+  /// cos(incidence), so it scales with the scene and needs no per-scene tuning). Both 0
+  /// disables the test. BMFR's code: an absolute sqrt(0.0016) = 0.04 for Sponza, about 2.5 to 8
+  /// footprints at its 720p camera's 3 to 10 m (rtdenoise's BMFR default: 4 footprints).
   float positionTolerance = 0.0f;
+  float positionFootprints = 0.0f;
   /// When no bilinear tap is valid, try the 3x3 neighbourhood with the Gaussian kernel of
   /// Higginson Eq. 1.4 (centred and renormalized, see docs/methods/accumulate.md).
   bool fallback3x3 = true;
@@ -34,7 +39,10 @@ struct ReprojectionSettings {
     v("depthGradientScale", depthGradientScale, "pixels of screen-space depth slope added to the depth tolerance", Range{0, 1e9});
     v("normalTolerance", normalTolerance, "min cosine between current and history normals", Range{-1, 1});
     v("testObjectId", testObjectId, "reject history taps with another object id (SVGF mesh-id test)");
-    v("positionTolerance", positionTolerance, "max world-space distance of a history tap; 0 = off (BMFR code: 0.04)", Range{0, 1e9});
+    v("positionTolerance", positionTolerance, "absolute part of the world-position tolerance, world units (BMFR code: 0.04)", Range{0, 1e9});
+    v("positionFootprints", positionFootprints,
+      "scale-free part of the world-position tolerance, in pixel footprints (world distance to the neighbour pixel); both 0 = off",
+      Range{0, 1e9});
     v("fallback3x3", fallback3x3, "3x3 Gaussian fallback when no bilinear tap is valid (Higginson Eq. 1.4)");
   }
 };

@@ -15,8 +15,14 @@ namespace rtd {
 enum class SvgfVariant { schied, dundr, gersthofer, voorhuis, voorhuisBase, voorhuisNoSpecReproj, voorhuisRobustness };
 /// A-trous kernel: 5x5 B3 spline (Schied, Dammertz) or 3x3 binomial (Dundr Fig. 4).
 enum class SvgfKernel { b3spline5x5, binomial3x3 };
-/// Which radiance streams are filtered separately and summed.
-enum class SvgfComponents { automatic, color, directIndirect, diffuseSpecular };
+/// Which radiance streams are filtered separately and summed; `composite` (Gersthofer Sec.
+/// 3.3): indirect diffuse (Buffer::IndirectDiffuse) and the rest of Color (direct + indirect
+/// specular) are accumulated separately, the indirect diffuse median-filtered and shared
+/// between the eyes, then the two are added and filtered as one stream.
+enum class SvgfComponents { automatic, color, directIndirect, diffuseSpecular, composite };
+/// The last step of the output (Gersthofer Sec. 3.5): none (linear radiance, the library's
+/// contract) or the ACES filmic curve (Narkowicz fit), display-referred [0, 1].
+enum class SvgfToneMap { none, aces };
 /// Order of the a-trous steps: 1,2,4,... (Schied) or 1 then coarse to fine 16,8,4,2 (Dundr Sec. 4.4).
 enum class SvgfLevelOrder { fineToCoarse, firstThenCoarseToFine, coarseToFine };
 /// What scales the luminance difference in w_l: sigma_l * sqrt(Var) (Schied) or sigma_l * Var (Dundr).
@@ -150,6 +156,42 @@ struct SvgfSettings {
   /// are filled by it, and the fed-back level replaces only this frame's sampled pixels.
   bool useSampleMask = true;
 
+  // --- Gersthofer (VR stereo, Sec. 3.3-3.5); with components = composite ---
+  /// Fixed blend weights: colour and moments mix alpha wherever reprojection succeeded (Sec.
+  /// 3.4.1, "a fixed aggregation factor of alpha = 0.2"), instead of max(1/n, alpha). [variant]
+  bool fixedAlpha = false;
+  /// Eq. 3.1: with a sample mask, a sampled pixel whose reprojection failed is scaled by 1/c,
+  /// c the coverage (sampled share of the visible pixels). In composite mode empty pixels
+  /// without history are black samples of the filter (his masking, which the boost makes up
+  /// for), not Dundr's holes. [variant]
+  bool maskBoost = false;
+  /// Coverage c of Eq. 3.1; 0 = measured per frame from Buffer::SampleMask.
+  float maskCoverage = 0.0f;
+  /// Sec. 3.4.2: 3x3 median (per channel) of the accumulated indirect diffuse, against caustic
+  /// fireflies; off on frames with a sample mask of coverage < 1 ("disabled if masking is
+  /// enabled"). [variant]
+  bool indirectDiffuseMedian = false;
+  /// Sec. 3.4.2: two-view denoising (rtd::StereoDenoiser) shares the accumulated indirect
+  /// diffuse between the eyes: each eye's world positions are projected into the other eye,
+  /// its validated bilinear taps blended in. Off: the eyes are denoised independently. [variant]
+  bool eyeReprojection = false;
+  /// Weight of the other eye's reprojected indirect diffuse (0.5: "double the sample count").
+  float eyeBlend = 0.5f;
+  /// Eq. 3.2 and w_r = 0.01 + sqrt(roughness) in every a-trous level (needs Roughness; w_zi
+  /// also SecondaryDistance, the indirect ray length, accumulated like the colour). [variant]
+  bool glossyWeights = false;
+  /// "w_r is only active for glossy BRDFs": pixels with metalness >= this (all pixels where
+  /// the frame has no Buffer::Metalness).
+  float glossyMetalness = 0.5f;
+  /// Sec. 3.4.3: the spatial variance estimate is also guided by the mesh id (neighbours with
+  /// another ObjectId weigh 0). [variant]
+  bool spatialVarianceObjectId = false;
+  /// Sec. 3.5: FXAA (Lottes 2009) on the linear output, after remodulation (Gersthofer replaces
+  /// TAA by it). [variant]
+  bool fxaa = false;
+  /// Sec. 3.5: tone map as the very last step (after FXAA); none keeps linear radiance.
+  SvgfToneMap toneMap = SvgfToneMap::none;
+
   ReprojectionSettings reprojection;
   TaaSettings taa;
 
@@ -183,6 +225,15 @@ struct SvgfSettings {
     indirectVarianceFiltering = base.indirectVarianceFiltering;
     shortHistoryBandwidth = base.shortHistoryBandwidth;
     fireflyMedian = base.fireflyMedian;
+    components = base.components;
+    fixedAlpha = base.fixedAlpha;
+    maskBoost = base.maskBoost;
+    indirectDiffuseMedian = base.indirectDiffuseMedian;
+    eyeReprojection = base.eyeReprojection;
+    glossyWeights = base.glossyWeights;
+    spatialVarianceObjectId = base.spatialVarianceObjectId;
+    fxaa = base.fxaa;
+    taa.taa = TaaSettings{}.taa;
     preferLobes = base.preferLobes;
     specularMotion = base.specularMotion;
     reflectedFeatures = base.reflectedFeatures;
@@ -205,10 +256,19 @@ struct SvgfSettings {
         luminanceScale = SvgfLuminanceScale::variance;
         taa.taaAlpha = 0.1f;                     // "the same ratio r"
         break;
-      case SvgfVariant::gersthofer:  // Gersthofer, VR stereo, Sec. 3.4
+      case SvgfVariant::gersthofer:  // Gersthofer, VR stereo, Sec. 3.3-3.5
+        components = SvgfComponents::composite;  // one stream, indirect diffuse handled apart
+        fixedAlpha = true;                       // "a fixed aggregation factor of alpha = 0.2"
+        maskBoost = true;                        // Eq. 3.1
+        indirectDiffuseMedian = true;            // firefly removal (off while masking)
+        eyeReprojection = true;
         luminance = SvgfLuminance::cieLightness;
         feedbackLevel = 0;                       // "not fed back ... due to correlated sampling"
         spatialVarianceRadius = 1;               // 3x3 cross-bilateral
+        spatialVarianceObjectId = true;          // "depth, normal and mesh ID"
+        glossyWeights = true;                    // Eq. 3.2 and w_r
+        fxaa = true;                             // FXAA instead of TAA (Sec. 3.5)
+        taa.taa = false;
         break;
       case SvgfVariant::voorhuisRobustness:  // Voorhuis Sec. 6 only (with the Sec. 7 sigmas)
       case SvgfVariant::voorhuis:            // Voorhuis "Ours": Sec. 4, 6 and 7
@@ -244,8 +304,9 @@ struct SvgfSettings {
       "preset of the [variant] settings (applied before the other settings): schied, dundr, gersthofer; voorhuis = Voorhuis' whole method "
       "(Ours), voorhuisBase / voorhuisNoSpecReproj = its baselines, voorhuisRobustness = its Sec. 6 changes only",
       {"schied", "dundr", "gersthofer", "voorhuis", "voorhuisBase", "voorhuisNoSpecReproj", "voorhuisRobustness"});
-    v("components", components, "radiance streams filtered separately and summed",
-      {"auto", "color", "directIndirect", "diffuseSpecular"});
+    v("components", components, "[variant] radiance streams filtered separately and summed; composite (Gersthofer): "
+      "indirectDiffuse and the rest of color accumulated apart, added, filtered as one",
+      {"auto", "color", "directIndirect", "diffuseSpecular", "composite"});
     v("alphaColor", alphaColor, "[variant] colour blend floor w = max(1/n, alpha) (Schied 0.2, Dundr 0.1)", Range{0.001, 1});
     v("alphaMoments", alphaMoments, "[variant] moments blend (Schied 0.2, Dundr 0.1)", Range{0.001, 1});
     v("momentsTrueAverage", momentsTrueAverage, "[variant] moments averaged exactly for short histories (Voorhuis, Dundr)");
@@ -301,6 +362,17 @@ struct SvgfSettings {
     v("searchIterations", searchIterations, "cap on diamond-search iterations per pixel", Range{1, 4096});
     v("subpixelMotion", subpixelMotion, "subpixel refinement of reflection motion (Voorhuis Eqs. 2-3)");
     v("useSampleMask", useSampleMask, "progressive sub-1-spp mode when the frame has sampleMask (Dundr Sec. 5)");
+    v("fixedAlpha", fixedAlpha, "[variant] blend exactly alphaColor/alphaMoments where reprojection succeeded (Gersthofer 3.4.1)");
+    v("maskBoost", maskBoost, "[variant] sampleMask: sampled pixels without history scaled by 1/c, empty ones black (Gersthofer Eq. 3.1)");
+    v("maskCoverage", maskCoverage, "coverage c of Eq. 3.1; 0 = measured from the frame's sampleMask", Range{0, 1});
+    v("indirectDiffuseMedian", indirectDiffuseMedian, "[variant] 3x3 median of accumulated indirect diffuse, off while masking (Gersthofer 3.4.2)");
+    v("eyeReprojection", eyeReprojection, "[variant] stereo: share accumulated indirect diffuse between the eyes (Gersthofer 3.4.2)");
+    v("eyeBlend", eyeBlend, "weight of the other eye's reprojected indirect diffuse (0.5: double the samples)", Range{0, 1});
+    v("glossyWeights", glossyWeights, "[variant] a-trous weights w_zi (Eq. 3.2) and w_r = 0.01 + sqrt(roughness) (Gersthofer 3.4.3)");
+    v("glossyMetalness", glossyMetalness, "w_r applies where metalness >= this (\"glossy BRDFs\")", Range{0, 1});
+    v("spatialVarianceObjectId", spatialVarianceObjectId, "[variant] spatial variance also guided by object id (Gersthofer 3.4.3)");
+    v("fxaa", fxaa, "[variant] FXAA (Lottes 2009) on the linear output (Gersthofer 3.5)");
+    v("toneMap", toneMap, "last step: none (linear radiance) or aces (Narkowicz fit, display-referred)", {"none", "aces"});
     reprojection.visit(v);
     taa.visit(v);
   }

@@ -1,19 +1,37 @@
 // rtdenoise — settings of the shared final temporal anti-aliasing pass (Karis 2014), which
-// SVGF and BMFR apply to their remodulated output.
+// SVGF, A-SVGF and BMFR apply to their remodulated output.
 #pragma once
 #include "rtd/settings_visit.h"
 
 namespace rtd {
+
+/// Values the TAA clamps and blends. display: each channel tone-mapped by Reinhard x/(1+x)
+/// and gamma-encoded (square root) first and decoded after, as Dundr (Sec. 4.5), Voorhuis
+/// (Sec. 3.0) and the BMFR code (gamma-encoded LDR) anti-alias display-referred colour, so a
+/// few bright pixels do not dominate the YCoCg box and the blend; the output stays linear HDR.
+/// linear: the radiance itself (rtdenoise before 2026-12).
+enum class TaaDomain { linear, display };
+/// Clamp bounds: the 3x3 box (Karis 2014, Dundr), or the mean of the 3x3 box's and the 5-tap
+/// cross's bounds (BMFR code).
+enum class TaaNeighbourhood { box3x3, boxCross };
 
 struct TaaSettings {
   /// Run TAA on the output.
   bool taa = true;
   /// Weight of the current frame in the TAA blend (Karis 2014: ~0.1; BMFR code: 0.2).
   float taaAlpha = 0.1f;
+  TaaDomain taaDomain = TaaDomain::display;
+  TaaNeighbourhood taaNeighbourhood = TaaNeighbourhood::box3x3;
 
   template <class V> void visit(V& v) {
     v("taa", taa, "final TAA with YCoCg 3x3 neighbourhood clamping (Karis 2014)");
     v("taaAlpha", taaAlpha, "weight of the current frame in the TAA blend (Karis 2014: 0.1, BMFR: 0.2)", Range{0.001, 1});
+    v("taaDomain", taaDomain,
+      "values TAA clamps and blends: display = Reinhard x/(1+x) + gamma 2 per channel, inverted after (Dundr, Voorhuis, BMFR "
+      "code); linear = HDR radiance",
+      {"linear", "display"});
+    v("taaNeighbourhood", taaNeighbourhood, "clamp bounds: 3x3 box (Karis, Dundr) or mean of box and 5-tap cross (BMFR code)",
+      {"box3x3", "boxCross"});
   }
 };
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "rtd/guide_rays.h"
 #include "rtd/sequence.h"
 
 namespace rtd::render {
@@ -45,6 +46,11 @@ struct RenderSettings {
   float sampleFraction = 1.0f;
   /// Distance between the eyes of a stereo pair, in world units (Eye::Left/Right only).
   float eyeDistance = 0.064f;
+  /// A synthetic head-mounted display's hidden-area mesh (Gersthofer Sec. 3.1): pixels outside
+  /// the lens circle (radius 1.086 in NDC units, about 12 % of the image) and, for Eye::Left /
+  /// Eye::Right, a nose notch in the inner bottom corner (about 3 % more) are neither traced nor
+  /// shaded: all their buffers are 0 but `hiddenArea` = 1, and their reference is 0.
+  bool hiddenArea = false;
   /// Radiance of a single path is clamped to this luminance (0 = no clamp). Off by default so
   /// the renderer stays unbiased; references are never clamped.
   float clampLuminance = 0.0f;
@@ -55,6 +61,11 @@ struct RenderSettings {
   /// gradientPrevious, gradientCurrent; docs/renderer.md), one re-shaded sample of the previous
   /// frame per 3x3 stratum. Costs about 1/9 more paths.
   bool gradientSamples = true;
+  /// Supersampling with guide rays (Voorhuis 2018, Sec. 5): with spp > 1, `color` and the split
+  /// buffers hold only sample 0, traced through the pixel centre (the guide ray), and
+  /// render(index, eye, &samples) returns samples 1 .. spp-1, jittered inside the pixel, with
+  /// their own primary hits' depth and normal (include/rtd/guide_rays.h).
+  bool guideRays = false;
 };
 
 /// A loaded scene with its animation: meshes, materials, lights, camera path, frame count.
@@ -104,6 +115,9 @@ class Renderer {
   /// Frame `index` (0-based; Frame::number = index + 1): noisy color at settings().spp and every
   /// feature buffer (see docs/renderer.md for the list and conventions), camera matrices set.
   Frame render(int index, Eye eye = Eye::Center);
+  /// With settings().guideRays: the frame of the guide rays, and in `samples` its non-guide
+  /// samples (spp - 1 of them; none at spp 1).
+  Frame render(int index, Eye eye, GuideRaySamples& samples);
 
   /// Progressive reference of frame `index`: `spp` samples per pixel (stopping early, at a
   /// multiple of the batch, once `secondsBudget` > 0 is exceeded). Returns RGB radiance;
@@ -119,8 +133,12 @@ class Renderer {
   /// The per-pixel seed render() uses for pixel (x, y) of frame `index` (< kSeedLimit).
   uint32_t pixelSeed(int index, int x, int y, Eye eye = Eye::Center) const;
 
-  /// Whether pixel (x, y) is traced in frame `index` under settings().sampleFraction.
-  bool sampleMask(int index, int x, int y) const;
+  /// Whether pixel (x, y) of `eye` lies under the synthetic hidden-area mesh (settings().hiddenArea).
+  bool hidden(int x, int y, Eye eye = Eye::Center) const;
+
+  /// Whether pixel (x, y) is traced in frame `index` by `eye` under settings().sampleFraction
+  /// (the right eye's masks are disjoint from the left eye's for fractions <= 1/2).
+  bool sampleMask(int index, int x, int y, Eye eye = Eye::Center) const;
 
   const RenderStats& stats() const;
 

@@ -89,7 +89,8 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
       const Plane3& result = process(current_, hasPrevious_ ? &previous_ : nullptr, output_, stats);
       {
         PassTimer t(stats, "export");
-        exportRgb(result, current_.has(Buffer::Emission) ? &current_.planes(Buffer::Emission) : nullptr, output);
+        const bool addEmission = current_.has(Buffer::Emission) && !resultHasEmission_;
+        exportRgb(result, addEmission ? &current_.planes(Buffer::Emission) : nullptr, output);
       }
       std::swap(current_, previous_);
       hasPrevious_ = true;
@@ -121,6 +122,9 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
   int width_ = 0, height_ = 0;
   Plane3 output_;
   FrameStats stats_;
+  /// Set by a process() whose result already holds the separated emission (post-processing
+  /// such as a tone map must see it), so that the export does not add it again.
+  bool resultHasEmission_ = false;
 };
 
 }  // namespace rtd

@@ -8,6 +8,7 @@
 #include "core/api_guard.h"
 #include "core/cpu_path.h"
 #include "core/registry.h"
+#include "core/stereo_pair.h"
 #include "rtd/denoiser.h"
 
 namespace rtd {
@@ -39,6 +40,11 @@ class CpuDevice final : public Device {
     if (!e) throw Error("unknown method '" + std::string(method) + "' (see `rtdenoise methods`)");
     if (!e->createCpu) throw Error("method '" + std::string(method) + "' has no CPU implementation");
     return e->createCpu(arena_);
+  }
+  std::unique_ptr<StereoDenoiser> createStereoDenoiser(std::string_view method) override {
+    const MethodEntry* e = findMethod(method);
+    if (e && e->createStereoCpu) return e->createStereoCpu(arena_);
+    return std::make_unique<StereoPair>(createDenoiser(method), createDenoiser(method));
   }
 
  private:

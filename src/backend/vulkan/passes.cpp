@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "passes/taa.h"
+
 namespace rtd::vk {
 
 Binding GpuFrame::bindingOf(Buffer b, const Context& ctx) const {
@@ -33,9 +35,9 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
   };
   struct PC {
     uint32_t width, height, flags;
-    float depthTolerance, depthGradientScale, normalTolerance, positionTolerance;
+    float depthTolerance, depthGradientScale, normalTolerance, positionTolerance, positionFootprints;
   } pc{uint32_t(cur.width), uint32_t(cur.height), 0, s.depthTolerance, s.depthGradientScale, s.normalTolerance,
-       s.positionTolerance};
+       s.positionTolerance, s.positionFootprints};
   // Same rules as reproject() on the CPU: a test runs when both frames have its buffer.
   const bool usable = prev && prev->width == cur.width && prev->height == cur.height;
   const GpuFrame& p = usable ? *prev : cur;
@@ -45,7 +47,7 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
     if (s.testDepth && both(Buffer::Depth)) pc.flags |= kDepth;
     if (both(Buffer::Normal)) pc.flags |= kNormal;
     if (s.testObjectId && both(Buffer::ObjectId)) pc.flags |= kId;
-    if (s.positionTolerance > 0 && both(Buffer::Position)) pc.flags |= kPosition;
+    if ((s.positionTolerance > 0 || s.positionFootprints > 0) && both(Buffer::Position)) pc.flags |= kPosition;
     if (cur.has(Buffer::Motion)) pc.flags |= kMotion;
     else if (cur.cameraValue.valid && p.cameraValue.valid && cur.has(Buffer::Position)) pc.flags |= kFromCamera;
     if (cur.has(Buffer::DepthGradient)) pc.flags |= kDepthGradient;
@@ -73,17 +75,18 @@ struct AccumulationPC {
   uint32_t luminanceMode, cumulativeMoments;
   uint32_t gradientWidth = 0, gradientStride = 1;
   float historyExponent = 0;
-  uint32_t options = 0;  // 1: per-pixel alpha (binding 5); 2: clip box (binding 6)
+  uint32_t options = 0;  // 1: per-pixel alpha (binding 5); 2: clip box (binding 6); 4: fixed weights (Gersthofer)
 };
 }  // namespace
 
 void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
                                  int maxHistoryLength, uint32_t luminanceMode, bool cumulativeMoments,
-                                 const Planes* sampleMask, const Planes* alphaPlane, const Planes* clipBox) {
+                                 const Planes* sampleMask, const Planes* alphaPlane, const Planes* clipBox,
+                                 bool cumulativeColor) {
   const Planes& prev = advance(rec);
   AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
                     luminanceMode, cumulativeMoments};
-  pc.options = (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u);
+  pc.options = (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u) | (cumulativeColor ? 0u : 4u);
   const Binding dummy(rec.context().dummy());
   const Binding a = alphaPlane ? Binding(*alphaPlane) : dummy, c = clipBox ? Binding(*clipBox) : dummy;
   rec.dispatch(sampleMask ? "temporal_accumulation_masked" : "temporal_accumulation",
@@ -144,7 +147,8 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
   } pc{uint32_t(in.width), uint32_t(in.height), lv.step, lv.radius, lv.sigmaDepth, lv.depthEpsilon,
        std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
-           (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u),
+           (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u) | (lv.indirectDistance ? 32u : 0u) |
+           (lv.centreScale ? 64u : 0u),
        lv.luminanceMode, uint32_t(lv.validInPlane)};
   const Binding dummy(rec.context().dummy());
   std::vector<Binding> bindings{depth, normal, gradient, in, out, lv.sigmaScale ? Binding(*lv.sigmaScale) : dummy,
@@ -152,7 +156,13 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
   // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
   constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);
   const bool tiled = lv.sharedTile && rec.context().limits().maxComputeSharedMemorySize >= kTileBytes;
-  if (lv.validIn && lv.validOut) {
+  if (lv.centreScale || lv.indirectDistance) {
+    const Binding dummy(rec.context().dummy());
+    bindings.push_back(lv.indirectDistance ? Binding(*lv.indirectDistance) : dummy);
+    bindings.push_back(lv.indirectDistanceScale ? Binding(*lv.indirectDistanceScale) : dummy);
+    bindings.push_back(lv.centreScale ? Binding(*lv.centreScale) : dummy);
+    rec.dispatch(tiled ? "atrous_glossy" : "atrous_glossy_untiled", bindings, pc, in.width, in.height);
+  } else if (lv.validIn && lv.validOut) {
     bindings.push_back(*lv.validIn);
     bindings.push_back(*lv.validOut);
     rec.dispatch(tiled ? "atrous_masked" : "atrous_masked_untiled", bindings, pc, in.width, in.height);
@@ -168,22 +178,56 @@ void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int
   rec.dispatch("gaussian3x3", {in, out}, pc, in.width, in.height);
 }
 
+void eyeReproject(Recorder& rec, const GpuFrame& t, const GpuFrame& src, const Planes* valid, int validPlane,
+                  const ReprojectionSettings& s, float blend, const Planes& targetLight, const Planes& sourceLight,
+                  Planes& out) {
+  struct PC {
+    uint32_t width, height, flags, validPlane;
+    float normalTolerance, depthTolerance, depthGradientScale, blend;
+  } pc{uint32_t(t.width), uint32_t(t.height), 0, uint32_t(validPlane), s.normalTolerance, s.depthTolerance,
+       s.depthGradientScale, blend};
+  // The tests eyeTaps() runs: object ids where both eyes have them.
+  if (s.testObjectId && t.has(Buffer::ObjectId) && src.has(Buffer::ObjectId)) pc.flags |= 1;
+  if (s.testDepth) pc.flags |= 2;
+  if (src.has(Buffer::DepthGradient)) pc.flags |= 4;
+  if (valid) pc.flags |= 8;
+  const Context& ctx = rec.context();
+  rec.dispatch("eye_reprojection",
+               {t[Buffer::Position], t[Buffer::Normal], t.bindingOf(Buffer::ObjectId, ctx), src[Buffer::Normal],
+                src[Buffer::Depth], src.bindingOf(Buffer::ObjectId, ctx), src.bindingOf(Buffer::DepthGradient, ctx),
+                valid ? Binding(*valid) : Binding(ctx.dummy()), src.camera, targetLight, sourceLight, out},
+               pc, t.width, t.height);
+}
+
+void fxaa(Recorder& rec, const Planes& in, Planes& out, float edgeThreshold, float edgeThresholdMin, float subpixel) {
+  struct PC {
+    uint32_t width, height;
+    float edgeThreshold, edgeThresholdMin, subpixel;
+  } pc{uint32_t(in.width), uint32_t(in.height), edgeThreshold, edgeThresholdMin, subpixel};
+  rec.dispatch("fxaa", {in, out}, pc, in.width, in.height);
+}
+
 void GpuTaa::resize(Context& ctx, int w, int h) {
   for (auto& p : history_) p.allocate(ctx, w, h, 3);
+  linear_.allocate(ctx, w, h, 3);
   valid_ = false;
 }
 
-const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, float alpha) {
+const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s) {
   const int prev = cur_;
   cur_ ^= 1;
+  const TaaParams p = TaaParams::of(s);
+  const bool valid = valid_ && display_ == p.display;  // a history in the other domain is no history
   struct PC {
     uint32_t width, height;
     float alpha;
-    uint32_t valid;
-  } pc{uint32_t(color.width), uint32_t(color.height), alpha, valid_};
-  rec.dispatch("taa", {rp, color, history_[prev], history_[cur_]}, pc, color.width, color.height);
+    uint32_t valid, display;
+    float crossWeight;
+  } pc{uint32_t(color.width), uint32_t(color.height), p.alpha, valid, p.display, p.crossWeight};
+  rec.dispatch("taa", {rp, color, history_[prev], history_[cur_], linear_}, pc, color.width, color.height);
   valid_ = true;
-  return history_[cur_];
+  display_ = p.display;
+  return p.display ? linear_ : history_[cur_];
 }
 
 }  // namespace rtd::vk

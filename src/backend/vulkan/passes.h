@@ -7,6 +7,7 @@
 #include "backend/vulkan/context.h"
 #include "rtd/frame.h"
 #include "rtd/methods/reprojection.h"
+#include "rtd/methods/taa.h"
 
 namespace rtd::vk {
 
@@ -48,16 +49,19 @@ class GpuTemporalAccumulator {
   /// history carries over unchanged (shader variant temporal_accumulation_masked).
   /// alphaPlane (AccumulationOptions::alphaPlane): per-pixel colour blend floor; clipBox (6
   /// planes: low RGB, high RGB; AccumulationOptions::clipLow/clipHigh): the colour history is
-  /// clamped to it before the blend (Voorhuis).
+  /// clamped to it before the blend (Voorhuis). cumulativeColor false: fixed weights alpha /
+  /// momentsAlpha wherever there is history (AccumulationOptions::cumulativeColor).
   void run(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha, int maxHistoryLength,
            uint32_t luminanceMode = 0, bool cumulativeMoments = true, const Planes* sampleMask = nullptr,
-           const Planes* alphaPlane = nullptr, const Planes* clipBox = nullptr);
+           const Planes* alphaPlane = nullptr, const Planes* clipBox = nullptr, bool cumulativeColor = true);
   /// A-SVGF's adaptive accumulation (AccumulationOptions::temporalGradient; shader variant
   /// temporal_accumulation_gradient): G in the first plane of `gradient`, one texel per
   /// stride x stride pixels; alpha and momentsAlpha are the weights' floors.
   void runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha, float momentsAlpha,
                    int maxHistoryLength, uint32_t luminanceMode, const Planes& gradient, int stride,
                    float historyExponent);
+  /// Bytes of the history (both buffers).
+  uint64_t bytes() const { return uint64_t(history_[0].buffer.size() + history_[1].buffer.size()); }
   /// This frame's result; methods that feed a filtered colour back (SVGF) write its planes 0-2.
   Planes& current() { return history_[cur_]; }
   const Planes& current() const { return history_[cur_]; }
@@ -86,6 +90,12 @@ struct GpuAtrousLevel {
   const Planes* validIn = nullptr;
   int validInPlane = 0;
   Planes* validOut = nullptr;
+  /// Gersthofer's glossy weights (AtrousLevel's fields, shader variant atrous_glossy): z_i
+  /// (1 plane) and its factor 1 - roughness (1 plane), and 1/w_r on the centre (1 plane); the
+  /// first two null without w_zi. Dense input only.
+  const Planes* indirectDistance = nullptr;
+  const Planes* indirectDistanceScale = nullptr;
+  const Planes* centreScale = nullptr;
   /// Voorhuis Eq. 6 (AtrousLevel::spatialFalloff): per-pixel c(p) (1 plane), or null.
   const Planes* spatialFalloff = nullptr;
   /// Read small-step taps through the shared-memory tile where the device has the 18 KiB it
@@ -107,17 +117,35 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
 /// Clamped 3x3 Gaussian of plane `srcPlane` of `in` into plane `dstPlane` of `out`.
 void gaussian3x3(Recorder& rec, const Planes& in, int srcPlane, Planes& out, int dstPlane);
 
+/// Eye reprojection (eyeReproject in src/passes/eye_reprojection.h): out = (1 - blend) target +
+/// blend * the source's light gathered at the target's world positions, where the source's
+/// taps pass the tests of `s`; target elsewhere. `sourceValid` (optional): source taps need plane
+/// `validPlane` > 0. The target frame needs Position and Normal, the source Normal and Depth.
+void eyeReproject(Recorder& rec, const GpuFrame& target, const GpuFrame& source, const Planes* sourceValid,
+                  int validPlane, const ReprojectionSettings& s, float blend, const Planes& targetLight,
+                  const Planes& sourceLight, Planes& out);
+
+/// FXAA (fxaa() in src/passes/fxaa.h) of `in` (R, G, B, fxaaLuma: 4 planes) into `out` (3 planes).
+void fxaa(Recorder& rec, const Planes& in, Planes& out, float edgeThreshold = 0.166f, float edgeThresholdMin = 0.0833f,
+          float subpixel = 0.75f);
+
 /// Karis TAA on the remodulated output; its result is the next frame's history.
 class GpuTaa {
  public:
   void resize(Context& ctx, int w, int h);
   void reset() { valid_ = false; }
-  const Planes& run(Recorder& rec, const Planes& rp, const Planes& color, float alpha);
+  /// Taa::run (src/passes/taa.h) on the device: the linear output.
+  const Planes& run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s);
+  uint64_t bytes() const {
+    return uint64_t(history_[0].buffer.size() + history_[1].buffer.size() + linear_.buffer.size());
+  }
 
  private:
-  Planes history_[2];
+  Planes history_[2];  // display-encoded or linear, as the last frame's domain
+  Planes linear_;      // display domain: the decoded output
   int cur_ = 0;
   bool valid_ = false;
+  bool display_ = false;
 };
 
 }  // namespace rtd::vk

@@ -106,6 +106,14 @@ void VulkanDenoiserBase::prepare(int w, int h, bool cameraCut) {
 
 void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
                                 const ConventionTransform& conventions, const Export& out) {
+  Recorder rec = beginRecord(cmd, imports, camera, conventions, out);
+  resultHasEmission_ = false;
+  const Planes& result = process(rec, frames_[cur_], hasPrevious_ ? &frames_[cur_ ^ 1] : nullptr);
+  endRecord(rec, result, out);
+}
+
+Recorder VulkanDenoiserBase::beginRecord(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
+                                         const ConventionTransform& conventions, const Export& out) {
   GpuFrame& f = frames_[cur_];
   f.width = width_;
   f.height = height_;
@@ -209,21 +217,38 @@ void VulkanDenoiserBase::record(VkCommandBuffer cmd, const std::vector<Import>& 
     }
   }
 
-  const Planes& result = process(rec, f, hasPrevious_ ? &frames_[cur_ ^ 1] : nullptr);
+  if (f.present[int(Buffer::HiddenArea)]) {
+    // The hidden area carries nothing (applyHiddenArea on the CPU): radiance and normals 0.
+    struct PC {
+      uint32_t width, height, channels;
+    } pc{uint32_t(width_), uint32_t(height_), 0};
+    for (int b = 0; b < kBufferCount; ++b)
+      if (f.present[b] && (isRadianceBuffer(Buffer(b)) || Buffer(b) == Buffer::Normal)) {
+        pc.channels = uint32_t(bufferChannelCount(Buffer(b)));
+        rec.dispatch("hidden_area", {f.planes[b], f.planes[int(Buffer::HiddenArea)]}, pc, width_, height_);
+      }
+  }
+  return rec;
+}
+
+void VulkanDenoiserBase::endRecord(Recorder& rec, const Planes& result, const Export& out) {
+  GpuFrame& f = frames_[cur_];
+  const VkCommandBuffer cmd = rec.commandBuffer();
+  const bool addEmission = f.present[int(Buffer::Emission)] && !resultHasEmission_;
 
   rec.pass("export");
   if (out.imageShader) {
     struct PC {
       uint32_t width, height, addEmission;
-    } pc{uint32_t(width_), uint32_t(height_), emission};
-    rec.dispatch(out.imageShader, {result, out.target, emission ? f.planes[int(Buffer::Emission)] : result}, pc, width_,
-                 height_);
+    } pc{uint32_t(width_), uint32_t(height_), addEmission};
+    rec.dispatch(out.imageShader, {result, out.target, addEmission ? f.planes[int(Buffer::Emission)] : result}, pc,
+                 width_, height_);
   } else {
     struct PC {
       uint32_t width, height, dstOffset, pixelStride, rowStride, channels, addEmission;
     } pc{uint32_t(width_), uint32_t(height_), out.offsetWords, out.pixelStrideWords, out.rowStrideWords, out.channels,
-         emission};
-    rec.dispatch("export", {result, out.target, emission ? f.planes[int(Buffer::Emission)] : result}, pc, width_,
+         addEmission};
+    rec.dispatch("export", {result, out.target, addEmission ? f.planes[int(Buffer::Emission)] : result}, pc, width_,
                  height_);
   }
   rec.endPasses();
@@ -286,13 +311,61 @@ void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output)
 }
 
 void VulkanDenoiserBase::denoiseHost(const FrameInputs& in, const ImageView& output) {
-  const auto start = std::chrono::steady_clock::now();
-  FrameStats stats;
+  HostFrame frame = stageHost(in, output);
+  check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
+  record(cmd_, frame.imports, frame.camera, frame.conventions, frame.out);
+  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
+  submitAndWait();
+  finishHost(frame, output);
+}
+
+void VulkanDenoiserBase::denoiseTwoViews(VulkanDenoiserBase& a, VulkanDenoiserBase& b, const FrameInputs& inA,
+                                         const FrameInputs& inB, const ImageView& outA, const ImageView& outB,
+                                         const std::function<void(Recorder&)>& exchange) {
+  guarded("denoise", [&] {
+    HostFrame fa = a.stageHost(inA, outA);
+    HostFrame fb = b.stageHost(inB, outB);
+    const VkCommandBuffer cmd = a.cmd_;
+    check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+    auto previous = [](VulkanDenoiserBase& v) { return v.hasPrevious_ ? &v.frames_[v.cur_ ^ 1] : nullptr; };
+    Recorder ra = a.beginRecord(cmd, fa.imports, fa.camera, fa.conventions, fa.out);
+    a.resultHasEmission_ = false;
+    a.processFront(ra, a.frames_[a.cur_], previous(a));
+    ra.pass("(other eye)");
+    Recorder rb = b.beginRecord(cmd, fb.imports, fb.camera, fb.conventions, fb.out);
+    b.resultHasEmission_ = false;
+    b.processFront(rb, b.frames_[b.cur_], previous(b));
+    rb.pass("(other eye)");
+    ra.barrier();  // b's writes (recorded through the other recorder) before a reads them
+    ra.pass("eyeReprojection");
+    exchange(ra);
+    const Planes& resultA = a.processBack(ra, a.frames_[a.cur_], previous(a));
+    a.endRecord(ra, resultA, fa.out);
+    rb.barrier();
+    const Planes& resultB = b.processBack(rb, b.frames_[b.cur_], previous(b));
+    b.endRecord(rb, resultB, fb.out);
+    check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+    a.submitAndWait();
+    a.finishHost(fa, outA);
+    b.finishHost(fb, outB);
+  });
+}
+
+VulkanDenoiserBase::HostFrame VulkanDenoiserBase::stageHost(const FrameInputs& in, const ImageView& output) {
+  HostFrame frame;
+  frame.start = std::chrono::steady_clock::now();
+  FrameStats& stats = frame.stats;
   // Everything is checked before history is touched, as on the CPU (core/validate.h).
   checkInputViews(in, requiredBuffers());
   const int w = in[Buffer::Color].width, h = in[Buffer::Color].height;
   checkOutputView(output, w, h);
-  const ConventionTransform conventions = conventionTransform(in.conventions, in.camera, w, h, in.has(Buffer::Normal));
+  frame.conventions = conventionTransform(in.conventions, in.camera, w, h, in.has(Buffer::Normal));
 
   // Validate every used buffer before touching history, then pack them into the staging buffer
   // row by row, keeping each view's pixel layout (the import shader applies the strides).
@@ -338,13 +411,19 @@ void VulkanDenoiserBase::denoiseHost(const FrameInputs& in, const ImageView& out
     readback_ = DeviceBuffer(ctx_, outBytes, true);
   }
 
-  check(vkResetCommandBuffer(cmd_, 0), "vkResetCommandBuffer");
-  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  check(vkBeginCommandBuffer(cmd_, &bi), "vkBeginCommandBuffer");
-  record(cmd_, imports, in.camera, conventions, {Binding(readback_), 0, outChannels, outChannels * uint32_t(w), outChannels});
-  check(vkEndCommandBuffer(cmd_), "vkEndCommandBuffer");
-  submitAndWait();
+  frame.imports = std::move(imports);
+  frame.out = {Binding(readback_), 0, outChannels, outChannels * uint32_t(w), outChannels};
+  frame.camera = in.camera;
+  frame.width = w;
+  frame.height = h;
+  frame.outChannels = outChannels;
+  return frame;
+}
+
+void VulkanDenoiserBase::finishHost(HostFrame& frame, const ImageView& output) {
+  FrameStats& stats = frame.stats;
+  const int w = frame.width, h = frame.height;
+  const uint32_t outChannels = frame.outChannels;
   readTimings(stats, true);
   {
     PassTimer t(stats, "download (host)");
@@ -365,7 +444,8 @@ void VulkanDenoiserBase::denoiseHost(const FrameInputs& in, const ImageView& out
   }
   readSanitizeCounts(stats);
   stats.pixels = uint64_t(w) * h;
-  stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.totalMilliseconds =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame.start).count();
   stats.notes = notes_;
   stats_ = std::move(stats);
 }

@@ -5,6 +5,8 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <chrono>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,14 @@ class VulkanDenoiserBase : public Denoiser {
   void denoiseGpu(const VulkanFrameInputs& frame, const VulkanBufferView& output, VkCommandBuffer cmd);
   void denoiseGpu(const VulkanFrameInputs& frame, const VulkanImageView& output, VkCommandBuffer cmd);
 
+  /// Two views (the eyes of a two-view method, rtd/stereo.h), one denoiser each, recorded into
+  /// one command buffer from host memory: a's and b's processFront(), then `exchange` (through
+  /// a's recorder, as pass "eyeReprojection"), then each processBack() and export. Each view's
+  /// stats() hold its passes; "(other eye)" marks the time its recording waited for the other.
+  static void denoiseTwoViews(VulkanDenoiserBase& a, VulkanDenoiserBase& b, const FrameInputs& inA,
+                              const FrameInputs& inB, const ImageView& outA, const ImageView& outB,
+                              const std::function<void(Recorder&)>& exchange);
+
  protected:
   /// Buffers imported when the frame has them (importedBuffers(), as on the CPU).
   std::vector<Buffer> usedBuffers() const;
@@ -47,6 +57,14 @@ class VulkanDenoiserBase : public Denoiser {
   /// Record the method's passes (rec.pass("name") before each) for `frame`; `previous` is the
   /// last frame or null after a reset. Returns the planes (RGB) to export.
   virtual const Planes& process(Recorder& rec, const GpuFrame& frame, const GpuFrame* previous) = 0;
+  /// Two-view methods split process() around the exchange between the views (denoiseTwoViews):
+  /// the passes before it, and the rest returning the planes to export.
+  virtual void processFront(Recorder&, const GpuFrame&, const GpuFrame*) {}
+  virtual const Planes& processBack(Recorder& rec, const GpuFrame& frame, const GpuFrame* previous) {
+    return process(rec, frame, previous);
+  }
+  /// The frame being recorded (between the import and the export).
+  const GpuFrame& recordingFrame() const { return frames_[cur_]; }
 
   // Keeps the device alive while a denoiser exists, even after its rtd::Device is gone (as
   // CPU denoisers keep their arena); null for a Context not owned by a shared_ptr (tests).
@@ -55,6 +73,9 @@ class VulkanDenoiserBase : public Denoiser {
   int width_ = 0, height_ = 0;
   /// FrameStats::notes of the frame process() recorded (parts that did not run, and why).
   std::vector<std::string> notes_;
+  /// Set by a process() whose result already holds the separated emission (a tone map must
+  /// see it), so that the export does not add it again (as CpuDenoiser).
+  bool resultHasEmission_ = false;
 
  private:
   /// Where the pixels come from and go to: a buffer with strides, or an image (`shader` then
@@ -72,6 +93,21 @@ class VulkanDenoiserBase : public Denoiser {
     const char* imageShader = nullptr;
   };
   void denoiseHost(const FrameInputs& frame, const ImageView& output);
+  /// A host-memory frame staged for recording (denoiseHost()'s first half): validated,
+  /// uploaded, history prepared, the read-back buffer ready.
+  struct HostFrame {
+    std::vector<Import> imports;
+    Export out;
+    Camera camera;
+    ConventionTransform conventions;
+    int width = 0, height = 0;
+    uint32_t outChannels = 3;
+    FrameStats stats;
+    std::chrono::steady_clock::time_point start;
+  };
+  HostFrame stageHost(const FrameInputs& in, const ImageView& output);
+  /// denoiseHost()'s second half once the commands ran: timings, read-back, counts, stats().
+  void finishHost(HostFrame& frame, const ImageView& output);
   void denoiseIntoBuffer(const VulkanFrameInputs& frame, const VulkanBufferView& output, VkCommandBuffer cmd);
   void denoiseIntoImage(const VulkanFrameInputs& frame, const VulkanImageView& output, VkCommandBuffer cmd);
   void denoiseGpu(const VulkanFrameInputs& frame, const Export& out, VkCommandBuffer cmd);
@@ -80,6 +116,10 @@ class VulkanDenoiserBase : public Denoiser {
   void prepare(int w, int h, bool cameraCut);
   void record(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
               const ConventionTransform& conventions, const Export& out);
+  /// record() in two steps around the method's passes: the import, and the export.
+  Recorder beginRecord(VkCommandBuffer cmd, const std::vector<Import>& imports, const Camera& camera,
+                       const ConventionTransform& conventions, const Export& out);
+  void endRecord(Recorder& rec, const Planes& result, const Export& out);
   void submitAndWait();
   /// The sanitize counters of the last frame that ran into `stats` (sanitized, sanitizedValues).
   void readSanitizeCounts(FrameStats& stats) const;

@@ -3,6 +3,7 @@
 #include "backend/vulkan/context.h"
 #include "backend/vulkan/vulkan_denoiser.h"
 #include "core/registry.h"
+#include "core/stereo_pair.h"
 #include "rtd/vulkan.h"
 
 namespace rtd {
@@ -19,6 +20,11 @@ class VulkanDevice final : public Device {
     if (!e->createVulkan)
       throw Error("method '" + std::string(method) + "' has no Vulkan implementation yet (use --backend cpu)");
     return e->createVulkan(*ctx_);
+  }
+  std::unique_ptr<StereoDenoiser> createStereoDenoiser(std::string_view method) override {
+    const MethodEntry* e = findMethod(method);
+    if (e && e->createStereoVulkan) return e->createStereoVulkan(*ctx_);
+    return std::make_unique<StereoPair>(createDenoiser(method), createDenoiser(method));
   }
 
  private:

@@ -119,7 +119,7 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
     }
     if (!s.taa.taa) return result_;
     PassTimer t(stats, "taa");
-    return taa_.run(reprojection_, result_, s.taa.taaAlpha);
+    return taa_.run(reprojection_, result_, s.taa);
   }
 
  private:

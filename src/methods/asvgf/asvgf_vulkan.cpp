@@ -127,7 +127,7 @@ class AsvgfVulkan final : public vk::VulkanDenoiser<AsvgfSettings> {
     vk::remodulate(rec, filtered, albedo, output_);
     rec.pass("taa");
     if (!s.taa.taa) return output_;
-    return taa_.run(rec, reprojection_, output_, s.taa.taaAlpha);
+    return taa_.run(rec, reprojection_, output_, s.taa);
   }
 
  private:

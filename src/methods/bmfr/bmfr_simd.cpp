@@ -184,7 +184,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     // the fit's reads of nine planes per block would otherwise come from memory.
     const std::vector<rtd::bmfr::RowBand> bands = rtd::bmfr::rowBands(grid_);
     BandPassTimes times({"reproject", "accumulateNoisy", "fit", s.fit ? "synthesize+accumulate+remodulate" : "accumulate+remodulate", "taa"});
-    if (s.taa.taa) taa_.begin(frame.width, frame.height);
+    if (s.taa.taa) taa_.begin(frame.width, frame.height, s.taa);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, bands.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
       Scratch& scratch = scratch_.local();
       for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -213,7 +213,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         // for the neighbouring bands.
         if (s.taa.taa && band.rowEnd - band.rowBegin > 2) {
           auto t = times.scope(4);
-          taa_.runRows(reprojection_, remodulated_, s.taa.taaAlpha, band.rowBegin + 1, band.rowEnd - 1);
+          taa_.runRows(reprojection_, remodulated_, band.rowBegin + 1, band.rowEnd - 1);
         }
       }
     }, tbb::simple_partitioner());
@@ -222,10 +222,10 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         auto t = times.scope(4);
         const rtd::bmfr::RowBand& band = bands[size_t(i)];
         if (band.rowEnd - band.rowBegin > 2) {
-          taa_.runRows(reprojection_, remodulated_, s.taa.taaAlpha, band.rowBegin, band.rowBegin + 1);
-          taa_.runRows(reprojection_, remodulated_, s.taa.taaAlpha, band.rowEnd - 1, band.rowEnd);
+          taa_.runRows(reprojection_, remodulated_, band.rowBegin, band.rowBegin + 1);
+          taa_.runRows(reprojection_, remodulated_, band.rowEnd - 1, band.rowEnd);
         } else {
-          taa_.runRows(reprojection_, remodulated_, s.taa.taaAlpha, band.rowBegin, band.rowEnd);
+          taa_.runRows(reprojection_, remodulated_, band.rowBegin, band.rowEnd);
         }
       }, 1);
     }

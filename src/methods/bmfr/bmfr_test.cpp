@@ -79,7 +79,11 @@ TEST(Bmfr, DefaultsAreThePapers) {
   EXPECT_TRUE(s.featureNormal && s.featurePosition && s.featurePositionSquared);
   EXPECT_FALSE(s.featureMaterialId || s.featureRoughness);
   EXPECT_EQ(s.taa.taaAlpha, 0.2f);
-  EXPECT_FLOAT_EQ(s.reprojection.positionTolerance, 0.04f);
+  EXPECT_EQ(s.taa.taaNeighbourhood, TaaNeighbourhood::boxCross);  // [CODE] box + cross bounds
+  EXPECT_EQ(s.taa.taaDomain, TaaDomain::display);                 // [CODE] TAA on display values
+  // The authors' absolute 0.04 (Sponza) made scale-free: 4 pixel footprints (issue 12).
+  EXPECT_FLOAT_EQ(s.reprojection.positionTolerance, 0.0f);
+  EXPECT_FLOAT_EQ(s.reprojection.positionFootprints, 4.0f);
   EXPECT_FLOAT_EQ(s.reprojection.normalTolerance, 0.875f);  // |dn|^2 < 0.25
   const auto methods = listMethods();
   bool found = false;

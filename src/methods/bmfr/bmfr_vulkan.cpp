@@ -100,7 +100,7 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
     ++frameIndex_;
     if (!s.taa.taa) return remodulated_;
     rec.pass("taa");
-    return taa_.run(rec, reprojection_, remodulated_, s.taa.taaAlpha);
+    return taa_.run(rec, reprojection_, remodulated_, s.taa);
   }
 
  private:

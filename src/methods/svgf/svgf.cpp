@@ -7,6 +7,7 @@
 
 #include "backend/cpu/cpu_denoiser.h"
 #include "core/parallel.h"
+#include "methods/svgf/gersthofer.h"
 #include "methods/svgf/svgf_filter.h"
 #include "methods/svgf/svgf_passes.h"
 #include "methods/svgf/svgf_reflections.h"
@@ -54,6 +55,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     for (auto& s : streams_) s.accumulator.reset();
     reflections_.reset();
     taa_.reset();
+    if (gersthofer_) gersthofer_->reset();
   }
   void visitMethodPlanes(const PlaneVisitor& visit) const override {
     reprojection_.forEachPlane(visit);
@@ -68,6 +70,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     visitPlanes(visit, "display", display_);
     visitPlanes(visit, "diffuse lobe median", lobeMedian_);
     taa_.forEachPlane(visit);
+    if (gersthofer_) gersthofer_->forEachPlane(visit);
   }
 
   const Plane3& process(const FrameData& frame, const FrameData* previous, Plane3& /*out*/, FrameStats& stats) override {
@@ -77,6 +80,8 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       resetHistory();
       previous = nullptr;
     }
+    resultHasEmission_ = false;
+    if (s.components == SvgfComponents::composite) return gersthofer(frame, previous, stats);
     const int nStreams = chooseStreams(frame);
     const bool lobes = nStreams == 2 && streams_[1].plan.lobe == svgf::Lobe::specular;
     // Before any history is touched: an explicitly requested part without its buffers throws.
@@ -131,11 +136,21 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     if (!s.taa.taa) return *shown;
     PassTimer t(stats, "taa");
-    return taa_.run(reflections_.taaMotion(frame, reprojection_), *shown, s.taa.taaAlpha);
+    return taa_.run(reflections_.taaMotion(frame, reprojection_), *shown, s.taa);
   }
 
  private:
   int requiredPad() const { return svgf::filterParams(settings_, false).requiredPad(); }
+
+  // Gersthofer's pipeline (gersthofer.h) for one view; a StereoDenoiser runs two of them.
+  const Plane3& gersthofer(const FrameData& frame, const FrameData* previous, FrameStats& stats) {
+    if (!gersthofer_) gersthofer_ = std::make_unique<svgf::GersthoferEye>();
+    gersthofer_->front(frame, previous, settings_, stats);
+    const Plane3& result = gersthofer_->back(frame, settings_, stats, resultHasEmission_);
+    stats.memory = gersthofer_->memory();
+    stats.memory.push_back({"frames", svgf::frameBytes(current_) + svgf::frameBytes(previous_)});
+    return result;
+  }
 
   // Which streams this frame has, per the `components` setting.
   int chooseStreams(const FrameData& f) {
@@ -212,6 +227,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   Stream streams_[kMaxStreams];
   Plane3 sum_, display_, lobeMedian_;
   Taa taa_;
+  std::unique_ptr<svgf::GersthoferEye> gersthofer_;  // components = composite
 };
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
+#include "core/cpu_path.h"
 #include "passes/atrous.h"
 #include "rtd/rtd.h"
 #include "synthetic/synthetic.h"
@@ -58,9 +59,16 @@ void BM_SvgfAfterReset(benchmark::State& state, const char* variant) {
 }
 BENCHMARK_CAPTURE(BM_SvgfAfterReset, schied_1thread, "schied")->Unit(benchmark::kMillisecond);
 
-// One a-trous level (with variance propagation) on flat-ish features and noisy colour.
+// One a-trous level (with variance propagation) on flat-ish features and noisy colour; args:
+// the step, and the CPU path (0 sse2, 1 avx2, 2 avx512; -1 the current one, RTD_CPU_PATH).
 void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threads) {
   const int step = int(state.range(0));
+  const int path = int(state.range(1));
+  if (path >= 0 && !rtd::cpuPathSupported(rtd::CpuPath(path))) {
+    state.SkipWithError("this CPU lacks the path");
+    return;
+  }
+  const rtd::CpuPath previous = path >= 0 ? rtd::setCpuPath(rtd::CpuPath(path)) : rtd::cpuPath();
   rtd::AtrousGuide g;
   rtd::AtrousImage a, b;
   rtd::PaddedPlane inv;
@@ -88,13 +96,14 @@ void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threa
     arena.execute([&] { rtd::atrousLevel(g, lv, a, b); });
     benchmark::DoNotOptimize(b.color[0].data.data());
   }
+  rtd::setCpuPath(previous);
   state.SetItemsProcessed(state.iterations() * int64_t(kW) * kH);
 }
 BENCHMARK_CAPTURE(BM_AtrousLevel, b3spline5x5_1thread, rtd::AtrousKernel::B3Spline5x5, 1)
-    ->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
+    ->ArgsProduct({{1, 16}, {0, 1, 2}})->ArgNames({"step", "path"})->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_AtrousLevel, binomial3x3_1thread, rtd::AtrousKernel::Binomial3x3, 1)
-    ->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
+    ->ArgsProduct({{1, 16}, {0, 1, 2}})->ArgNames({"step", "path"})->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_AtrousLevel, b3spline5x5_2threads, rtd::AtrousKernel::B3Spline5x5, 2)
-    ->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({1, -1})->Args({16, -1})->ArgNames({"step", "path"})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -101,10 +101,12 @@ void Filter::resize(int w, int h, int pad) {
 }
 
 const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& acc, const Plane3& current,
-                               const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix) {
+                               const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix,
+                               const FilterExtras& extras) {
+  const Plane3& input = extras.input ? *extras.input : acc.color();
   {
     PassTimer t(stats, "variance" + suffix);
-    VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &acc.color()};
+    VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &input, extras.objectId};
     estimateVariance(guide, in, p.variance, levels_[0], scratch_);
     luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);
     if (mask) markValid(acc.historyLength(), valid_[0]);
@@ -135,6 +137,9 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     // The last level's variance is not used any more.
     lv.propagateVariance = p.propagateVariance && i + 1 < n;
     lv.luminance = p.variance.luminance;
+    lv.indirectDistance = extras.indirectDistance;
+    lv.indirectDistanceScale = extras.indirectDistanceScale;
+    lv.centreScale = extras.centreScale;
     lv.spatialFalloff = p.spatialFalloff;
     if (mask) {
       lv.validIn = &valid_[cur];
@@ -152,7 +157,7 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
   }
   // Without levels the result is the accumulation itself.
   if (n == 0)
-    for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyFrom(acc.color()[c]);
+    for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyFrom(input[c]);
   return levels_[cur];
 }
 

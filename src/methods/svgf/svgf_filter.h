@@ -49,6 +49,19 @@ FilterParams filterParams(const SvgfSettings& s, bool indirect);
 /// shortHistoryFrames with disableLuminanceWeight), Voorhuis Eq. 8 where enabled, else 1.
 void luminanceSigmaScale(const Plane& historyLength, const FilterParams& p, PaddedPlane& out);
 
+/// What Gersthofer's pipeline (gersthofer.h) adds to a run; every pointer may be null.
+struct FilterExtras {
+  /// The level-0 colour when it is not the accumulated colour (his composite of the separately
+  /// accumulated components); null: accumulator.color().
+  const Plane3* input = nullptr;
+  /// Object ids for the mesh-id term of the spatial variance (VarianceInputs::objectId).
+  const PaddedPlane* objectId = nullptr;
+  /// The glossy weights w_zi and w_r of every level (AtrousLevel's fields of the same names).
+  const PaddedPlane* indirectDistance = nullptr;
+  const PaddedPlane* indirectDistanceScale = nullptr;
+  const PaddedPlane* centreScale = nullptr;
+};
+
 /// The filter's planes, allocated once per size (resize) and reused by every stream.
 class Filter {
  public:
@@ -62,7 +75,8 @@ class Filter {
   /// "atrous<i>" + suffix into `stats`. Returns the filtered image (its colour planes hold the
   /// accumulation when p.iterations is 0); valid until the next run.
   const AtrousImage& run(const AtrousGuide& guide, TemporalAccumulator& accumulator, const Plane3& current,
-                         const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix = {});
+                         const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix = {},
+                         const FilterExtras& extras = {});
 
   /// Every plane the filter keeps (CPU denoisers' PlaneInspection).
   void forEachPlane(const PlaneVisitor& visit) const {

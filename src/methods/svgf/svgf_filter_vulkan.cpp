@@ -9,11 +9,18 @@ void GpuFilter::resize(vk::Context& ctx, int w, int h) {
   for (auto& v : valid_) v.allocate(ctx, w, h, 1);
 }
 
+uint64_t GpuFilter::bytes() const {
+  uint64_t n = sigmaScale_.buffer.size();
+  for (const auto& l : levels_) n += l.buffer.size();
+  for (const auto& v : valid_) n += v.buffer.size();
+  return n;
+}
+
 const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, const vk::Planes& normal,
                                  const vk::Planes& gradient, vk::GpuTemporalAccumulator& acc,
                                  const vk::Planes& current, const vk::Planes* mask, const FilterParams& p,
-                                 const std::string& suffix,
-                                 const vk::Planes* spatialFalloff) {
+                                 const std::string& suffix, const GpuFilterExtras& extras) {
+  const vk::Planes& source = extras.source ? *extras.source : acc.current();
   const int width = current.width, height = current.height;
   const uint32_t lum = uint32_t(p.variance.luminance);
   const size_t planeBytes = size_t(width) * height * 4;
@@ -33,8 +40,11 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
     if (v.fromMoments) pc.flags |= 2;
     if (v.shortHistory == SvgfShortHistory::disableLuminanceWeight) pc.flags |= 4;
     if (p.shortHistoryBandwidth) pc.flags |= 8;
-    rec.dispatch("svgf_variance", {depth, normal, gradient, acc.current(), current, levels_[0], sigmaScale_}, pc,
-                 width, height);
+    if (extras.objectId) pc.flags |= 16;
+    rec.dispatch("svgf_variance",
+                 {depth, normal, gradient, source, current, levels_[0], sigmaScale_,
+                  extras.objectId ? vk::Binding(*extras.objectId) : vk::Binding(rec.context().dummy())},
+                 pc, width, height);
     if (p.variancePrefilter == SvgfVariancePrefilter::once) {
       vk::gaussian3x3(rec, levels_[0], 4, levels_[2], 4);
       rec.copy(levels_[2].buffer, levels_[0].buffer, planeBytes, 4 * planeBytes, 4 * planeBytes);
@@ -59,6 +69,9 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
     lv.sigmaScale = &sigmaScale_;
     lv.propagateVariance = p.propagateVariance && i + 1 < n;  // the last level's variance is not used
     lv.luminanceMode = lum;
+    lv.indirectDistance = extras.indirectDistance;
+    lv.indirectDistanceScale = extras.indirectDistanceScale;
+    lv.centreScale = extras.centreScale;
     if (mask) {
       // Level-0 validity is historyLength > 0 (the CPU's markValid), read straight from the
       // accumulator's length plane; later levels read the previous level's validity.
@@ -70,7 +83,7 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
       }
       lv.validOut = &valid_[i & 1];
     }
-    lv.spatialFalloff = spatialFalloff;
+    lv.spatialFalloff = extras.spatialFalloff;
     vk::atrousLevel(rec, depth, normal, gradient, lv, levels_[cur], levels_[cur ^ 1]);
     cur ^= 1;
     // The feedback level's output becomes next frame's colour history (Schied Sec. 4.3).
@@ -85,7 +98,7 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
       }
     }
   }
-  if (n == 0) rec.copy(acc.current().buffer, levels_[cur].buffer, 3 * planeBytes);
+  if (n == 0) rec.copy(source.buffer, levels_[cur].buffer, 3 * planeBytes);
   return levels_[cur];
 }
 

@@ -1,6 +1,8 @@
 #include "methods/svgf/svgf_passes.h"
 
+#include <algorithm>
 #include <atomic>
+#include <vector>
 
 #include "core/parallel.h"
 #include "methods/svgf/svgf_filter.h"
@@ -44,7 +46,7 @@ size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const Va
   // Short history: depth/normal-weighted window estimate (Schied Sec. 4.2; Voorhuis Sec. 6
   // averages the accumulated moments instead of the current luminance).
   spatialVariance(g, scratch[0], scratch[1], *in.historyLength, float(p.shortHistoryFrames), p.radius, p.sigmaDepth,
-                  p.depthEpsilon, p.normalExponent, out.var);
+                  p.depthEpsilon, p.normalExponent, out.var, in.objectId);
   return count;
 }
 
@@ -52,23 +54,42 @@ void luminanceSigmaScale(const Plane& len, const SvgfSettings& s, PaddedPlane& o
   luminanceSigmaScale(len, filterParams(s, false), out);
 }
 
+namespace {
+inline float median3(float a, float b, float c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
+}  // namespace
+
 void median3x3(const Plane3& in, const Plane* roughness, Plane3& out) {
   const int w = in[0].width, h = in[0].height;
+  // Exact 3x3 median without sorting nine values: sort each column of three, then the median
+  // is the median of (the largest column minimum, the median of the column medians, the
+  // smallest column maximum). The sorted columns of a row are shared by three pixels, and
+  // both loops are branch-free min/max, so they vectorize. Edges clamp.
   parallelRows(h, [&](int y) {
+    thread_local std::vector<float> lo, mid, hi;
+    lo.resize(size_t(w) + 2);
+    mid.resize(size_t(w) + 2);
+    hi.resize(size_t(w) + 2);
+    const float* rough = roughness ? roughness->row(y) : nullptr;
     for (int c = 0; c < 3; ++c) {
-      const Plane& p = in[c];
+      const float* up = in[c].row(std::max(y - 1, 0));
+      const float* cur = in[c].row(y);
+      const float* down = in[c].row(std::min(y + 1, h - 1));
+      float *l = lo.data() + 1, *m = mid.data() + 1, *u = hi.data() + 1;  // index -1 and w: the clamped edges
+      for (int x = 0; x < w; ++x) {
+        const float a = std::min(up[x], cur[x]), b = std::max(up[x], cur[x]);
+        l[x] = std::min(a, down[x]);
+        u[x] = std::max(b, down[x]);
+        m[x] = std::max(a, std::min(b, down[x]));
+      }
+      l[-1] = l[0], m[-1] = m[0], u[-1] = u[0];
+      l[w] = l[w - 1], m[w] = m[w - 1], u[w] = u[w - 1];
       float* o = out[c].row(y);
       for (int x = 0; x < w; ++x) {
-        if (roughness && (*roughness)(x, y) < 0.9f) {
-          o[x] = p(x, y);
-          continue;
-        }
-        float v[9];
-        int k = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) v[k++] = p(std::clamp(x + dx, 0, w - 1), std::clamp(y + dy, 0, h - 1));
-        std::nth_element(v, v + 4, v + 9);
-        o[x] = v[4];
+        const float low = std::max(std::max(l[x - 1], l[x]), l[x + 1]);
+        const float high = std::min(std::min(u[x - 1], u[x]), u[x + 1]);
+        const float med = median3(median3(m[x - 1], m[x], m[x + 1]), low, high);
+        // Voorhuis: diffuse pixels only (roughness >= 0.9), where the frame has roughness.
+        o[x] = rough && rough[x] < 0.9f ? cur[x] : med;
       }
     }
   });

@@ -18,6 +18,9 @@ struct VarianceInputs {
   const Plane* moment2 = nullptr;        ///< accumulated E[l^2]
   const Plane3* current = nullptr;       ///< this frame's demodulated sample (spatial estimate from luminance)
   const Plane3* accumulated = nullptr;   ///< accumulated colour: the filter's input
+  /// Gersthofer Sec. 3.4.3: object ids (padded like the guide) for the mesh-id term of the
+  /// spatial estimate; null: no such term.
+  const PaddedPlane* objectId = nullptr;
 };
 
 struct VarianceParams {
@@ -57,6 +60,10 @@ void levelSteps(SvgfLevelOrder order, int iterations, int* steps);
 inline std::vector<Buffer> extraBuffers(const SvgfSettings& s) {
   std::vector<Buffer> b{Buffer::Direct,   Buffer::Indirect,  Buffer::Diffuse,      Buffer::Specular,
                         Buffer::Roughness, Buffer::DepthGradient, Buffer::DiffuseAlbedo, Buffer::SpecularAlbedo};
+  if (s.components == SvgfComponents::composite)
+    for (Buffer g : {Buffer::IndirectDiffuse, Buffer::SecondaryDistance, Buffer::Metalness, Buffer::ObjectId,
+                     Buffer::Position})
+      b.push_back(g);
   if (s.useSampleMask) b.push_back(Buffer::SampleMask);
   // Voorhuis' parts (svgf_reflections.h): pixel classes and the reflection buffers.
   const bool reflections = s.specularMotion != SvgfSpecularMotion::primary || s.reflectedFeatures != SvgfPart::off ||

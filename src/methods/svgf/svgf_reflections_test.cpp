@@ -277,8 +277,11 @@ TEST(VoorhuisBandwidth, FalloffNarrowsTheAtrousFootprint) {
         m2 += v * (kx * kx + ky * ky);
       }
     const double var = m2 / sum;
-    if (sigma == 1.0f) EXPECT_NEAR(var, 2.0, 1e-4);
-    else if (sigma >= 0.5f) EXPECT_NEAR(var, 2.0 * sigma * sigma, 0.25 * 2.0 * sigma * sigma);
+    if (sigma == 1.0f) {
+      EXPECT_NEAR(var, 2.0, 1e-4);
+    } else if (sigma >= 0.5f) {
+      EXPECT_NEAR(var, 2.0 * sigma * sigma, 0.25 * 2.0 * sigma * sigma);
+    }
     // (Below ~0.5 the integer taps make the spread fall faster than the continuous 2 sigma^2.)
     EXPECT_LT(var, last + 1e-9);
     last = var;

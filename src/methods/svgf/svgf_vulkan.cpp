@@ -3,6 +3,8 @@
 // setting of SvgfSettings is honoured, variants and the progressive sub-1-spp mode included.
 #if defined(RTD_HAS_VULKAN) && __has_include("rtd/methods/svgf.h")
 #include "backend/vulkan/vulkan_denoiser.h"
+#include "core/stereo_pair.h"
+#include "methods/svgf/gersthofer_vulkan.h"
 #include "methods/svgf/svgf_filter_vulkan.h"
 #include "methods/svgf/svgf_passes.h"
 #include "methods/svgf/svgf_reflections_vulkan.h"
@@ -26,6 +28,10 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   using VulkanDenoiser::VulkanDenoiser;
   std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color, Buffer::Normal, Buffer::Depth}; }
 
+  // For the two-view denoiser (SvgfStereoVulkan): the eye's pipeline and frame while recording.
+  svgf::GpuGersthoferEye& gersthoferEye() { return *gersthofer_; }
+  const vk::GpuFrame& frame() const { return recordingFrame(); }
+
  protected:
   std::vector<Buffer> extraBuffers() const override { return svgf::extraBuffers(settings_); }
 
@@ -42,15 +48,37 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     remodulated_.allocate(ctx_, w, h, 3);
     taa_.resize(ctx_, w, h);
     reflections_.resize(ctx_, w, h);
+    if (gersthofer_) gersthofer_->resize(ctx_, w, h);
   }
   void resetHistory() override {
     for (auto& s : streams_) s.accumulator.reset();
     reflections_.reset();
     taa_.reset();
+    if (gersthofer_) gersthofer_->reset();
+  }
+
+  // Gersthofer's pipeline (gersthofer_vulkan.h) in the two halves a two-view denoiser records
+  // around the exchange between the eyes; other settings run process() in the second half.
+  void processFront(vk::Recorder& rec, const vk::GpuFrame& frame, const vk::GpuFrame* previous) override {
+    if (settings_.components != SvgfComponents::composite) return;
+    if (!gersthofer_) {
+      gersthofer_ = std::make_unique<svgf::GpuGersthoferEye>();
+      gersthofer_->resize(ctx_, frame.width, frame.height);
+    }
+    gersthofer_->front(rec, frame, previous, settings_);
+  }
+  const vk::Planes& processBack(vk::Recorder& rec, const vk::GpuFrame& frame, const vk::GpuFrame* previous) override {
+    if (settings_.components != SvgfComponents::composite) return process(rec, frame, previous);
+    return gersthofer_->back(rec, frame, settings_, resultHasEmission_);
   }
 
   const vk::Planes& process(vk::Recorder& rec, const vk::GpuFrame& frame, const vk::GpuFrame* previous) override {
     const SvgfSettings& s = settings_;
+    resultHasEmission_ = false;
+    if (s.components == SvgfComponents::composite) {
+      processFront(rec, frame, previous);
+      return processBack(rec, frame, previous);
+    }
     const int nStreams = chooseStreams(frame);
     const bool lobes = nStreams == 2 && streams_[1].plan.lobe == svgf::Lobe::specular;
     svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return frame.has(b); }, lobes);
@@ -75,9 +103,10 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
         // The diffuse lobe's median, everywhere (as svgf.cpp).
         rec.pass("median" + suffix);
         struct PC {
-          uint32_t width, height, hasRoughness;
-        } pc{uint32_t(frame.width), uint32_t(frame.height), 0};
-        rec.dispatch("median3x3", {*result, ctx_.dummy(), display_}, pc, frame.width, frame.height);
+          uint32_t width, height, hasRoughness, skipWhenMasked;
+        } pc{uint32_t(frame.width), uint32_t(frame.height), 0, 0};
+        rec.dispatch("median3x3", {*result, ctx_.dummy(), display_, vk::Binding(ctx_.dummy())}, pc, frame.width,
+                     frame.height);
         result = &display_;
       }
       rec.pass("sum" + suffix);
@@ -94,10 +123,10 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     if (s.fireflyMedian && !lobes) {
       rec.pass("median");
       struct PC {
-        uint32_t width, height, hasRoughness;
-      } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::Roughness)};
-      rec.dispatch("median3x3", {sum_, frame.bindingOf(Buffer::Roughness, ctx_), display_}, pc, frame.width,
-                   frame.height);
+        uint32_t width, height, hasRoughness, skipWhenMasked;
+      } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::Roughness), 0};
+      rec.dispatch("median3x3", {sum_, frame.bindingOf(Buffer::Roughness, ctx_), display_, vk::Binding(ctx_.dummy())}, pc,
+                   frame.width, frame.height);
       shown = &display_;
     }
     rec.pass("remodulate");
@@ -105,7 +134,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     notes_ = std::move(parts.notes);
     rec.pass("taa");
     if (!s.taa.taa) return remodulated_;
-    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_), remodulated_, s.taa.taaAlpha);
+    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_), remodulated_, s.taa);
   }
 
  private:
@@ -138,7 +167,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     st.accumulator.run(rec, *in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength,
                        uint32_t(p.variance.luminance), s.momentsTrueAverage, mask_, in.alpha, clip);
     return filter_.run(rec, *in.guide.depth, *in.guide.normal, *in.guide.gradient, st.accumulator, st.demod, mask_, p,
-                       suffix, in.falloff);
+                       suffix, {.spatialFalloff = in.falloff});
   }
 
   vk::Planes reprojection_, gradient_, sum_, display_, remodulated_;
@@ -147,11 +176,58 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   GpuStream streams_[kMaxStreams];
   svgf::GpuReflections reflections_;
   vk::GpuTaa taa_;
+  std::unique_ptr<svgf::GpuGersthoferEye> gersthofer_;  // components = composite
+};
+
+// Method "svgf" on two views (rtd/stereo.h), Vulkan: with composite and eyeReprojection both
+// eyes are recorded into one command buffer, their indirect diffuse exchanged between the two
+// halves (vk::eyeReproject, both directions); otherwise two single-view denoisers.
+class SvgfStereoVulkan final : public StereoPair {
+ public:
+  explicit SvgfStereoVulkan(vk::Context& ctx)
+      : StereoPair(std::make_unique<SvgfVulkan>(ctx), std::make_unique<SvgfVulkan>(ctx)) {}
+
+  void denoise(const StereoFrameInputs& in, const ImageView& left, const ImageView& right) override {
+    const SvgfSettings s = getSettings<SvgfSettings>();
+    if (s.components != SvgfComponents::composite || !s.eyeReprojection) {
+      StereoPair::denoise(in, left, right);
+      return;
+    }
+    validate(in, left, right);
+    if (in.eye[0].cameraCut || in.eye[1].cameraCut) reset();
+    auto& a = static_cast<SvgfVulkan&>(*eyes_[0]);
+    auto& b = static_cast<SvgfVulkan&>(*eyes_[1]);
+    vk::VulkanDenoiserBase::denoiseTwoViews(a, b, in.eye[0], in.eye[1], left, right, [&](vk::Recorder& rec) {
+      const vk::GpuFrame &fa = a.frame(), &fb = b.frame();
+      auto canShare = [](const vk::GpuFrame& f) {
+        return f.has(Buffer::Position) && f.has(Buffer::Normal) && f.has(Buffer::Depth) && f.cameraValue.valid;
+      };
+      if (!canShare(fa) || !canShare(fb)) return;
+      svgf::GpuGersthoferEye &ea = a.gersthoferEye(), &eb = b.gersthoferEye();
+      // Each direction from the un-exchanged light; the source taps need data (length > 0).
+      vk::eyeReproject(rec, fa, fb, &eb.history(), 5, s.reprojection, s.eyeBlend, ea.indirectDiffuse(),
+                       eb.indirectDiffuse(), ea.shared());
+      vk::eyeReproject(rec, fb, fa, &ea.history(), 5, s.reprojection, s.eyeBlend, eb.indirectDiffuse(),
+                       ea.indirectDiffuse(), eb.shared());
+    });
+    // Each eye's passes without the span it waited for the other; the exchange (both
+    // directions, recorded with the left eye) once.
+    for (int e = 0; e < 2; ++e) {
+      FrameStats st = eyes_[e]->stats();
+      std::erase_if(st.passes, [](const PassTiming& p) {
+        return p.name == "(other eye)" || p.name == "gpu total" || p.name == "gpu filter";
+      });
+      eyeStats_[e] = std::move(st);
+    }
+    stats_ = combineEyeStats(eyeStats_[0], eyeStats_[1]);
+    stats_.totalMilliseconds = eyeStats_[1].totalMilliseconds;  // both eyes ran in one submission
+  }
 };
 
 }  // namespace
 
 std::unique_ptr<Denoiser> createSvgfVulkan(vk::Context& ctx) { return std::make_unique<SvgfVulkan>(ctx); }
+std::unique_ptr<StereoDenoiser> createSvgfStereoVulkan(vk::Context& ctx) { return std::make_unique<SvgfStereoVulkan>(ctx); }
 
 }  // namespace rtd
 #endif

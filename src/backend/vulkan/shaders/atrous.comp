@@ -13,11 +13,21 @@
 // normalized sum, one with none stays invalid with colour 0.
 // Variants atrous_untiled / atrous_masked_untiled (RTD_UNTILED): the same without the shared
 // tile, for devices with less than the tile's 18 KiB of shared memory (Vulkan guarantees 16).
+// Variants atrous_glossy / atrous_glossy_untiled (RTD_GLOSSY, AtrousLevel::indirectDistance
+// etc.): Gersthofer's glossy weights (Eq. 3.2): w_zi from the indirect ray length z_i (binding
+// 7) and its factor 1 - roughness (binding 8), and w_r on the neighbours as 1/w_r on the centre
+// (binding 9); dense input.
 // variant: atrous_masked RTD_SAMPLE_MASK
 // variant: atrous_untiled RTD_UNTILED
 // variant: atrous_masked_untiled RTD_MASKED_UNTILED
+// variant: atrous_glossy RTD_GLOSSY
+// variant: atrous_glossy_untiled RTD_GLOSSY_UNTILED
 #ifdef RTD_MASKED_UNTILED
 #define RTD_SAMPLE_MASK
+#define RTD_UNTILED
+#endif
+#ifdef RTD_GLOSSY_UNTILED
+#define RTD_GLOSSY
 #define RTD_UNTILED
 #endif
 #include "common.glsl"
@@ -37,12 +47,19 @@ layout(std430, binding = 6) readonly buffer Falloff { float falloff[]; };
 layout(std430, binding = 7) readonly buffer ValidIn { float validIn[]; };
 layout(std430, binding = 8) writeonly buffer ValidOut { float validOut[]; };
 #endif
+#ifdef RTD_GLOSSY
+layout(std430, binding = 7) readonly buffer Zi { float zi[]; };
+layout(std430, binding = 8) readonly buffer ZiScale { float ziScale[]; };
+layout(std430, binding = 9) readonly buffer Centre { float centreScale[]; };
+#endif
 
 #define F_PREFILTER 1u
 #define F_VARIANCE_SCALE 2u
 #define F_SIGMA_SCALE 4u
 #define F_PROPAGATE 8u
 #define F_FALLOFF 16u
+#define F_INDIRECT_DISTANCE 32u
+#define F_CENTRE_SCALE 64u
 
 layout(push_constant) uniform PC {
   uint width, height;
@@ -127,13 +144,22 @@ void main() {
   const float sdev = (pc.flags & F_VARIANCE_SCALE) != 0u ? v : sqrt(v);
   const float k = (pc.flags & F_SIGMA_SCALE) != 0u ? sigmaScale[c] : 1.0;
   const float inv = k > 0.0 ? 1.0 / (pc.sigmaLuminance * k * sdev + pc.luminanceEpsilon) : 0.0;
+#ifdef RTD_GLOSSY
+  // Eq. 3.2: (1 - roughness(p)) / (sqrt(g3x3(Var)) + eps), one factor for every tap.
+  const bool distance = (pc.flags & F_INDIRECT_DISTANCE) != 0u;
+  const float ziInv = distance ? ziScale[c] / (sqrt(v) + pc.luminanceEpsilon) : 0.0;
+  const float zic = distance ? zi[c] : 0.0;
+#endif
 
   const bool propagate = (pc.flags & F_PROPAGATE) != 0u;
   const float fall = (pc.flags & F_FALLOFF) != 0u ? falloff[c] : 0.0;
 #ifdef RTD_SAMPLE_MASK
   const float h0 = validIn[pc.validPlane * plane + c] > 0.0 ? kernel1D(0) * kernel1D(0) : 0.0;
 #else
-  const float h0 = kernel1D(0) * kernel1D(0);
+  float h0 = kernel1D(0) * kernel1D(0);
+#endif
+#ifdef RTD_GLOSSY
+  if ((pc.flags & F_CENTRE_SCALE) != 0u) h0 *= centreScale[c];  // w_r on every neighbour
 #endif
   float sw = h0, sv = propagate ? h0 * h0 * img[4u * plane + c] : 0.0;
   vec3 sc = h0 * vec3(img[c], img[plane + c], img[2u * plane + c]);
@@ -163,7 +189,12 @@ void main() {
       }
       const float wn = normalWeight(dot(n, nq), pc.normalExponent);
       const float denomZ = abs(gx * float(ox) + gy * float(oy)) + pc.depthEpsilon;
+#ifdef RTD_GLOSSY
+      const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv + fall * float(dx * dx + dy * dy) +
+                         (distance ? abs(zic - zi[q]) * ziInv : 0.0);
+#else
       const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv + fall * float(dx * dx + dy * dy);
+#endif
       const float wt = kernel1D(dx) * kernel1D(dy) * cutWeight(wn * exp(-expo));
       sw += wt;
       sc += wt * cq;

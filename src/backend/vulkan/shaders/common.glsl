@@ -31,3 +31,9 @@ float momentLuminance(uint mode, vec3 c) {
 }
 
 bool outside(uvec2 p, uint width, uint height) { return p.x >= width || p.y >= height; }
+
+// FXAA's luma of linear HDR radiance, sqrt(Y / (1 + Y)) (fxaaLuma in src/passes/fxaa.h).
+float fxaaLuma(vec3 c) {
+  const float y = max(0.0, luminance(c));
+  return sqrt(y / (1.0 + y));
+}

@@ -32,7 +32,7 @@ layout(std430, binding = 11) writeonly buffer Rp { uint rp[]; };
 
 layout(push_constant) uniform PC {
   uint width, height, flags;
-  float depthTolerance, depthGradientScale, normalTolerance, positionTolerance;
+  float depthTolerance, depthGradientScale, normalTolerance, positionTolerance, positionFootprints;
 } pc;
 
 bool has(uint f) { return (pc.flags & f) != 0u; }
@@ -50,6 +50,30 @@ float depthSlope(int x, int y, uint plane) {
   const float gx = min(abs(l - c), abs(r - c)), gy = min(abs(u - c), abs(d - c));
   return max(gx, gy);
 }
+
+// Squared position tolerance of pixel (x, y): positionTolerance + positionFootprints times its
+// world-space footprint (TapTest::positionTolerance2 in src/passes/reprojection_simd.cpp).
+float positionTolerance2(int x, int y, uint plane) {
+  const int W = int(pc.width), H = int(pc.height);
+  const uint i = uint(y) * pc.width + uint(x);
+  const vec3 c = vec3(curPos[i], curPos[plane + i], curPos[2u * plane + i]);
+  const int l = clamp(x > 0 ? x - 1 : x + 1, 0, W - 1), r = clamp(x < W - 1 ? x + 1 : x - 1, 0, W - 1);
+  const int u = clamp(y > 0 ? y - 1 : y + 1, 0, H - 1), d = clamp(y < H - 1 ? y + 1 : y - 1, 0, H - 1);
+  const uint js[4] = uint[4](uint(y) * pc.width + uint(l), uint(y) * pc.width + uint(r), uint(u) * pc.width + uint(x),
+                             uint(d) * pc.width + uint(x));
+  float d2[4];
+  for (int k = 0; k < 4; ++k) {
+    const uint j = js[k];
+    precise vec3 e = vec3(curPos[j], curPos[plane + j], curPos[2u * plane + j]) - c;
+    precise float s = e.x * e.x + e.y * e.y + e.z * e.z;
+    d2[k] = s;
+  }
+  const float f2 = max(min(d2[0], d2[1]), min(d2[2], d2[3]));
+  precise float tol = pc.positionTolerance + pc.positionFootprints * sqrt(f2);
+  precise float tol2 = tol * tol;
+  return tol2;
+}
+float gPositionTol2;
 
 bool tapValid(uint i, int px, int py, float depthTol, uint plane) {
   if (px < 0 || py < 0 || px >= int(pc.width) || py >= int(pc.height)) return false;
@@ -78,8 +102,7 @@ bool tapValid(uint i, int px, int py, float depthTol, uint plane) {
       precise float d = curPos[c * plane + i] - prevPos[c * plane + j];
       d2 += d * d;
     }
-    precise float tol2 = pc.positionTolerance * pc.positionTolerance;
-    if (!(d2 <= tol2)) return false;
+    if (!(d2 <= gPositionTol2)) return false;
   }
   return true;
 }
@@ -148,6 +171,7 @@ void main() {
   }
   gPixel = i;
   gDepthTol = depthTol;
+  gPositionTol2 = has(F_POSITION) ? positionTolerance2(x, y, plane) : 0.0;
   int base;
   vec4 wt;
   if (bilinearRecord(px, py, pc.width, pc.height, base, wt)) {

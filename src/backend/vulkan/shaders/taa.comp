@@ -1,9 +1,10 @@
 #version 450
 // Pass "taa": temporal anti-aliasing with neighbourhood clamping (Karis 2014): the previous
 // output, fetched bilinearly at the reprojected position, is clamped to the YCoCg min/max box of
-// the current 3x3 neighbourhood and blended. Port of src/passes/taa.cpp. The 3x3 neighbourhood
-// is read through shared memory (an 18x18 tile per 16x16 workgroup: 1.27 loads per pixel
-// instead of 9).
+// the current 3x3 neighbourhood (optionally averaged with the 5-tap cross's bounds, as the BMFR
+// code) and blended, on linear radiance or on display-encoded values (Reinhard + gamma 2,
+// decoded after). Port of src/passes/taa.cpp and taa_simd.cpp. The 3x3 neighbourhood is read
+// through shared memory (an 18x18 tile per 16x16 workgroup: 1.27 loads per pixel instead of 9).
 #include "common.glsl"
 #include "reprojection.glsl"
 RTD_LOCAL_SIZE
@@ -11,12 +12,15 @@ RTD_LOCAL_SIZE
 layout(std430, binding = 0) readonly buffer Rp { uint rp[]; };
 layout(std430, binding = 1) readonly buffer Color { float color[]; };
 layout(std430, binding = 2) readonly buffer Hist { float hist[]; };
-layout(std430, binding = 3) writeonly buffer Out { float outp[]; };
+layout(std430, binding = 3) writeonly buffer Out { float outp[]; };        // next history
+layout(std430, binding = 4) writeonly buffer Linear { float linearOut[]; };   // display: decoded output
 
 layout(push_constant) uniform PC {
   uint width, height;
   float alpha;
-  uint valid;  // 0: first frame, output = input
+  uint valid;    // 0: first frame, output = input
+  uint display;  // 1: clamp and blend taaEncode()d values (tonemap.h)
+  float crossWeight;
 } pc;
 
 vec3 toYCoCg(vec3 c) {
@@ -34,7 +38,22 @@ vec3 fromYCoCg(vec3 c) {
   return r;
 }
 
+// tonemap::taaEncode / taaDecode (src/passes/tonemap.h).
+const float kMaxEncoded = 1.0 - 1.0 / 2097152.0;
+vec3 encode(vec3 x) {
+  x = min(max(x, vec3(0.0)), vec3(1e30));  // NaN -> 0 on the CPU; inputs are sanitized here
+  precise vec3 t = x / (1.0 + x);
+  return sqrt(t);
+}
+vec3 decode(vec3 y) {
+  y = clamp(y, vec3(0.0), vec3(kMaxEncoded));
+  precise vec3 t = y * y;
+  precise vec3 r = t / (1.0 - t);
+  return r;
+}
+
 shared vec3 tile[18][18];
+shared float tileMax[18][18];  // display: largest encoded channel
 
 vec3 loadColor(ivec2 q, uint plane) {
   q = clamp(q, ivec2(0), ivec2(pc.width, pc.height) - 1);
@@ -44,10 +63,14 @@ vec3 loadColor(ivec2 q, uint plane) {
 
 void main() {
   const uint plane = pc.width * pc.height;
+  const bool display = pc.display != 0u;
   const ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16 - 1;
   for (uint k = gl_LocalInvocationIndex; k < 18u * 18u; k += 256u) {
     const ivec2 t = ivec2(k % 18u, k / 18u);
-    tile[t.y][t.x] = toYCoCg(loadColor(origin + t, plane));
+    vec3 c = loadColor(origin + t, plane);
+    if (display) c = encode(c);
+    tile[t.y][t.x] = toYCoCg(c);
+    tileMax[t.y][t.x] = max(max(c.r, c.g), c.b);
   }
   barrier();
 
@@ -56,20 +79,34 @@ void main() {
   const uint i = p.y * pc.width + p.x;
   const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
   if (pc.valid == 0u) {
-    for (uint k = 0; k < 3; ++k) outp[k * plane + i] = c[k];
+    const vec3 e = display ? encode(c) : c;
+    for (uint k = 0; k < 3; ++k) outp[k * plane + i] = e[k];
+    if (display)
+      for (uint k = 0; k < 3; ++k) linearOut[k * plane + i] = c[k];
     return;
   }
   const ivec2 l = ivec2(gl_LocalInvocationID.xy) + 1;
   const vec3 cur = tile[l.y][l.x];
   vec3 lo = cur, hi = cur;
+  float top = 0.0;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       const vec3 n = tile[l.y + dy][l.x + dx];
       lo = min(lo, n);
       hi = max(hi, n);
+      top = max(top, tileMax[l.y + dy][l.x + dx]);
     }
+  vec3 crossLo = cur, crossHi = cur;
+  for (int k = 0; k < 4; ++k) {
+    const ivec2 d = k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5);
+    const vec3 n = tile[l.y + d.y][l.x + d.x];
+    crossLo = min(crossLo, n);
+    crossHi = max(crossHi, n);
+  }
+  precise vec3 bLo = lo + pc.crossWeight * (crossLo - lo);
+  precise vec3 bHi = hi + pc.crossWeight * (crossHi - hi);
   precise float px = uintBitsToFloat(rp[6u * plane + i]) - 0.5, py = uintBitsToFloat(rp[7u * plane + i]) - 0.5;
-  vec3 result = c;
+  vec3 result = display ? encode(c) : c;
   if (px > -1.0 && py > -1.0 && px < float(pc.width) && py < float(pc.height)) {
     const int x0 = int(floor(px)), y0 = int(floor(py));
     precise float ax = px - float(x0), ay = py - float(y0);
@@ -80,10 +117,15 @@ void main() {
       const uint j = uint(ty) * pc.width + uint(tx);
       h += wt * vec3(hist[j], hist[plane + j], hist[2u * plane + j]);
     }
-    vec3 hy = clamp(toYCoCg(h), lo, hi);
+    vec3 hy = clamp(toYCoCg(h), bLo, bHi);
     precise vec3 blended = pc.alpha * cur + (1.0 - pc.alpha) * hy;
     result = fromYCoCg(blended);
   }
   result = max(result, vec3(0.0));
+  if (display) result = min(result, vec3(top));  // a box corner outside the RGB cube stays bounded
   for (uint k = 0; k < 3; ++k) outp[k * plane + i] = result[k];
+  if (display) {
+    const vec3 o = decode(result);
+    for (uint k = 0; k < 3; ++k) linearOut[k * plane + i] = o[k];
+  }
 }

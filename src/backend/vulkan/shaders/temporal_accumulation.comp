@@ -40,7 +40,7 @@ layout(push_constant) uniform PC {
   uint cumulativeMoments;  // 1: moments w = max(1/n, alpha); 0: plain EMA (Schied)
   uint gradientWidth, gradientStride;  // temporal_accumulation_gradient: texels per row, pixels per texel
   float historyExponent;
-  uint options;  // 1: per-pixel alpha (binding 5); 2: clip the colour history (binding 6)
+  uint options;  // 1: per-pixel alpha (binding 5); 2: clip the colour history (binding 6); 4: fixed weights
 } pc;
 
 float colourHistory(uint i, uint k, uint w, uint plane) {
@@ -95,8 +95,12 @@ void main() {
   precise float am = am0 + (1.0 - am0) * g;
 #else
   const float n = none ? 1.0 : min(floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) + 1.0, pc.maxHistoryLength);
-  const float a = max(1.0 / n, (pc.options & 1u) != 0u ? alphaPlane[i] : pc.alpha);
-  const float am = pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
+  // Fixed weights (options 4, Gersthofer Sec. 3.4.1): alpha wherever there is history.
+  const bool fixedWeights = (pc.options & 4u) != 0u;
+  const float floorAlpha = (pc.options & 1u) != 0u ? alphaPlane[i] : pc.alpha;
+  const float a = fixedWeights ? (n <= 1.0 ? 1.0 : floorAlpha) : max(1.0 / n, floorAlpha);
+  const float am = fixedWeights ? (n <= 1.0 ? 1.0 : pc.momentsAlpha)
+                                : pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
 #endif
   outp[5u * plane + i] = n;
 

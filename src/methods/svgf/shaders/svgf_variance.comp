@@ -5,7 +5,7 @@
 // weighted window estimate E_w[l^2] - E_w[l]^2 of the current luminance (or, Voorhuis Sec. 6,
 // of the accumulated moments). Also writes the per-pixel multiplier of sigma_l: 0 where w_l is
 // off (Dundr), 8 - min(7, h) (Voorhuis Eq. 8), else 1. Port of svgf::estimateVariance and
-// svgf::luminanceSigmaScale.
+// svgf::luminanceSigmaScale. Gersthofer Sec. 3.4.3: F_OBJECT_ID adds the mesh-id term.
 #include "common.glsl"
 #include "atrous.glsl"
 RTD_LOCAL_SIZE
@@ -17,11 +17,13 @@ layout(std430, binding = 3) readonly buffer Acc { float acc[]; };      // R, G, 
 layout(std430, binding = 4) readonly buffer Cur { float cur[]; };      // this frame, demodulated
 layout(std430, binding = 5) writeonly buffer Out { float outp[]; };    // R, G, B, lum, var
 layout(std430, binding = 6) writeonly buffer Scale { float sigmaScale[]; };
+layout(std430, binding = 7) readonly buffer Ids { float objectId[]; };  // F_OBJECT_ID (Gersthofer)
 
 #define F_SPATIAL 1u
 #define F_FROM_MOMENTS 2u
 #define F_DISABLE_LUMINANCE_WEIGHT 4u
 #define F_SHORT_HISTORY_BANDWIDTH 8u
+#define F_OBJECT_ID 16u  // the spatial estimate also rejects neighbours of another object id
 
 layout(push_constant) uniform PC {
   uint width, height;
@@ -61,6 +63,7 @@ void main() {
           const vec3 nq = vec3(normal[q], normal[plane + q], normal[2u * plane + q]);
           const float wz = exp(-abs(zc - depth[q]) / (pc.sigmaDepth * abs(gx * float(dx) + gy * float(dy)) + pc.depthEpsilon));
           wt = cutWeight(normalWeight(dot(n, nq), pc.normalExponent) * wz);
+          if ((pc.flags & F_OBJECT_ID) != 0u && objectId[q] != objectId[i]) wt = 0.0;
           if (!(wt > 0.0)) continue;
         }
         float l1, l2;

@@ -1,0 +1,124 @@
+#include "denoise_stereo.h"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "cli.h"
+#include "sanitize_report.h"
+
+namespace rtd::cli {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+bool isStereoSequence(const fs::path& dir) {
+  return !fs::exists(dir / "sequence.json") && fs::is_directory(dir / "left") && fs::is_directory(dir / "right");
+}
+
+/// What a stereo `denoise` writes into its output directory (and --overwrite replaces).
+const std::vector<std::string> kStereoOutputs = {"left", "right", R"(timings\.json)"};
+
+void runDenoiseStereo(const DenoiseOptions& o, const eval::ToneMapSettings& previewToneMap) {
+  const fs::path in(o.input), out(o.output.dir);
+  std::unique_ptr<SequenceReader> eyes[2] = {SequenceReader::open(in / "left", o.sequence),
+                                             SequenceReader::open(in / "right", o.sequence)};
+  const char* names[2] = {"left", "right"};
+  const SequenceReader &l = *eyes[0], &r = *eyes[1];
+  if (l.width() != r.width() || l.height() != r.height())
+    throw Error("stereo sequence '" + o.input + "': the left eye is " + std::to_string(l.width()) + "x" +
+                std::to_string(l.height()) + ", the right eye " + std::to_string(r.width()) + "x" + std::to_string(r.height()));
+  if (l.frameCount() != r.frameCount())
+    throw Error("stereo sequence '" + o.input + "': the left eye has " + std::to_string(l.frameCount()) +
+                " frames, the right eye " + std::to_string(r.frameCount()));
+  for (int i = 0; i < l.frameCount(); ++i)
+    if (l.frameNumber(i) != r.frameNumber(i))
+      throw Error("stereo sequence '" + o.input + "': frame " + std::to_string(i + 1) + " is number " +
+                  std::to_string(l.frameNumber(i)) + " on the left and " + std::to_string(r.frameNumber(i)) + " on the right");
+
+  const int frames = framesToUse(o.maxFrames, l.frameCount());
+  auto device = Device::create(o.device.desc(o.device.single()));
+  auto denoiser = device->createStereoDenoiser(o.method);
+  applySettings(*denoiser, o.settings);
+  for (int e = 0; e < 2; ++e) {
+    const auto available = eyes[e]->buffers();
+    for (Buffer b : denoiser->requiredBuffers())
+      if (std::find(available.begin(), available.end(), b) == available.end())
+        throw Error("method '" + o.method + "' needs buffer '" + std::string(bufferName(b)) + "', which the " + names[e] +
+                    " eye of '" + o.input + "' does not have (first frame: '" + eyes[e]->framePath(0).string() + "')");
+  }
+
+  o.output.prepare(kStereoOutputs);
+  for (const char* e : names) fs::create_directories(out / e);
+  std::fprintf(stderr, "denoising %d stereo frames (2 x %dx%d) with '%s' on %s\n", frames, l.width(), l.height(),
+               o.method.c_str(), device->name().c_str());
+
+  json timing;
+  timing["method"] = o.method;
+  timing["stereo"] = true;
+  timing["backend"] = std::string(backendName(device->backend()));
+  timing["device"] = device->name();
+  timing["input"] = o.input;
+  timing["width"] = l.width();
+  timing["height"] = l.height();
+  json settings = json::object();
+  for (const auto& s : denoiser->settings()) settings[s.name] = s.value;
+  timing["settings"] = settings;
+  json perFrame = json::array();
+  uint64_t sanitized = 0;
+  BufferCounts sanitizedPerBuffer{};
+  std::vector<double> totals;
+  std::vector<std::string> notes;  // distinct FrameStats::notes (parts that did not run), in order
+  Progress progress("denoise", frames);
+  Image outputs[2] = {Image(l.width(), l.height(), 3), Image(l.width(), l.height(), 3)};
+  for (int i = 0; i < frames; ++i) {
+    const Frame fl = l.read(i), fr = r.read(i);
+    StereoFrameInputs inputs;
+    inputs.eye[0] = fl.inputs();
+    inputs.eye[1] = fr.inputs();
+    denoiser->denoise(inputs, outputs[0].view(), outputs[1].view());
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04d", fl.number);
+    for (int e = 0; e < 2; ++e) {
+      writeRgbExr(out / names[e] / (std::string(name) + ".exr"), outputs[e], o.half ? ExrPixels::Half : ExrPixels::Float);
+      if (o.preview)
+        writeFileAtomic(out / names[e] / (std::string(name) + ".png"), eval::encodePng(eval::toneMap(outputs[e], previewToneMap)));
+    }
+    const FrameStats& st = denoiser->stats();
+    json passes = json::object();
+    for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
+    json memory = json::object();
+    for (const auto& m : st.memory) memory[m.category] = m.bytes;
+    perFrame.push_back({{"number", fl.number}, {"passes", passes}, {"totalMs", st.totalMilliseconds},
+                        {"eyeTotalMs", {denoiser->eyeStats(0).totalMilliseconds, denoiser->eyeStats(1).totalMilliseconds}},
+                        {"sanitizedValues", st.sanitizedValues}, {"sanitized", sanitizeJson(st.sanitized)},
+                        {"memoryBytes", memory}});
+    if (fl.cut || fr.cut) perFrame.back()["cut"] = true;
+    if (!st.notes.empty()) perFrame.back()["notes"] = st.notes;
+    for (const auto& n : st.notes)
+      if (std::find(notes.begin(), notes.end(), n) == notes.end()) notes.push_back(n);
+    sanitized += st.sanitizedValues;
+    accumulate(sanitizedPerBuffer, st.sanitized);
+    totals.push_back(st.totalMilliseconds);
+    char detail[64];
+    std::snprintf(detail, sizeof detail, "%.1f ms/frame (both eyes)", st.totalMilliseconds);
+    progress.update(i + 1, detail);
+  }
+  std::vector<double> sorted = totals;
+  std::sort(sorted.begin(), sorted.end());
+  timing["frames"] = perFrame;
+  timing["pixels"] = o.half ? "half" : "float";
+  timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  timing["sanitizedValues"] = sanitized;
+  timing["sanitized"] = sanitizeJson(sanitizedPerBuffer);
+  timing["notes"] = notes;
+  writeFileAtomic(out / "timings.json", timing.dump(1));
+  progress.finish();
+  if (sanitized)
+    std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized,
+                 sanitizeSummary(sanitizedPerBuffer).c_str());
+  for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  std::printf("wrote %d frames per eye to %s/left and %s/right, and timings.json\n", frames, o.output.dir.c_str(),
+              o.output.dir.c_str());
+}
+
+}  // namespace rtd::cli

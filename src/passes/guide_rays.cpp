@@ -1,0 +1,139 @@
+// Supersampling with guide rays (Voorhuis 2018, Sec. 5): the assignment of non-guide samples to
+// guide rays, the Eq. 7 pre-mix and the post-filter copy. include/rtd/guide_rays.h.
+#include "rtd/guide_rays.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/parallel.h"
+#include "rtd/error.h"
+
+namespace rtd {
+
+namespace {
+
+constexpr Buffer kRadiance[] = {Buffer::Color,   Buffer::Direct,   Buffer::Indirect,
+                                Buffer::Diffuse, Buffer::Specular, Buffer::Emission};
+
+void checkSize(const Image& img, int w, int h, int channels, const std::string& what) {
+  if (img.width != w || img.height != h || img.channels != channels)
+    throw Error("guide rays: " + what + " is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                "x" + std::to_string(img.channels) + ", the guides " + std::to_string(w) + "x" + std::to_string(h) +
+                "x" + std::to_string(channels));
+}
+
+}  // namespace
+
+Frame GuideRays::premix(const Frame& guides, const GuideRaySamples& s, const GuideRaySettings& settings) {
+  const int w = guides.width, h = guides.height;
+  for (Buffer b : {Buffer::Color, Buffer::Depth, Buffer::Normal})
+    if (!guides.has(b)) throw Error("guide rays: the guide frame has no '" + std::string(bufferName(b)) + "' buffer");
+  if (s.offsets.size() != s.samples.size())
+    throw Error("guide rays: " + std::to_string(s.samples.size()) + " samples but " + std::to_string(s.offsets.size()) +
+                " offset images");
+  const size_t n = s.samples.size();
+  for (size_t k = 0; k < n; ++k) {
+    const std::string name = "sample " + std::to_string(k + 1);
+    for (Buffer b : {Buffer::Color, Buffer::Depth, Buffer::Normal}) {
+      if (!s.samples[k].has(b)) throw Error("guide rays: " + name + " has no '" + std::string(bufferName(b)) + "' buffer");
+      checkSize(s.samples[k][b], w, h, bufferChannelCount(b), name + " " + std::string(bufferName(b)));
+    }
+    checkSize(s.offsets[k], w, h, 2, name + " offsets");
+  }
+  width_ = w;
+  height_ = h;
+  assign_.assign(n, std::vector<int>(size_t(w) * h));
+  count_.assign(size_t(w) * h, 1);
+
+  // Assignment (Sec. 5): the sample at (x + 0.5 + ox, y + 0.5 + oy) lies in the cell of the four
+  // pixel centres around it; it joins the most similar of those guides inside the image.
+  const Image& gz = guides[Buffer::Depth];
+  const Image& gn = guides[Buffer::Normal];
+  for (size_t k = 0; k < n; ++k) {
+    const Image& sz = s.samples[k][Buffer::Depth];
+    const Image& sn = s.samples[k][Buffer::Normal];
+    const Image& off = s.offsets[k];
+    std::vector<int>& a = assign_[k];
+    parallelRows(h, [&](int y) {
+      for (int x = 0; x < w; ++x) {
+        const float px = float(x) + std::clamp(off.at(x, y, 0), -0.5f, 0.5f);
+        const float py = float(y) + std::clamp(off.at(x, y, 1), -0.5f, 0.5f);
+        const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
+        const float z = sz.at(x, y);
+        const float* nv = sn.pixel(x, y);
+        float best = INFINITY;
+        int bestIndex = y * w + x;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const int qx = x0 + dx, qy = y0 + dy;
+            if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;  // Fig. 7: no guide outside the image
+            const float zg = gz.at(qx, qy);
+            const float* ng = gn.pixel(qx, qy);
+            const float scale = std::max({z, zg, 1e-12f});
+            const float cosine = nv[0] * ng[0] + nv[1] * ng[1] + nv[2] * ng[2];
+            const float d = std::abs(z - zg) / scale + settings.normalWeight * (1.0f - cosine);
+            // Ties go to the sample's own pixel, then in scan order.
+            const bool own = qx == x && qy == y;
+            if (d < best || (d == best && own)) {
+              best = d;
+              bestIndex = qy * w + qx;
+            }
+          }
+        a[size_t(y) * w + x] = bestIndex;
+      }
+    });
+    for (int i : a) ++count_[size_t(i)];  // sequential: guides receive from several pixels
+  }
+
+  // Eq. 7 on every radiance buffer that the guides and all samples carry.
+  Frame out = guides;
+  for (Buffer b : kRadiance) {
+    if (!guides.has(b)) continue;
+    bool all = true;
+    for (size_t k = 0; k < n; ++k) all = all && s.samples[k].has(b);
+    if (!all) continue;
+    Image sum = guides[b];
+    for (size_t k = 0; k < n; ++k) {
+      const Image& src = s.samples[k][b];
+      checkSize(src, w, h, 3, "sample " + std::to_string(k + 1) + " " + std::string(bufferName(b)));
+      const std::vector<int>& a = assign_[k];
+      for (int i = 0; i < w * h; ++i) {
+        const float* v = src.pixel(i % w, i / w);
+        float* o = sum.pixel(a[size_t(i)] % w, a[size_t(i)] / w);
+        for (int c = 0; c < 3; ++c) o[c] += v[c];
+      }
+    }
+    parallelRows(h, [&](int y) {
+      for (int x = 0; x < w; ++x) {
+        const float inv = 1.0f / float(count_[size_t(y) * w + x]);
+        float* o = sum.pixel(x, y);
+        for (int c = 0; c < 3; ++c) o[c] *= inv;
+      }
+    });
+    out[b] = std::move(sum);
+  }
+  return out;
+}
+
+Image GuideRays::resolve(const Image& filtered) const {
+  const int w = width_, h = height_;
+  if (w == 0) throw Error("guide rays: resolve() before premix()");
+  checkSize(filtered, w, h, 3, "the filtered image");
+  const float inv = 1.0f / float(assign_.size() + 1);
+  Image out(w, h, 3);
+  parallelRows(h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      float sum[3] = {filtered.at(x, y, 0), filtered.at(x, y, 1), filtered.at(x, y, 2)};  // the guide itself
+      for (const std::vector<int>& a : assign_) {
+        const float* v = filtered.pixel(a[i] % w, a[i] / w);
+        for (int c = 0; c < 3; ++c) sum[c] += v[c];
+      }
+      for (int c = 0; c < 3; ++c) out.at(x, y, c) = sum[c] * inv;
+    }
+  });
+  return out;
+}
+
+}  // namespace rtd
