@@ -3,11 +3,11 @@
 # starting from the committed seeds. Fails on a crash, a sanitizer report (ASan, UBSan, a leak),
 # a single allocation over 1 GiB (-malloc_limit_mb), more than 2 GiB resident (-rss_limit_mb) or
 # an input that takes over 10 s (-timeout). Usage: scripts/fuzz.sh [build dir] (default
-# build/asan); RTD_FUZZ_SECONDS per target (default 30).
+# build/asan); RTD_FUZZ_SECONDS per target (default 20).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build/asan}
-seconds=${RTD_FUZZ_SECONDS:-30}
+seconds=${RTD_FUZZ_SECONDS:-20}
 work=$build/fuzz-work
 export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}

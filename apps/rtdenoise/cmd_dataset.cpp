@@ -211,7 +211,9 @@ void runDataset(const DatasetOptions& o) {
   if (o.referenceSpp < 2 || o.referenceSpp % 2) throw UsageError("--reference-spp: must be an even number >= 2");
   if (o.maxReferenceSpp < o.referenceSpp) throw UsageError("--max-reference-spp: must be >= --reference-spp");
   if (o.tolerance <= 0) throw UsageError("--tolerance: must be > 0");
-  const auto [width, height] = parseSize(o.size);
+  // Not a structured binding: clang 14 (the asan preset) cannot capture one in the lambdas below.
+  const std::pair<int, int> size = parseSize(o.size);
+  const int width = size.first, height = size.second;
   const std::vector<SceneEntry> scenes = sceneList(o, width, height);
   if (o.listOnly) {
     for (const auto& e : scenes) std::printf("%-5s %-24s %s\n", e.test ? "test" : "train", e.name.c_str(), e.scene.c_str());

@@ -7,9 +7,21 @@
 
 #include "rtd/error.h"
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <cpuid.h>
+#endif
+
 namespace rtd {
 
 namespace {
+
+#if defined(__x86_64__) || defined(__i386__)
+// F16C from CPUID leaf 1 (ECX bit 29): clang 14's __builtin_cpu_supports does not know "f16c".
+bool hasF16c() {
+  unsigned a, b, c, d;
+  return __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C);
+}
+#endif
 
 constexpr const char* kNames[kCpuPathCount] = {"sse2", "avx2", "avx512"};
 
@@ -44,7 +56,7 @@ bool cpuPathSupported(CpuPath p) {
   switch (p) {
     case CpuPath::Sse2: return true;
     case CpuPath::Avx2:
-      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("f16c") &&
+      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && hasF16c() &&
              __builtin_cpu_supports("bmi2");
     case CpuPath::Avx512:
       return cpuPathSupported(CpuPath::Avx2) && __builtin_cpu_supports("avx512f") &&
