@@ -138,7 +138,7 @@ TEST(Reprojection, DisocclusionAndObjectChangeLeaveNoHistory) {
     for (int x = 0; x < w; ++x) {
       // Left-half pixels next to the boundary may find old-object taps only through the 3x3
       // fallback if ids matched; they do not, so every left pixel is disoccluded.
-      if (x < w / 2) EXPECT_EQ(rp.kind[size_t(y) * w + x], Reprojection::None) << x;
+      if (x < w / 2) { EXPECT_EQ(rp.kind[size_t(y) * w + x], Reprojection::None) << x; }
       else EXPECT_EQ(rp.kind[size_t(y) * w + x], Reprojection::Bilinear) << x;
     }
   // Motion pointing outside the image: no history.

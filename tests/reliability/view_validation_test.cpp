@@ -149,7 +149,7 @@ TEST(ViewValidation, BothBackendsRefuseTheSameFramesWithTheSameMessage) {
         EXPECT_EQ(out.pixels, cleanOut.pixels) << what;
       }
     }
-    if (!messages[0].empty() && !messages[1].empty()) EXPECT_EQ(messages[0], messages[1]) << bad.what;
+    if (!messages[0].empty() && !messages[1].empty()) { EXPECT_EQ(messages[0], messages[1]) << bad.what; }
   }
 }
 

@@ -86,7 +86,7 @@ TEST(GradientSamples, StaticSceneAndCameraReproduceEverySampleExactly) {
       EXPECT_EQ(cur[Buffer::GradientPrevious].at(x, y), lum(prev, x, y));
       for (int v = y / 3 * 3; v < std::min(kH, y / 3 * 3 + 3); ++v)
         for (int u = x / 3 * 3; u < std::min(kW, x / 3 * 3 + 3); ++u)
-          if (prev[Buffer::ObjectId].at(u, v) > 0) EXPECT_GE(lum(prev, x, y), lum(prev, u, v));  // the sky is no candidate
+          if (prev[Buffer::ObjectId].at(u, v) > 0) { EXPECT_GE(lum(prev, x, y), lum(prev, u, v)); }  // the sky is no candidate
     }
     // So G = 0 in every stratum.
     const asvgf::GradientImage g = strataGradient(cur);

@@ -94,7 +94,7 @@ TEST(Dataset, FeaturesAndReferenceArePixelAligned) {
         edges += hit && x > 0 && !(f[Buffer::Albedo].at(x - 1, y, 0) > 0);
       }
     ASSERT_GT(edges, 10);
-    if (!jitter) EXPECT_EQ(mismatches, 0);
+    if (!jitter) { EXPECT_EQ(mismatches, 0); }
     else EXPECT_GT(mismatches, 10) << "jittered references blur the edges (the test can fail)";
   }
 }
@@ -155,8 +155,8 @@ TEST(Dataset, DeterministicForASeed) {
   for (int y : {0, 7, 15})
     for (int x : {0, 11, 23}) {
       const float c = f1[Buffer::Color].at(x, y, 1), rr = r1[Buffer::Color].at(x, y, 2);
-      if (c >= 6.2e-5f) EXPECT_EQ(half(1, 1, x, y), toHalfBits(c)) << x << "," << y;
-      if (rr >= 6.2e-5f) EXPECT_EQ(half(1, 17, x, y), toHalfBits(rr)) << x << "," << y;
+      if (c >= 6.2e-5f) { EXPECT_EQ(half(1, 1, x, y), toHalfBits(c)) << x << "," << y; }
+      if (rr >= 6.2e-5f) { EXPECT_EQ(half(1, 17, x, y), toHalfBits(rr)) << x << "," << y; }
     }
   fs::remove_all(dir);
 }

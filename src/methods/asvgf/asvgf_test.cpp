@@ -176,7 +176,7 @@ TEST(AsvgfGradientFilter, LevelIStridesTwoToTheIAndFillsStrataWithoutSamples) {
       for (int x = 0; x < 41; ++x) {
         const bool inside = std::abs(x - c) <= reach && std::abs(y - c) <= reach;
         const float v = grid.g.result(x, y);
-        if (inside) EXPECT_NEAR(v, 1.0f, 1e-5) << k << ": " << x << "," << y;  // one source: its value
+        if (inside) { EXPECT_NEAR(v, 1.0f, 1e-5) << k << ": " << x << "," << y; }  // one source: its value
         else EXPECT_EQ(v, 0.0f) << k << ": " << x << "," << y;
       }
   }

@@ -100,9 +100,9 @@ TEST(VoorhuisClasses, RoughnessSweepSwitchesMotionSourceExactlyAtTheThreshold) {
   for (int x = 0; x < w; ++x) {
     const float r = t.p(Buffer::Roughness)(x, 0);
     const SurfaceClass c = SurfaceClass(cls[x]);
-    if (r < 0.02f) EXPECT_EQ(c, SurfaceClass::Mirror) << r;
-    else if (r < 0.4f) EXPECT_EQ(c, SurfaceClass::GlossyReflection) << r;
-    else if (r < 0.9f) EXPECT_EQ(c, SurfaceClass::Glossy) << r;
+    if (r < 0.02f) { EXPECT_EQ(c, SurfaceClass::Mirror) << r; }
+    else if (r < 0.4f) { EXPECT_EQ(c, SurfaceClass::GlossyReflection) << r; }
+    else if (r < 0.9f) { EXPECT_EQ(c, SurfaceClass::Glossy) << r; }
     else EXPECT_EQ(c, SurfaceClass::Diffuse) << r;
   }
   EXPECT_EQ(SurfaceClass(cls[39]), SurfaceClass::GlossyReflection);

@@ -38,7 +38,7 @@ TEST(Tnnd, PerceptionOfARampHasTheSlopesAndZeroLaplace) {
   for (int c = 0; c < kState; ++c) {
     const float value = s[c](4, 3);
     EXPECT_FLOAT_EQ(p[c], value);                                    // state
-    if (c < 3) EXPECT_NEAR(p[9 + c], value, 1e-5f);                  // Gaussian of a ramp: the ramp
+    if (c < 3) { EXPECT_NEAR(p[9 + c], value, 1e-5f); }                  // Gaussian of a ramp: the ramp
     EXPECT_NEAR(p[12 + c], 0.0f, 1e-5f) << "Laplace, channel " << c;  // Laplace of a ramp: 0
     EXPECT_NEAR(p[21 + c], 0.1f * float(c + 1), 1e-5f) << "Sobel x, channel " << c;
     EXPECT_NEAR(p[30 + c], -0.05f * float(c), 1e-5f) << "Sobel y, channel " << c;
@@ -128,7 +128,7 @@ TEST(Tnnd, BadWeightsFileIsReportedAndTheOldWeightsStay) {
   auto d = device->createDenoiser("tnnd");
   EXPECT_THROW(d->set("weights", bad), Error);
   for (const auto& s : d->settings())
-    if (s.name == "weights") EXPECT_EQ(s.value, "") << "the setting still names the built-in weights";
+    if (s.name == "weights") { EXPECT_EQ(s.value, "") << "the setting still names the built-in weights"; }
   const Frame f = test::flatFrame(8, 8, 0.5f);
   Frame g = f;
   g[Buffer::Albedo] = Image(8, 8, 3, 0.5f);
