@@ -167,7 +167,7 @@ std::string errorOf(const std::function<void()>& fn) {
 class PerBufferLossless : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(PerBufferLossless, ReadsTheNativeFramesAndDenoisesToTheSameResult) {
-  if (GetParam() != "exr") REQUIRE_OTHER_FORMATS();
+  if (GetParam() != "exr") { REQUIRE_OTHER_FORMATS(); }
   const fs::path native = writeNative(), dir = writePerBuffer(GetParam());
   auto seq = SequenceReader::open(dir), ref = SequenceReader::open(native);
   EXPECT_EQ(seq->kind(), SequenceKind::PerBuffer);
@@ -178,7 +178,7 @@ TEST_P(PerBufferLossless, ReadsTheNativeFramesAndDenoisesToTheSameResult) {
     EXPECT_EQ(got.number, want.number);
     for (int b = 0; b < kBufferCount; ++b) {
       ASSERT_EQ(got.has(Buffer(b)), want.has(Buffer(b))) << bufferName(Buffer(b));
-      if (want.has(Buffer(b))) EXPECT_EQ(got.buffers[b].pixels, want.buffers[b].pixels) << bufferName(Buffer(b));
+      if (want.has(Buffer(b))) { EXPECT_EQ(got.buffers[b].pixels, want.buffers[b].pixels) << bufferName(Buffer(b)); }
     }
     EXPECT_TRUE(got.camera.valid);
     EXPECT_EQ(got.camera.worldToCamera, want.camera.worldToCamera);

@@ -152,7 +152,7 @@ TEST(RenderStereo, HiddenAreaIsNotTracedAndDenoisesToZero) {
   d->denoise(f.inputs(), out.view());
   for (int y = 0; y < 48; ++y)
     for (int x = 0; x < 64; ++x)
-      if (r.hidden(x, y, Eye::Left)) ASSERT_EQ(out.at(x, y, 1), 0.0f) << x << "," << y;
+      if (r.hidden(x, y, Eye::Left)) { ASSERT_EQ(out.at(x, y, 1), 0.0f) << x << "," << y; }
   EXPECT_GT(out.at(32, 24, 1), 0.0f);
 }
 

@@ -425,7 +425,7 @@ TEST(GersthoferMask, TheBoostStaysOutOfTheHistory) {
             for (int c = 0; c < 3; ++c) f[b].at(x, y, c) = 0.0f;
       }
     d->denoise(f.inputs(), out.view());
-    if (k >= 4) EXPECT_LT(maxAbsDiff(out, clean[Buffer::Color]), 1e-4) << "frame " << k;
+    if (k >= 4) { EXPECT_LT(maxAbsDiff(out, clean[Buffer::Color]), 1e-4) << "frame " << k; }
   }
 }
 
