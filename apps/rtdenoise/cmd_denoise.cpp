@@ -49,7 +49,8 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
                reader->height(), std::string(sequenceKindName(reader->kind())).c_str(), o.method.c_str(),
                device->name().c_str());
 
-  json timing;
+  TimingLog log;
+  json& timing = log.timing;
   timing["method"] = o.method;
   timing["backend"] = std::string(backendName(device->backend()));
   timing["device"] = device->name();
@@ -59,11 +60,6 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   json settings = json::object();
   for (const auto& s : denoiser->settings()) settings[s.name] = s.value;
   timing["settings"] = settings;
-  json perFrame = json::array();
-  uint64_t sanitized = 0;
-  BufferCounts sanitizedPerBuffer{};
-  std::vector<double> totals;
-  std::vector<std::string> notes;  // distinct FrameStats::notes (parts that did not run), in order
 
   Progress progress("denoise", frames);
   Image output(reader->width(), reader->height(), 3);
@@ -78,33 +74,13 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
     const FrameStats& st = denoiser->stats();
     json passes = json::object();
     for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
-    perFrame.push_back({{"number", frame.number}, {"passes", passes}, {"totalMs", st.totalMilliseconds},
-                        {"sanitizedValues", st.sanitizedValues}, {"sanitized", sanitizeJson(st.sanitized)}});
-    if (frame.cut) perFrame.back()["cut"] = true;
-    if (!st.notes.empty()) perFrame.back()["notes"] = st.notes;
-    for (const auto& n : st.notes)
-      if (std::find(notes.begin(), notes.end(), n) == notes.end()) notes.push_back(n);
-    sanitized += st.sanitizedValues;
-    accumulate(sanitizedPerBuffer, st.sanitized);
-    totals.push_back(st.totalMilliseconds);
+    log.add({{"number", frame.number}, {"passes", passes}}, st, frame.cut);
     char detail[64];
     std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
     progress.update(i + 1, detail);
   }
-  std::vector<double> sorted = totals;
-  std::sort(sorted.begin(), sorted.end());
-  timing["frames"] = perFrame;
-  timing["pixels"] = o.half ? "half" : "float";
-  timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
-  timing["sanitizedValues"] = sanitized;
-  timing["sanitized"] = sanitizeJson(sanitizedPerBuffer);
-  timing["notes"] = notes;
-  writeFileAtomic(out / "timings.json", timing.dump(1));
   progress.finish();
-  if (sanitized)
-    std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized,
-                 sanitizeSummary(sanitizedPerBuffer).c_str());
-  for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  log.write(out, o.half);
   std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.dir.c_str());
 }
 }  // namespace

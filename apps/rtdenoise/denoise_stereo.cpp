@@ -52,7 +52,8 @@ void runDenoiseStereo(const DenoiseOptions& o, const eval::ToneMapSettings& prev
   std::fprintf(stderr, "denoising %d stereo frames (2 x %dx%d) with '%s' on %s\n", frames, l.width(), l.height(),
                o.method.c_str(), device->name().c_str());
 
-  json timing;
+  TimingLog log;
+  json& timing = log.timing;
   timing["method"] = o.method;
   timing["stereo"] = true;
   timing["backend"] = std::string(backendName(device->backend()));
@@ -63,11 +64,6 @@ void runDenoiseStereo(const DenoiseOptions& o, const eval::ToneMapSettings& prev
   json settings = json::object();
   for (const auto& s : denoiser->settings()) settings[s.name] = s.value;
   timing["settings"] = settings;
-  json perFrame = json::array();
-  uint64_t sanitized = 0;
-  BufferCounts sanitizedPerBuffer{};
-  std::vector<double> totals;
-  std::vector<std::string> notes;  // distinct FrameStats::notes (parts that did not run), in order
   Progress progress("denoise", frames);
   Image outputs[2] = {Image(l.width(), l.height(), 3), Image(l.width(), l.height(), 3)};
   for (int i = 0; i < frames; ++i) {
@@ -88,35 +84,17 @@ void runDenoiseStereo(const DenoiseOptions& o, const eval::ToneMapSettings& prev
     for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
     json memory = json::object();
     for (const auto& m : st.memory) memory[m.category] = m.bytes;
-    perFrame.push_back({{"number", fl.number}, {"passes", passes}, {"totalMs", st.totalMilliseconds},
-                        {"eyeTotalMs", {denoiser->eyeStats(0).totalMilliseconds, denoiser->eyeStats(1).totalMilliseconds}},
-                        {"sanitizedValues", st.sanitizedValues}, {"sanitized", sanitizeJson(st.sanitized)},
-                        {"memoryBytes", memory}});
-    if (fl.cut || fr.cut) perFrame.back()["cut"] = true;
-    if (!st.notes.empty()) perFrame.back()["notes"] = st.notes;
-    for (const auto& n : st.notes)
-      if (std::find(notes.begin(), notes.end(), n) == notes.end()) notes.push_back(n);
-    sanitized += st.sanitizedValues;
-    accumulate(sanitizedPerBuffer, st.sanitized);
-    totals.push_back(st.totalMilliseconds);
+    log.add({{"number", fl.number},
+             {"passes", passes},
+             {"eyeTotalMs", {denoiser->eyeStats(0).totalMilliseconds, denoiser->eyeStats(1).totalMilliseconds}},
+             {"memoryBytes", memory}},
+            st, fl.cut || fr.cut);
     char detail[64];
     std::snprintf(detail, sizeof detail, "%.1f ms/frame (both eyes)", st.totalMilliseconds);
     progress.update(i + 1, detail);
   }
-  std::vector<double> sorted = totals;
-  std::sort(sorted.begin(), sorted.end());
-  timing["frames"] = perFrame;
-  timing["pixels"] = o.half ? "half" : "float";
-  timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
-  timing["sanitizedValues"] = sanitized;
-  timing["sanitized"] = sanitizeJson(sanitizedPerBuffer);
-  timing["notes"] = notes;
-  writeFileAtomic(out / "timings.json", timing.dump(1));
   progress.finish();
-  if (sanitized)
-    std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized,
-                 sanitizeSummary(sanitizedPerBuffer).c_str());
-  for (const auto& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  log.write(out, o.half);
   std::printf("wrote %d frames per eye to %s/left and %s/right, and timings.json\n", frames, o.output.dir.c_str(),
               o.output.dir.c_str());
 }

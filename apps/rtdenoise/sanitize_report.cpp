@@ -1,5 +1,8 @@
 #include "sanitize_report.h"
 
+#include <algorithm>
+#include <cstdio>
+
 namespace rtd::cli {
 
 nlohmann::json sanitizeJson(const BufferCounts& counts) {
@@ -36,6 +39,36 @@ std::string sanitizeSummary(const BufferCounts& counts) {
     out += (out.empty() ? "" : "; ") + std::string("buffer '") + std::string(bufferName(Buffer(b))) + "': " + parts;
   }
   return out;
+}
+
+void TimingLog::add(nlohmann::json entry, const FrameStats& st, bool cut) {
+  entry["totalMs"] = st.totalMilliseconds;
+  entry["sanitizedValues"] = st.sanitizedValues;
+  entry["sanitized"] = sanitizeJson(st.sanitized);
+  if (cut) entry["cut"] = true;
+  if (!st.notes.empty()) entry["notes"] = st.notes;
+  frames_.push_back(std::move(entry));
+  for (const auto& n : st.notes)
+    if (std::find(notes_.begin(), notes_.end(), n) == notes_.end()) notes_.push_back(n);
+  sanitized_ += st.sanitizedValues;
+  accumulate(sanitizedPerBuffer_, st.sanitized);
+  totals_.push_back(st.totalMilliseconds);
+}
+
+void TimingLog::write(const std::filesystem::path& dir, bool half) {
+  std::vector<double> sorted = totals_;
+  std::sort(sorted.begin(), sorted.end());
+  timing["frames"] = frames_;
+  timing["pixels"] = half ? "half" : "float";
+  timing["medianTotalMs"] = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  timing["sanitizedValues"] = sanitized_;
+  timing["sanitized"] = sanitizeJson(sanitizedPerBuffer_);
+  timing["notes"] = notes_;
+  writeFileAtomic(dir / "timings.json", timing.dump(1));
+  if (sanitized_)
+    std::fprintf(stderr, "note: %llu input values were sanitized: %s (see timings.json)\n", (unsigned long long)sanitized_,
+                 sanitizeSummary(sanitizedPerBuffer_).c_str());
+  for (const auto& n : notes_) std::fprintf(stderr, "note: %s\n", n.c_str());
 }
 
 }  // namespace rtd::cli
