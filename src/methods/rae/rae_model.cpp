@@ -16,6 +16,7 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "io/small_file.h"
+#include "methods/weights_header.h"
 #include "rtd/error.h"
 
 namespace rtd::rae {
@@ -65,19 +66,8 @@ size_t Weights::parameters() const {
 
 Weights parseWeights(const std::string& text, const std::string& source) {
   auto fail = [&](const std::string& what) -> void { throw Error("RAE weights '" + source + "': " + what); };
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const std::exception& e) {
-    fail(std::string("not valid JSON: ") + e.what());
-  }
-  if (!j.is_object() || j.value("format", "") != kWeightsFormat)
-    fail(std::string("field 'format' must be \"") + kWeightsFormat + "\"");
-  if (!j.contains("version") || !j["version"].is_number_integer() || j["version"].get<int>() != kWeightsVersion)
-    fail("field 'version' must be " + std::to_string(kWeightsVersion) + " (the version this library reads)");
-  if (j.value("colorTransform", "") != "log1p") fail("field 'colorTransform' must be \"log1p\"");
-  if (j.value("normalSpace", "") != "view") fail("field 'normalSpace' must be \"view\"");
-  if (j.value("upsampling", "") != "bilinear") fail("field 'upsampling' must be \"bilinear\"");
+  json j = parseWeightsHeader(text, source, "RAE", kWeightsFormat, kWeightsVersion,
+                                    {{"colorTransform", "log1p"}, {"normalSpace", "view"}, {"upsampling", "bilinear"}});
   Weights w;
   w.source = source;
   const json inputs = j.value("inputs", json());

@@ -14,6 +14,7 @@
 #include "core/conventions.h"
 #include "core/parallel.h"
 #include "io/small_file.h"
+#include "methods/weights_header.h"
 #include "rtd/error.h"
 
 namespace rtd::tnnd {
@@ -41,18 +42,8 @@ inline float sigmoid(float z) { return 1.0f / (1.0f + expApprox(-z)); }
 
 Weights parseWeights(const std::string& text, const std::string& source) {
   auto fail = [&](const std::string& what) -> void { throw Error("TNND weights '" + source + "': " + what); };
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const std::exception& e) {
-    fail(std::string("not valid JSON: ") + e.what());
-  }
-  if (!j.is_object() || j.value("format", "") != kWeightsFormat)
-    fail(std::string("field 'format' must be \"") + kWeightsFormat + "\"");
-  if (!j.contains("version") || !j["version"].is_number_integer() || j["version"].get<int>() != kWeightsVersion)
-    fail("field 'version' must be " + std::to_string(kWeightsVersion) + " (the version this library reads)");
-  if (j.value("colorTransform", "") != "log1p") fail("field 'colorTransform' must be \"log1p\"");
-  if (j.value("normalSpace", "") != "view") fail("field 'normalSpace' must be \"view\"");
+  json j = parseWeightsHeader(text, source, "TNND", kWeightsFormat, kWeightsVersion,
+                                    {{"colorTransform", "log1p"}, {"normalSpace", "view"}});
   Weights w;
   w.source = source;
   const json& rows = j.contains("W") ? j["W"] : json();
