@@ -9,6 +9,7 @@
 
 #include "core/frame_data.h"
 #include "methods/asvgf/asvgf_passes.h"
+#include "support/strata_gradient.h"
 #include "render/render_test_util.h"
 
 namespace rtd::render::test {
@@ -36,19 +37,7 @@ float lum(const Frame& f, int x, int y) {
   return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
 }
 
-// G of every stratum (before its a-trous levels), from asvgf's own pass.
-asvgf::GradientImage strataGradient(const Frame& f) {
-  FrameData d;
-  importFrame(f.inputs(), {Buffer::Color}, d);
-  AtrousGuide guide;
-  guide.resize(f.width, f.height, 8);
-  guide.build(d.plane(Buffer::Depth), d.planes(Buffer::Normal), nullptr, 0.0f);
-  asvgf::GradientImage g;
-  g.resize(f.width, f.height, 8);
-  asvgf::gradientFromSamples(d.plane(Buffer::GradientSample), d.plane(Buffer::GradientPrevious),
-                             d.plane(Buffer::GradientCurrent), guide, 1.0f, g);
-  return g;
-}
+using rtd::test::strataGradient;
 
 TEST(GradientSamples, StaticSceneAndCameraReproduceEverySampleExactly) {
   // Checklist 19: area light, glossy and diffuse surfaces, nothing moves.

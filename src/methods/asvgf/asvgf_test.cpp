@@ -8,6 +8,7 @@
 #include <random>
 
 #include "methods/asvgf/asvgf_passes.h"
+#include "support/strata_gradient.h"
 #include "passes/atrous.h"
 #include "passes/reprojection.h"
 #include "passes/temporal_accumulation.h"
@@ -201,18 +202,7 @@ synthetic::Scene smallScene() {
   return s;
 }
 
-// G per stratum (before filtering) of a synthetic frame, through the method's pass.
-asvgf::GradientImage strataGradient(const Frame& f) {
-  const FrameData d = test::toFrameData(f);
-  AtrousGuide guide;
-  guide.resize(f.width, f.height, 8);
-  guide.build(d.plane(Buffer::Depth), d.planes(Buffer::Normal), nullptr, 0.0f);
-  asvgf::GradientImage g;
-  g.resize(f.width, f.height, 8);
-  asvgf::gradientFromSamples(d.plane(Buffer::GradientSample), d.plane(Buffer::GradientPrevious),
-                             d.plane(Buffer::GradientCurrent), guide, 1.0f, g);
-  return g;
-}
+using rtd::test::strataGradient;
 
 TEST(AsvgfGradient, UnchangedLightingGivesZeroEverywhereUnderCameraMotion) {
   // The synthetic scene's lighting is static and view-independent; its camera moves. Every
