@@ -1,11 +1,13 @@
 // rtdenoise denoise: run one method over a sequence directory.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
 #include "denoise_stereo.h"
+#include "rtd/guide_rays.h"
 #include "sanitize_report.h"
 
 namespace rtd::cli {
@@ -43,11 +45,16 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
       throw Error("method '" + o.method + "' needs buffer '" + std::string(bufferName(b)) + "', which sequence '" +
                   o.input + "' does not have (first frame: '" + reader->framePath(0).string() + "')");
 
+  // Supersampling with guide rays (Voorhuis Sec. 5) when the sequence carries the samples: the
+  // method filters the pre-mixed guide frame (Eq. 7), each sample then takes its guide's colour.
+  const int guideSamples = o.noGuideRays ? 0 : reader->guideRaySampleCount();
+
   o.output.prepare(kDenoiseOutputs);
   const fs::path out(o.output.dir);
-  std::fprintf(stderr, "denoising %d frames (%dx%d, %s input) with '%s' on %s\n", frames, reader->width(),
-               reader->height(), std::string(sequenceKindName(reader->kind())).c_str(), o.method.c_str(),
-               device->name().c_str());
+  std::fprintf(stderr, "denoising %d frames (%dx%d, %s input%s) with '%s' on %s\n", frames, reader->width(),
+               reader->height(), std::string(sequenceKindName(reader->kind())).c_str(),
+               guideSamples ? (", " + std::to_string(guideSamples + 1) + " spp with guide rays").c_str() : "",
+               o.method.c_str(), device->name().c_str());
 
   TimingLog log;
   json& timing = log.timing;
@@ -60,20 +67,40 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   json settings = json::object();
   for (const auto& s : denoiser->settings()) settings[s.name] = s.value;
   timing["settings"] = settings;
+  if (guideSamples) timing["guideRays"] = {{"samplesPerPixel", guideSamples + 1}};
 
   Progress progress("denoise", frames);
   Image output(reader->width(), reader->height(), 3);
   for (int i = 0; i < frames; ++i) {
     const Frame frame = reader->read(i);
-    denoiser->denoise(frame.inputs(), output.view());
+    double premixMs = 0, resolveMs = 0;
+    if (guideSamples) {
+      using Clock = std::chrono::steady_clock;
+      const GuideRaySamples samples = reader->readGuideRaySamples(i);
+      GuideRays guideRays;
+      const auto t0 = Clock::now();
+      const Frame mixed = guideRays.premix(frame, samples);
+      premixMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      denoiser->denoise(mixed.inputs(), output.view());
+      const auto t1 = Clock::now();
+      output = guideRays.resolve(output);
+      resolveMs = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+    } else {
+      denoiser->denoise(frame.inputs(), output.view());
+    }
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04d", frame.number);
     writeRgbExr(out / (std::string(name) + ".exr"), output, o.half ? ExrPixels::Half : ExrPixels::Float);
     if (o.preview) writeFileAtomic(out / (std::string(name) + ".png"), eval::encodePng(eval::toneMap(output, previewToneMap)));
 
-    const FrameStats& st = denoiser->stats();
+    FrameStats st = denoiser->stats();
     json passes = json::object();
     for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
+    if (guideSamples) {
+      passes["guideRays.premix"] = premixMs;
+      passes["guideRays.resolve"] = resolveMs;
+      st.totalMilliseconds += premixMs + resolveMs;
+    }
     log.add({{"number", frame.number}, {"passes", passes}}, st, frame.cut);
     char detail[64];
     std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
@@ -100,6 +127,8 @@ void addDenoise(CLI::App& app) {
       ->delimiter(',');
   cmd->add_flag("--continuous", o->sequence.continuous,
                 "gaps in the frame numbering are not cuts (by default a gap resets history)");
+  cmd->add_flag("--no-guide-rays", o->noGuideRays,
+                "ignore a sequence's guide-ray samples (render --guide-rays) and denoise its guide frames alone");
   cmd->add_flag("--half", o->half, "write half-float EXRs (default 32-bit float)");
   cmd->add_flag("--preview", o->preview, "also write a tone-mapped 8-bit sRGB preview frame_NNNN.png per frame");
   cmd->add_option("--tonemap", o->toneMap, "tone map of the previews: aces, reinhard or clamp")->capture_default_str();

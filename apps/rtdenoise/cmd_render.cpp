@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
+#include "rtd/guide_rays.h"
 #include "rtd/render/render.h"
 
 namespace rtd::cli {
@@ -39,6 +40,7 @@ struct RenderOptions {
   bool hiddenArea = false;
   float eyeDistance = -1;
   bool jitter = false;
+  bool guideRays = false;
   bool minimal = false;
   int threads = 0;
   std::string cacheDir;
@@ -75,6 +77,9 @@ void runRender(const RenderOptions& o, const CLI::App& cmd) {
     throw UsageError("--reference-cache concerns references: give --reference-spp too");
   if (cmd.count("--reference-cache") && o.noCache) throw UsageError("--reference-cache and --no-reference-cache contradict each other");
   if (cmd.count("--eye-distance") && !o.stereo) throw UsageError("--eye-distance needs --stereo");
+  if (o.guideRays && o.spp < 2) throw UsageError("--guide-rays needs --spp 2 or more (sample 0 is the guide ray)");
+  if (o.guideRays && (o.stereo || o.jitter || o.sampleFraction < 1.0f))
+    throw UsageError("--guide-rays traces every pixel's centre once per eye: not with --stereo, --jitter or --sample-fraction");
   std::unique_ptr<tbb::global_control> threads;
   if (o.threads > 0) threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(o.threads));
 
@@ -88,6 +93,7 @@ void runRender(const RenderOptions& o, const CLI::App& cmd) {
   s.hiddenArea = o.hiddenArea;
   if (o.eyeDistance >= 0) s.eyeDistance = o.eyeDistance;
   s.pixelJitter = s.pixelJitter || o.jitter;
+  s.guideRays = o.guideRays;
   s.allBuffers = !o.minimal;
   const int frames = o.frames > 0 ? o.frames : scene->frameCount();
   render::Renderer renderer(scene, s);
@@ -116,10 +122,11 @@ void runRender(const RenderOptions& o, const CLI::App& cmd) {
     nlohmann::json refSpp = nlohmann::json::array();
     int cachedCount = 0;
     for (int i = 0; i < frames; ++i) {
-      Frame f = renderer.render(i, eye);
+      GuideRaySamples samples;
+      Frame f = o.guideRays ? renderer.render(i, eye, samples) : renderer.render(i, eye);
       renderSeconds += renderer.stats().seconds;
       rays += renderer.stats().rays;
-      writer.write(f);
+      writer.write(f, o.guideRays ? &samples : nullptr);
       writer.finish();
       progress.update(++done, "frame " + std::to_string(i + 1) + (o.stereo ? std::string(" ") + render::eyeName(eye) : ""));
       if (refWriter) {
@@ -147,6 +154,7 @@ void runRender(const RenderOptions& o, const CLI::App& cmd) {
                            {"width", s.width},
                            {"height", s.height},
                            {"spp", s.spp},
+                           {"guideRays", s.guideRays},
                            {"maxDepth", s.maxDepth},
                            {"seed", s.seed},
                            {"pixelJitter", s.pixelJitter},
@@ -193,6 +201,9 @@ void addRender(CLI::App& app) {
   cmd->add_option("--eye-distance", o->eyeDistance, "stereo eye distance in world units (default 0.064; with --stereo)")
       ->check(atLeast(0));
   cmd->add_flag("--jitter", o->jitter, "jitter primary rays within the pixel (default: pixel centres)");
+  cmd->add_flag("--guide-rays", o->guideRays,
+                "supersampling with guide rays (Voorhuis Sec. 5): color holds sample 0 through the pixel centre, "
+                "the frames also hold the other --spp - 1 jittered samples, which `denoise` mixes in");
   cmd->add_flag("--minimal", o->minimal, "write only color and the standard feature buffers");
   cmd->add_option("--threads", o->threads, "CPU threads (0 = all cores)")->capture_default_str()->check(atLeast(0));
   cmd->add_option("--reference-cache", o->cacheDir, "reference cache directory (default $RTD_CACHE_DIR or ~/.cache/rtdenoise/references)");

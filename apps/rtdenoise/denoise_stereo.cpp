@@ -35,6 +35,12 @@ void runDenoiseStereo(const DenoiseOptions& o, const eval::ToneMapSettings& prev
       throw Error("stereo sequence '" + o.input + "': frame " + std::to_string(i + 1) + " is number " +
                   std::to_string(l.frameNumber(i)) + " on the left and " + std::to_string(r.frameNumber(i)) + " on the right");
 
+  for (int e = 0; e < 2; ++e)
+    if (eyes[e]->guideRaySampleCount() > 0 && !o.noGuideRays)
+      throw Error("stereo sequence '" + o.input + "': the " + names[e] +
+                  " eye carries guide-ray samples, which stereo denoising does not use (--no-guide-rays denoises "
+                  "the guide frames alone)");
+
   const int frames = framesToUse(o.maxFrames, l.frameCount());
   auto device = Device::create(o.device.desc(o.device.single()));
   auto denoiser = device->createStereoDenoiser(o.method);

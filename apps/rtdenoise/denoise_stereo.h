@@ -21,6 +21,7 @@ struct DenoiseOptions {
   std::string toneMap = "aces";
   float exposure = 0.0f;
   SequenceOptions sequence;  // --cut, --continuous
+  bool noGuideRays = false;  // --no-guide-rays: denoise the guide frames alone
 };
 
 /// A directory without a sequence of its own that holds the sequences `left` and `right`.

@@ -450,7 +450,8 @@ PYBIND11_MODULE(_core, m) {
 
   py::class_<rtd::SequenceWriter>(m, "SequenceWriter", "Writes a native sequence: frame EXRs and sequence.json.")
       .def(py::init<std::filesystem::path>(), py::arg("path"))
-      .def("write", &rtd::SequenceWriter::write, py::arg("frame"), "Writes frame_NNNN.exr with every buffer the frame has.")
+      .def("write", [](rtd::SequenceWriter& w, const rtd::Frame& f) { w.write(f); }, py::arg("frame"),
+           "Writes frame_NNNN.exr with every buffer the frame has.")
       .def("finish", &rtd::SequenceWriter::finish, "Writes sequence.json for the frames written so far.")
       .def_property_readonly("path", &rtd::SequenceWriter::dir);
 

@@ -14,8 +14,8 @@ namespace rtd {
 
 /// The non-guide samples of one frame: sample k (k = 1 .. spp-1) of every pixel.
 struct GuideRaySamples {
-  /// Per sample index: its radiance buffers (Color and any of Direct, Indirect, Diffuse,
-  /// Specular, Emission) and its primary hit's Depth and Normal (sky: depth >= the guides' sky
+  /// Per sample index: its radiance buffers (Color and the same ones of Direct, Indirect,
+  /// Diffuse, Specular, Emission, IndirectDiffuse as the guide frame) and its primary hit's Depth and Normal (sky: depth >= the guides' sky
   /// depth, normal 0), in the native conventions.
   std::vector<Frame> samples;
   /// Per sample index: XY, the sample's position minus its pixel's centre, in pixels, in
@@ -34,9 +34,9 @@ struct GuideRaySettings {
 class GuideRays {
  public:
   /// Assigns every non-guide sample to a guide and returns `guides` with each radiance buffer
-  /// that every sample carries replaced by Eq. 7, (u(p) + sum_{q in A(p)} u(q)) / (1 + |A(p)|);
-  /// the other buffers are copied. Throws rtd::Error when a sample lacks Depth or Normal or a
-  /// buffer's size differs from the guides'.
+  /// replaced by Eq. 7, (u(p) + sum_{q in A(p)} u(q)) / (1 + |A(p)|); the other buffers are
+  /// copied. Throws rtd::Error when a sample lacks Color, Depth or Normal, its radiance buffers
+  /// differ from the guides', or a buffer's size differs from the guides'.
   Frame premix(const Frame& guides, const GuideRaySamples& samples, const GuideRaySettings& settings = {});
   /// After filtering: `filtered` is the denoiser's RGB output for the pre-mixed guides; returns
   /// per pixel the average of its guide's filtered colour and, for each non-guide sample, the

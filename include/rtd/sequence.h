@@ -13,6 +13,8 @@
 
 namespace rtd {
 
+struct GuideRaySamples;  // include/rtd/guide_rays.h
+
 /// One frame in memory: an image per buffer present (channels as bufferChannels()).
 struct Frame {
   int number = 0;  ///< frame number as in the file name (frame_0007.exr -> 7)
@@ -75,6 +77,16 @@ class SequenceReader {
   /// before it unless the sequence or the options declare it continuous.
   bool cutAt(int index) const;
 
+  /// Non-guide samples per pixel of supersampling with guide rays (Voorhuis 2018, Sec. 5) that
+  /// every frame carries (sequence.json "guideRays", docs/sequence-format.md): spp - 1, or 0.
+  virtual int guideRaySampleCount() const { return 0; }
+  /// Radiance, depth and normal buffers each of those samples holds.
+  virtual std::vector<Buffer> guideRaySampleBuffers() const { return {}; }
+  /// Frame `index`'s non-guide samples (include/rtd/guide_rays.h), checked: finite values,
+  /// offsets in [-0.5, 0.5]; errors name the file, frame, channel and pixel. rtd::Error when the
+  /// sequence has none.
+  virtual GuideRaySamples readGuideRaySamples(int index) const;
+
  protected:
   /// The sequence's own marks: a cut at frame `index`; numbering gaps that are not cuts.
   virtual bool markedCut(int /*index*/) const { return false; }
@@ -91,8 +103,12 @@ class SequenceWriter {
  public:
   explicit SequenceWriter(std::filesystem::path dir);
   /// Writes frame_NNNN.exr with every buffer the frame has; remembers its camera and cut.
+  /// With `samples` (guide-ray supersampling), the frame is the guide frame and the file also
+  /// holds the non-guide samples as layers `sample<k>.<buffer>` and `sample<k>.offset`; every
+  /// frame of a sequence has the same number of samples with the same buffers, which must
+  /// include color, depth, normal and exactly the frame's radiance buffers.
   /// Throws rtd::Error for a frame number already written or outside [0, kMaxFrameNumber].
-  void write(const Frame& frame);
+  void write(const Frame& frame, const GuideRaySamples* samples = nullptr);
   /// Writes sequence.json describing the frames written so far (call after the last frame,
   /// or after each frame to keep a partial sequence readable).
   void finish() const;
@@ -108,6 +124,8 @@ class SequenceWriter {
   std::vector<Written> frames_;
   int width_ = 0, height_ = 0;
   std::vector<Buffer> buffers_;
+  int guideSamples_ = 0;
+  std::vector<Buffer> guideSampleBuffers_;
 };
 
 /// Pixel type of written EXR channels.

@@ -20,8 +20,10 @@
 #include "io/image_file.h"
 #include "io/small_file.h"
 #include "io/temp_files.h"
+#include "core/frame_data.h"
 #include "passes/tonemap.h"
 #include "rtd/error.h"
+#include "rtd/guide_rays.h"
 
 namespace rtd {
 
@@ -127,6 +129,44 @@ static void checkIndex(int index, int count, const fs::path& dir) {
                 std::to_string(count) + " frames)");
 }
 
+// ---------------------------------------------------------------------------------------------
+// Guide-ray samples in native frames (docs/sequence-format.md, "Guide-ray samples")
+
+constexpr int kMaxGuideRaySamples = 64;
+
+// Layer of non-guide sample k (1-based): "sample<k>.<buffer>.<C>", and its offset "sample<k>.offset.X/Y".
+static std::vector<std::string> sampleChannelNames(int k, Buffer b) {
+  std::vector<std::string> names = nativeChannelNames(b);
+  for (std::string& n : names) n = "sample" + std::to_string(k) + "." + n;
+  return names;
+}
+static std::vector<std::string> sampleOffsetChannelNames(int k) {
+  const std::string prefix = "sample" + std::to_string(k) + ".offset.";
+  return {prefix + "X", prefix + "Y"};
+}
+
+// What the samples of a frame with `frame` buffers must hold: color, depth and normal, and
+// exactly the frame's radiance buffers (GuideRays::premix mixes all of them or none), nothing
+// else. Empty when they do, else what is wrong.
+static std::string guideSampleBuffersProblem(const std::vector<Buffer>& samples, const std::vector<Buffer>& frame) {
+  auto has = [](const std::vector<Buffer>& list, Buffer b) { return std::find(list.begin(), list.end(), b) != list.end(); };
+  for (Buffer b : {Buffer::Color, Buffer::Depth, Buffer::Normal})
+    if (!has(samples, b)) return "the samples have no '" + std::string(bufferName(b)) + "' buffer";
+  for (Buffer b : samples)
+    if (!isRadianceBuffer(b) && b != Buffer::Depth && b != Buffer::Normal)
+      return "buffer '" + std::string(bufferName(b)) + "' is not one a sample carries (radiance, depth, normal)";
+  for (int i = 0; i < kBufferCount; ++i)
+    if (isRadianceBuffer(Buffer(i)) && has(frame, Buffer(i)) != has(samples, Buffer(i)))
+      return "radiance buffer '" + std::string(bufferName(Buffer(i))) + "' is in the " +
+             (has(frame, Buffer(i)) ? "frames but not in the samples" : "samples but not in the frames");
+  return "";
+}
+
+GuideRaySamples SequenceReader::readGuideRaySamples(int index) const {
+  throw Error("frame index " + std::to_string(index) + ": this " + std::string(sequenceKindName(kind())) +
+              " sequence carries no guide-ray samples");
+}
+
 void writeFileAtomic(const fs::path& path, const std::string& data) {
   TemporaryFile tmp(path);
   {
@@ -181,6 +221,7 @@ class NativeReader final : public SequenceReader {
         buffers_.push_back(*b);
       }
       continuous_ = boolField(j, "continuous", where);
+      if (j.contains("guideRays")) readGuideRaysField(j["guideRays"], where);
       if (!j.at("frames").is_array()) throw Error(where + ": field 'frames' must be a list");
       for (const auto& f : j["frames"]) {
         if (!f.is_object()) throw Error(where + ": every entry of 'frames' must be an object");
@@ -243,6 +284,51 @@ class NativeReader final : public SequenceReader {
     return f;
   }
 
+  int guideRaySampleCount() const override { return guideSamples_; }
+  std::vector<Buffer> guideRaySampleBuffers() const override { return guideSampleBuffers_; }
+
+  GuideRaySamples readGuideRaySamples(int index) const override {
+    if (guideSamples_ == 0) return SequenceReader::readGuideRaySamples(index);
+    checkIndex(index, frameCount(), dir_);
+    const fs::path path = framePath(index);
+    const std::string context = "frame " + std::to_string(frames_[size_t(index)].number);
+    const std::string where = context + ", file '" + path.string() + "'";
+    // One bad value names its channel and pixel.
+    auto check = [&](const std::vector<std::string>& names, const std::vector<std::vector<float>>& planes, bool radiance,
+                     bool offset) {
+      for (size_t c = 0; c < planes.size(); ++c)
+        for (size_t i = 0; i < planes[c].size(); ++i) {
+          const float v = planes[c][i];
+          const char* wrong = !std::isfinite(v)                     ? "not finite"
+                              : offset && std::abs(v) > 0.5f         ? "outside [-0.5, 0.5]"
+                              : radiance && v < 0.0f                 ? "negative"
+                                                                     : nullptr;
+          if (wrong)
+            throw Error(where + ": channel '" + names[c] + "' at pixel (" + std::to_string(i % size_t(width_)) + ", " +
+                        std::to_string(i / size_t(width_)) + ") is " + std::to_string(v) + ", " + wrong);
+        }
+    };
+    GuideRaySamples out;
+    for (int k = 1; k <= guideSamples_; ++k) {
+      Frame sf;
+      sf.number = frames_[size_t(index)].number;
+      sf.width = width_;
+      sf.height = height_;
+      for (Buffer b : guideSampleBuffers_) {
+        const auto names = sampleChannelNames(k, b);
+        const auto planes = exr::readChannels(path, names, context);
+        check(names, planes, isRadianceBuffer(b), false);
+        sf[b] = interleave(planes, width_, height_);
+      }
+      const auto names = sampleOffsetChannelNames(k);
+      const auto planes = exr::readChannels(path, names, context);
+      check(names, planes, false, true);
+      out.offsets.push_back(interleave(planes, width_, height_));
+      out.samples.push_back(std::move(sf));
+    }
+    return out;
+  }
+
  protected:
   bool markedCut(int index) const override { return frames_[size_t(index)].cut; }
   bool markedContinuous() const override { return continuous_; }
@@ -254,10 +340,32 @@ class NativeReader final : public SequenceReader {
     Camera camera;
     bool cut = false;
   };
+  // sequence.json "guideRays": {"samples": n, "buffers": [...]}.
+  void readGuideRaysField(const json& g, const std::string& where) {
+    if (!g.is_object()) throw Error(where + ": field 'guideRays' must be an object");
+    const json& n = g.at("samples");
+    if (!n.is_number_integer() || n.get<int64_t>() < 1 || n.get<int64_t>() > kMaxGuideRaySamples)
+      throw Error(where + ": field 'guideRays.samples' must be an integer in [1, " + std::to_string(kMaxGuideRaySamples) +
+                  "] (the non-guide samples per pixel, spp - 1)");
+    guideSamples_ = int(n.get<int64_t>());
+    if (!g.at("buffers").is_array()) throw Error(where + ": field 'guideRays.buffers' must be a list of buffer names");
+    for (const auto& name : g["buffers"]) {
+      auto b = name.is_string() ? bufferFromName(name.get<std::string>()) : std::nullopt;
+      if (!b) throw Error(where + ": unknown buffer " + name.dump() + " in field 'guideRays.buffers'");
+      if (std::find(guideSampleBuffers_.begin(), guideSampleBuffers_.end(), *b) != guideSampleBuffers_.end())
+        throw Error(where + ": buffer " + name.dump() + " is listed twice in field 'guideRays.buffers'");
+      guideSampleBuffers_.push_back(*b);
+    }
+    const std::string problem = guideSampleBuffersProblem(guideSampleBuffers_, buffers_);
+    if (!problem.empty()) throw Error(where + ": field 'guideRays.buffers': " + problem);
+  }
+
   fs::path dir_;
   bool continuous_ = false;
   int width_ = 0, height_ = 0;
   std::vector<Buffer> buffers_;
+  int guideSamples_ = 0;
+  std::vector<Buffer> guideSampleBuffers_;
   std::vector<Entry> frames_;
 };
 
@@ -679,7 +787,7 @@ static std::string frameFileName(int number) {
   return name;
 }
 
-void SequenceWriter::write(const Frame& frame) {
+void SequenceWriter::write(const Frame& frame, const GuideRaySamples* samples) {
   if (frame.number < 0)
     throw Error("frame " + std::to_string(frame.number) + ": frame numbers must lie in [0, " + std::to_string(kMaxFrameNumber) + "]");
   for (const Written& w : frames_)
@@ -703,6 +811,42 @@ void SequenceWriter::write(const Frame& frame) {
       throw Error("frame " + std::to_string(frame.number) + ": buffer '" + std::string(bufferName(b)) + "' has the wrong shape");
     for (size_t c = 0; c < names.size(); ++c) channels.push_back({names[c], img.pixels.data() + c, size_t(img.channels)});
   }
+  // Guide-ray samples: the same count and buffers in every frame, checked as the reader does.
+  const int n = samples ? int(samples->samples.size()) : 0;
+  std::vector<Buffer> sampleBuffers;
+  if (n > 0)
+    for (int i = 0; i < kBufferCount; ++i)
+      if (samples->samples[0].has(Buffer(i))) sampleBuffers.push_back(Buffer(i));
+  const std::string at = "frame " + std::to_string(frame.number) + ": ";
+  if (n > 0 && samples->offsets.size() != size_t(n))
+    throw Error(at + std::to_string(n) + " guide-ray samples but " + std::to_string(samples->offsets.size()) + " offset images");
+  if (frames_.empty()) {
+    if (n > kMaxGuideRaySamples)
+      throw Error(at + std::to_string(n) + " guide-ray samples per pixel, at most " + std::to_string(kMaxGuideRaySamples));
+    const std::string problem = n > 0 ? guideSampleBuffersProblem(sampleBuffers, present) : "";
+    if (!problem.empty()) throw Error(at + "guide-ray samples: " + problem);
+    guideSamples_ = n;
+    guideSampleBuffers_ = sampleBuffers;
+  } else if (n != guideSamples_ || sampleBuffers != guideSampleBuffers_) {
+    throw Error(at + std::to_string(n) + " guide-ray samples (or their buffers) differ from the first frame written's " +
+                std::to_string(guideSamples_));
+  }
+  for (int k = 1; k <= n; ++k) {
+    const Frame& sf = samples->samples[size_t(k - 1)];
+    const Image& off = samples->offsets[size_t(k - 1)];
+    std::vector<std::pair<std::vector<std::string>, const Image*>> layers;
+    for (int i = 0; i < kBufferCount; ++i)
+      if (sf.has(Buffer(i)) != (std::find(sampleBuffers.begin(), sampleBuffers.end(), Buffer(i)) != sampleBuffers.end()))
+        throw Error(at + "guide-ray sample " + std::to_string(k) + " differs in buffers from sample 1 ('" +
+                    std::string(bufferName(Buffer(i))) + "')");
+    for (Buffer b : sampleBuffers) layers.push_back({sampleChannelNames(k, b), &sf[b]});
+    layers.push_back({sampleOffsetChannelNames(k), &off});
+    for (const auto& [names, img] : layers) {
+      if (img->channels != int(names.size()) || img->width != frame.width || img->height != frame.height)
+        throw Error(at + "guide-ray layer '" + names[0].substr(0, names[0].rfind('.')) + "' has the wrong shape");
+      for (size_t c = 0; c < names.size(); ++c) channels.push_back({names[c], img->pixels.data() + c, size_t(img->channels)});
+    }
+  }
   exr::writeChannels(dir_ / frameFileName(frame.number), frame.width, frame.height, channels);
   frames_.push_back({frame.number, frame.camera, frame.cut});
 }
@@ -723,6 +867,11 @@ void SequenceWriter::finish() const {
   json names = json::array();
   for (Buffer b : buffers_) names.push_back(std::string(bufferName(b)));
   j["buffers"] = names;
+  if (guideSamples_ > 0) {
+    json sampleNames = json::array();
+    for (Buffer b : guideSampleBuffers_) sampleNames.push_back(std::string(bufferName(b)));
+    j["guideRays"] = {{"samples", guideSamples_}, {"buffers", sampleNames}};
+  }
   json frames = json::array();
   std::vector<Written> sorted = frames_;
   std::sort(sorted.begin(), sorted.end(), [](const Written& a, const Written& b) { return a.number < b.number; });

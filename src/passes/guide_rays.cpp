@@ -6,15 +6,13 @@
 #include <cmath>
 #include <string>
 
+#include "core/frame_data.h"
 #include "core/parallel.h"
 #include "rtd/error.h"
 
 namespace rtd {
 
 namespace {
-
-constexpr Buffer kRadiance[] = {Buffer::Color,   Buffer::Direct,   Buffer::Indirect,
-                                Buffer::Diffuse, Buffer::Specular, Buffer::Emission};
 
 void checkSize(const Image& img, int w, int h, int channels, const std::string& what) {
   if (img.width != w || img.height != h || img.channels != channels)
@@ -40,6 +38,18 @@ Frame GuideRays::premix(const Frame& guides, const GuideRaySamples& s, const Gui
       checkSize(s.samples[k][b], w, h, bufferChannelCount(b), name + " " + std::string(bufferName(b)));
     }
     checkSize(s.offsets[k], w, h, 2, name + " offsets");
+    for (size_t i = 0; i < s.offsets[k].pixels.size(); ++i)
+      if (!(std::abs(s.offsets[k].pixels[i]) <= 0.5f))
+        throw Error("guide rays: " + name + " offset " + (i % 2 ? "Y" : "X") + " at pixel (" +
+                    std::to_string(i / 2 % size_t(w)) + ", " + std::to_string(i / 2 / size_t(w)) + ") is " +
+                    std::to_string(s.offsets[k].pixels[i]) + ", not in [-0.5, 0.5]");
+    // Every radiance buffer is mixed or none: a guide whose colour were mixed but not its
+    // lobes would no longer be their sum.
+    for (int i = 0; i < kBufferCount; ++i)
+      if (isRadianceBuffer(Buffer(i)) && guides.has(Buffer(i)) != s.samples[k].has(Buffer(i)))
+        throw Error("guide rays: " + (guides.has(Buffer(i)) ? name + " has no '" : "the guide frame has no '") +
+                    std::string(bufferName(Buffer(i))) + "' buffer" +
+                    (guides.has(Buffer(i)) ? ", which the guide frame has" : ", which " + name + " has"));
   }
   width_ = w;
   height_ = h;
@@ -57,8 +67,8 @@ Frame GuideRays::premix(const Frame& guides, const GuideRaySamples& s, const Gui
     std::vector<int>& a = assign_[k];
     parallelRows(h, [&](int y) {
       for (int x = 0; x < w; ++x) {
-        const float px = float(x) + std::clamp(off.at(x, y, 0), -0.5f, 0.5f);
-        const float py = float(y) + std::clamp(off.at(x, y, 1), -0.5f, 0.5f);
+        const float px = float(x) + off.at(x, y, 0);
+        const float py = float(y) + off.at(x, y, 1);
         const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
         const float z = sz.at(x, y);
         const float* nv = sn.pixel(x, y);
@@ -86,13 +96,11 @@ Frame GuideRays::premix(const Frame& guides, const GuideRaySamples& s, const Gui
     for (int i : a) ++count_[size_t(i)];  // sequential: guides receive from several pixels
   }
 
-  // Eq. 7 on every radiance buffer that the guides and all samples carry.
+  // Eq. 7 on every radiance buffer (the guides and all samples carry the same ones).
   Frame out = guides;
-  for (Buffer b : kRadiance) {
-    if (!guides.has(b)) continue;
-    bool all = true;
-    for (size_t k = 0; k < n; ++k) all = all && s.samples[k].has(b);
-    if (!all) continue;
+  for (int bi = 0; bi < kBufferCount; ++bi) {
+    const Buffer b = Buffer(bi);
+    if (!isRadianceBuffer(b) || !guides.has(b)) continue;
     Image sum = guides[b];
     for (size_t k = 0; k < n; ++k) {
       const Image& src = s.samples[k][b];

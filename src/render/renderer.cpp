@@ -910,7 +910,7 @@ struct Renderer::Impl {
         sf.height = h;
         for (Buffer b : {Buffer::Color, Buffer::Emission, Buffer::Depth, Buffer::Normal}) sf[b] = Image(w, h, bufferChannelCount(b));
         if (all)
-          for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular})
+          for (Buffer b : {Buffer::Direct, Buffer::Indirect, Buffer::Diffuse, Buffer::Specular, Buffer::IndirectDiffuse})
             sf[b] = Image(w, h, bufferChannelCount(b));
       }
     }
@@ -946,7 +946,8 @@ struct Renderer::Impl {
               }
               if (all)
                 for (auto [b, c] : {std::pair{Buffer::Direct, sr.direct}, {Buffer::Indirect, sr.indirect},
-                                    {Buffer::Diffuse, sr.diffuse}, {Buffer::Specular, sr.specular}}) {
+                                    {Buffer::Diffuse, sr.diffuse}, {Buffer::Specular, sr.specular},
+                                    {Buffer::IndirectDiffuse, sr.indirectDiffuse}}) {
                   float* p = sf[b].pixel(x, y);
                   p[0] = c.x, p[1] = c.y, p[2] = c.z;
                 }

@@ -254,6 +254,21 @@ TEST(GuideRays, MalformedSamplesAreErrors) {
   GuideRaySamples small = s;
   small.offsets[0] = Image(3, 4, 2);
   EXPECT_THROW(gr.premix(g, small), Error);
+  GuideRaySamples outside = s;
+  outside.offsets[0].at(2, 1, 1) = 0.75f;
+  EXPECT_THROW(gr.premix(g, outside), Error);
+  outside.offsets[0].at(2, 1, 1) = NAN;
+  EXPECT_THROW(gr.premix(g, outside), Error);
+  // A lobe the guides carry but a sample does not (or the other way round) would leave the
+  // mixed colour different from the sum of its unmixed lobes.
+  Frame withLobe = g;
+  withLobe[Buffer::Diffuse] = Image(4, 4, 3, 1.0f);
+  EXPECT_THROW(gr.premix(withLobe, s), Error);
+  GuideRaySamples sampleLobe = s;
+  sampleLobe.samples[0][Buffer::Diffuse] = Image(4, 4, 3, 1.0f);
+  EXPECT_THROW(gr.premix(g, sampleLobe), Error);
+  sampleLobe.samples[0][Buffer::Diffuse] = Image(4, 4, 3, 1.0f);
+  EXPECT_NO_THROW(gr.premix(withLobe, sampleLobe));
   gr.premix(g, s);
   EXPECT_THROW(gr.resolve(Image(4, 3, 3)), Error);
 }
