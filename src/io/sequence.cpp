@@ -308,22 +308,31 @@ class NativeReader final : public SequenceReader {
                         std::to_string(i / size_t(width_)) + ") is " + std::to_string(v) + ", " + wrong);
         }
     };
+    // Every sample layer in one pass over the file: per sample its buffers, then its offset.
+    std::vector<std::string> names;
+    for (int k = 1; k <= guideSamples_; ++k) {
+      for (Buffer b : guideSampleBuffers_)
+        for (std::string& n : sampleChannelNames(k, b)) names.push_back(std::move(n));
+      for (std::string& n : sampleOffsetChannelNames(k)) names.push_back(std::move(n));
+    }
+    auto planes = exr::readChannels(path, names, context);
+    size_t next = 0;
+    auto take = [&](size_t count, bool radiance, bool offset) {
+      const std::vector<std::string> layerNames(names.begin() + long(next), names.begin() + long(next + count));
+      std::vector<std::vector<float>> layer(std::make_move_iterator(planes.begin() + long(next)),
+                                            std::make_move_iterator(planes.begin() + long(next + count)));
+      next += count;
+      check(layerNames, layer, radiance, offset);
+      return interleave(layer, width_, height_);
+    };
     GuideRaySamples out;
     for (int k = 1; k <= guideSamples_; ++k) {
       Frame sf;
       sf.number = frames_[size_t(index)].number;
       sf.width = width_;
       sf.height = height_;
-      for (Buffer b : guideSampleBuffers_) {
-        const auto names = sampleChannelNames(k, b);
-        const auto planes = exr::readChannels(path, names, context);
-        check(names, planes, isRadianceBuffer(b), false);
-        sf[b] = interleave(planes, width_, height_);
-      }
-      const auto names = sampleOffsetChannelNames(k);
-      const auto planes = exr::readChannels(path, names, context);
-      check(names, planes, false, true);
-      out.offsets.push_back(interleave(planes, width_, height_));
+      for (Buffer b : guideSampleBuffers_) sf[b] = take(size_t(bufferChannelCount(b)), isRadianceBuffer(b), false);
+      out.offsets.push_back(take(2, false, true));
       out.samples.push_back(std::move(sf));
     }
     return out;

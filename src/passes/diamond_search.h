@@ -41,12 +41,9 @@ inline void approxHit(const RepresentativeRay& r, float out[3]) {
 }
 
 /// Eq. 5: the distance from approx_hit of the ray with the smaller secondary depth (r_near) to
-/// the other representative *ray* (r_far): || r_far.d x (approx_hit(r_near) - r_far.o) ||, with
-/// r_far.d of unit length, where approx_hit(r_near) lies ahead of r_far.o; behind it (the
-/// formula would measure to the ray's backward extension, which no reflection follows) the
-/// distance to r_far.o. Symmetric in p and q (ties in depth take p as near; the distance is then
+/// the line of the other (r_far): || r_far.d x (approx_hit(r_near) - r_far.o) ||, with r_far.d
+/// of unit length. Symmetric in p and q (ties in depth take p as near; the distance is then
 /// not symmetric only when the two depths are exactly equal and the rays differ).
-/// docs/methods/reflections.md, "Unclear points".
 inline float glossyDistance(const RepresentativeRay& p, const RepresentativeRay& q) {
   const RepresentativeRay& nearRay = p.depth <= q.depth ? p : q;
   const RepresentativeRay& farRay = p.depth <= q.depth ? q : p;
@@ -54,7 +51,6 @@ inline float glossyDistance(const RepresentativeRay& p, const RepresentativeRay&
   approxHit(nearRay, x);
   const float v[3] = {x[0] - farRay.o[0], x[1] - farRay.o[1], x[2] - farRay.o[2]};
   const float* d = farRay.d;
-  if (d[0] * v[0] + d[1] * v[1] + d[2] * v[2] < 0.0f) return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   const float c[3] = {d[1] * v[2] - d[2] * v[1], d[2] * v[0] - d[0] * v[2], d[0] * v[1] - d[1] * v[0]};
   return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
 }

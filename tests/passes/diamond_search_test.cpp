@@ -250,18 +250,6 @@ TEST(GlossyDistance, Eq5Properties) {
   EXPECT_NEAR(glossyDistance(d, e), std::sqrt(perp[0] * perp[0] + perp[1] * perp[1] + perp[2] * perp[2]), 1e-5f);
 }
 
-TEST(GlossyDistance, MeasuresToTheRayNotItsBackwardExtension) {
-  // r_far along +x from the origin; a nearer approx_hit at (-3, 0.1, 0) lies on the line's
-  // backward extension (line distance 0.1) but 3 behind the ray's origin: its distance is to
-  // the origin. Ahead of the origin it is the line distance.
-  const RepresentativeRay far = ray(0, 0, 0, 1, 0, 0, 10);
-  const RepresentativeRay behind = ray(-3, 0.1f, -1, 0, 0, 1, 1);  // approx_hit (-3, 0.1, 0)
-  EXPECT_NEAR(glossyDistance(behind, far), std::sqrt(9.0f + 0.01f), 1e-5f);
-  EXPECT_NEAR(glossyDistance(far, behind), std::sqrt(9.0f + 0.01f), 1e-5f);
-  const RepresentativeRay ahead = ray(3, 0.1f, -1, 0, 0, 1, 1);  // approx_hit (3, 0.1, 0)
-  EXPECT_NEAR(glossyDistance(ahead, far), 0.1f, 1e-5f);
-}
-
 TEST(GlossyDistance, EscapedSamplesCompareByDirection) {
   // Both samples escaped (kMissDepth): the distance grows with the angle between the rays.
   const RepresentativeRay a = ray(0, 0, 0, 0, 0, -1, kMissDepth);

@@ -17,8 +17,7 @@ float worldDistance(vec3 a, vec3 b) {
   return sqrt(s);
 }
 
-// Eq. 4 and Eq. 5 (d of unit length; the nearer sample by depth is measured to the farther ray,
-// a half-line: behind its origin, to the origin). passes/diamond_search.h glossyDistance.
+// Eq. 4 and Eq. 5 (d of unit length; the nearer sample by depth is measured to the farther ray).
 float glossyDistance(vec3 po, vec3 pd, float pdepth, vec3 qo, vec3 qd, float qdepth) {
   const bool pNear = pdepth <= qdepth;
   const vec3 no = pNear ? po : qo, nd = pNear ? pd : qd;
@@ -29,11 +28,6 @@ float glossyDistance(vec3 po, vec3 pd, float pdepth, vec3 qo, vec3 qd, float qde
   x.y = no.y + nd.y * ndepth;
   x.z = no.z + nd.z * ndepth;
   precise vec3 v = x - fo;
-  precise float along = fd.x * v.x + fd.y * v.y + fd.z * v.z;
-  if (along < 0.0) {
-    precise float r = v.x * v.x + v.y * v.y + v.z * v.z;
-    return sqrt(r);
-  }
   precise vec3 c;
   c.x = fd.y * v.z - fd.z * v.y;
   c.y = fd.z * v.x - fd.x * v.z;
