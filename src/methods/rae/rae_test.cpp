@@ -7,10 +7,9 @@
 
 #include <cmath>
 #include <fstream>
-#include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "backend/cpu/cpu_denoiser.h"
+#include "methods/rae/rae_fixture.h"
 #include "methods/rae/rae_model.h"
 #include "rtd/rtd.h"
 #include "support/test_frames.h"
@@ -19,36 +18,8 @@
 namespace rtd {
 namespace {
 
-const std::string kFixtures = std::string(RTD_SOURCE_DIR) + "/src/methods/rae/testdata/";
-
-struct RaeFixture {
-  std::vector<Frame> frames;
-  std::vector<Image> expected;  ///< radiance computed by PyTorch in float64, per frame
-  std::string weights;          ///< path of the fixture's weights file
-};
-
-RaeFixture loadFixture(const std::string& inputs) {
-  std::ifstream in(kFixtures + "rae_fixture_" + inputs + ".json");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const auto j = nlohmann::json::parse(ss.str());
-  const int w = j["width"], h = j["height"];
-  RaeFixture f;
-  f.weights = kFixtures + j["weights"].get<std::string>();
-  for (size_t t = 0; t < j["color"].size(); ++t) {
-    Frame frame;
-    frame.width = w;
-    frame.height = h;
-    frame[Buffer::Color] = test::planarImage(j["color"][t], w, h);
-    frame[Buffer::Albedo] = test::planarImage(j["albedo"], w, h);
-    frame[Buffer::Normal] = test::planarImage(j["normal"], w, h);
-    for (int i = 0; i < 16; ++i) frame.camera.worldToCamera[size_t(i)] = j["worldToCamera"][size_t(i)].get<float>();
-    frame.camera.valid = true;
-    f.frames.push_back(frame);
-    f.expected.push_back(test::planarImage(j["expected"][t], w, h));
-  }
-  return f;
-}
+using test::loadRaeFixture;
+using test::RaeFixture;
 
 Image denoise(Denoiser& d, const Frame& f) {
   Image out(f.width, f.height, 3);
@@ -66,7 +37,7 @@ double maxAbsDifference(const Image& a, const Image& b) {
 // max |a - e| / (1 + |e|) < 1e-4 (the float32 rounding of ~100-term sums, compounded).
 TEST(Rae, CpuMatchesPyTorchOverThreeFrames) {
   for (const char* inputs : {"color_albedo_normal", "color"}) {
-    const RaeFixture f = loadFixture(inputs);
+    const RaeFixture f = loadRaeFixture(inputs);
     auto device = Device::create();
     auto d = device->createDenoiser("rae");
     d->set("weights", f.weights);
@@ -79,7 +50,7 @@ TEST(Rae, CpuMatchesPyTorchOverThreeFrames) {
 // inputs (fixture frames 1 and 2 are the same), in PyTorch and in the library; reset(), a
 // camera cut and recurrent = false each give the first-frame output again.
 TEST(Rae, HiddenStateChangesTheOutputAndResetClearsIt) {
-  const RaeFixture f = loadFixture("color_albedo_normal");
+  const RaeFixture f = loadRaeFixture("color_albedo_normal");
   EXPECT_GT(maxAbsDifference(f.expected[1], f.expected[2]), 1e-3) << "the fixture's frames 1 and 2 agree in PyTorch";
   auto device = Device::create();
   auto d = device->createDenoiser("rae");
