@@ -6,12 +6,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 #include "backend/cpu/cpu_denoiser.h"
+#include "methods/rae/rae_codec_kernels.h"
 #include "methods/rae/rae_fixture.h"
 #include "methods/rae/rae_model.h"
 #include "rtd/rtd.h"
+#include "support/cpu_paths.h"
 #include "support/test_frames.h"
 #include "synthetic/synthetic.h"
 
@@ -115,6 +118,58 @@ TEST(Rae, BadInputReachesNeitherOutputNorHiddenState) {
     for (size_t i = 0; i < count; ++i) ASSERT_TRUE(std::isfinite(data[i])) << "hidden state value " << i;
   });
   EXPECT_GT(hidden, 0u);
+}
+
+// The encode/decode colour transform (rae_codec_simd.cpp: polynomial log1p and expm1 on
+// vectors) against double precision on every CPU path: within 2 ulp (relative to the result;
+// 0.85 and 0.97 measured)
+// of log1p(max(c, 0) / k) (of the float quotient) and of expm1(clamp(y, 0, 12)) k, over values
+// from 1e-30 to 1e30 (log1p) and -1 to 13 (expm1), 1003 of them (a tail after the vectors).
+TEST(Rae, ColourTransformMatchesDoublePrecisionOnEveryCpuPath) {
+  const int n = 1003;
+  std::vector<float> c(n), k(n), y(n), out(n);
+  for (int i = 0; i < n; ++i) {
+    c[size_t(i)] = i % 7 == 0 ? (i % 2 ? 0.0f : -1.0f) : std::pow(10.0f, -30.0f + 60.0f * float(i) / n);
+    k[size_t(i)] = 0.01f + float(i % 101) / 100.0f;
+    y[size_t(i)] = -1.0f + 14.0f * float(i) / n;
+  }
+  const double ulp = std::ldexp(1.0, -23);
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath scoped(path);
+    for (bool withK : {true, false}) {
+      RTD_SIMD(raeLog1pRatio)(c.data(), withK ? k.data() : nullptr, out.data(), n);
+      for (int i = 0; i < n; ++i) {
+        const float q = std::max(c[size_t(i)], 0.0f) / (withK ? k[size_t(i)] : 1.0f);
+        const double e = std::log1p(double(q));
+        ASSERT_LE(std::abs(out[size_t(i)] - e), 2 * ulp * e) << cpuPathName(path) << ": log1p(" << q << ")";
+      }
+      RTD_SIMD(raeExpm1Scaled)(y.data(), withK ? k.data() : nullptr, out.data(), n, 12.0f);
+      for (int i = 0; i < n; ++i) {
+        const double e = std::expm1(std::clamp(double(y[size_t(i)]), 0.0, 12.0)) * (withK ? k[size_t(i)] : 1.0);
+        ASSERT_LE(std::abs(out[size_t(i)] - e), 2 * ulp * e) << cpuPathName(path) << ": expm1(" << y[size_t(i)] << ")";
+      }
+    }
+  }
+}
+
+// --threads bounds oneDNN's OpenMP threads (Debian's oneDNN runs on libgomp, not on the
+// denoiser's oneTBB arena): a one-thread device starts no thread of its own, OpenMP's included.
+// (ctest runs each test in a process of its own, where a second OpenMP thread would show; in a
+// process whose earlier tests already started OpenMP's pool the count cannot grow either.)
+TEST(Rae, OneThreadDeviceStartsNoOpenMpThread) {
+  auto threads = [] {
+    size_t n = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator("/proc/self/task")) ++n;
+    return n;
+  };
+  if (!std::filesystem::exists("/proc/self/task")) GTEST_SKIP() << "no /proc/self/task";
+  const size_t before = threads();
+  auto d = Device::create({.threads = 1})->createDenoiser("rae");
+  synthetic::Scene scene;
+  scene.width = 64;
+  scene.height = 48;
+  for (int t = 0; t < 2; ++t) denoise(*d, synthetic::makeFrame(scene, t));
+  EXPECT_LE(threads(), before);
 }
 
 // A missing required buffer is named; the built-in weights' architecture is the documented one.

@@ -175,7 +175,11 @@ class RaeVulkan final : public vk::VulkanDenoiser<RaeSettings> {
 
   /// out = conv(cat(parts)) (+ leaky ReLU), the parts read in place (rae_conv.comp).
   void convolution(vk::Recorder& rec, const ConvAt& c, const std::vector<Part>& parts, vk::Planes& out, bool act) {
-    constexpr int kOutGroup = 16, kTile = 16;  // rae_conv.comp's output channels per workgroup, tile size
+    // rae_conv.comp's output channels per workgroup (16, or 4 in rae_conv_narrow: layers of
+    // at most 4 outputs), and its tile size.
+    const bool narrow = c.out <= 4;
+    const int outGroup = narrow ? 4 : 16;
+    constexpr int kTile = 16;
     struct ConvPC {
       uint32_t width, height, tilesY, channels[3], first[3], outChannels, weightOffset, biasOffset, activation;
       float slope;
@@ -196,8 +200,8 @@ class RaeVulkan final : public vk::VulkanDenoiser<RaeSettings> {
     }
     bindings.push_back(weightsBuffer_);
     bindings.push_back(out);
-    const int groups = (int(c.out) + kOutGroup - 1) / kOutGroup;
-    rec.dispatch("rae_conv", bindings, pc, out.width, int(pc.tilesY) * kTile * groups);
+    const int groups = (int(c.out) + outGroup - 1) / outGroup;
+    rec.dispatch(narrow ? "rae_conv_narrow" : "rae_conv", bindings, pc, out.width, int(pc.tilesY) * kTile * groups);
   }
 
   rae::Weights weights_;

@@ -5,10 +5,12 @@
 // and, when `activation` is set, the leaky ReLU. The twin of the oneDNN convolutions of
 // src/methods/rae/rae_model.cpp.
 //
-// A 16x16 workgroup computes kOutGroup output channels of a 16x16 tile: the input channels
+// A 16x16 workgroup computes kOutGroup output channels (16; 4 in the variant rae_conv_narrow,
+// for the 3-channel last layer) of a 16x16 tile: the input channels
 // are walked kChunk at a time through an 18x18 shared-memory tile (the tile and its 1-pixel
 // apron, zeros outside the level), so each input value is read from memory ~1.27 times per
 // output group instead of 9. Workgroup row gl_WorkGroupID.y = group * tilesY + tile row.
+// variant: rae_conv_narrow RTD_RAE_NARROW
 #include "common.glsl"
 RTD_LOCAL_SIZE
 
@@ -28,7 +30,12 @@ layout(push_constant) uniform PC {
   float slope;
 } pc;
 
-const uint kTile = 18u, kChunk = 8u, kOutGroup = 16u;
+#ifdef RTD_RAE_NARROW
+const uint kOutGroup = 4u;
+#else
+const uint kOutGroup = 16u;
+#endif
+const uint kTile = 18u, kChunk = 8u;
 shared float tile[kChunk * kTile * kTile];
 
 // Input channel ci of the concatenation at pixel index i of its plane.
