@@ -14,9 +14,9 @@
 #include <unordered_map>
 
 #include "core/parallel.h"
-#include "methods/rae/rae_codec_kernels.h"
 #include "core/timer.h"
 #include "io/small_file.h"
+#include "methods/rae/rae_codec_kernels.h"
 #include "methods/weights_header.h"
 #include "rtd/error.h"
 

@@ -6,9 +6,10 @@
 // Activations and hidden states are float32 planes on the GPU (fp16 storage: docs/methods/rae.md);
 // the hidden states are double-buffered (frame t reads h^(t-1) from one set and writes h^t into
 // the other) and cleared by reset(), a camera cut, a resize and new weights. Every weight and
-// bias lives in one host-visible storage buffer written when the weights are loaded.
+// bias lives in one device-local storage buffer, uploaded when the network is built for a
+// frame size (the first frame, a resize, new weights).
 #if defined(RTD_HAS_VULKAN)
-#include <cstring>
+#include <algorithm>
 
 #include "backend/vulkan/vulkan_denoiser.h"
 #include "core/conventions.h"
@@ -83,8 +84,8 @@ class RaeVulkan final : public vk::VulkanDenoiser<RaeSettings> {
     add(wt.encRec, encRec_);
     add(wt.decA, decA_);
     add(wt.decB, decB_);
-    weightsBuffer_ = vk::DeviceBuffer(ctx_, all.size() * sizeof(float), true);
-    std::memcpy(weightsBuffer_.mapped(), all.data(), all.size() * sizeof(float));
+    weightsBuffer_ = vk::DeviceBuffer(ctx_, all.size() * sizeof(float), false);
+    ctx_.upload(weightsBuffer_, all.data(), all.size() * sizeof(float));
   }
   void resetHistory() override { clearState_ = true; }
 
