@@ -6,10 +6,10 @@
 // src/methods/rae/rae_model.cpp.
 //
 // A 16x16 workgroup computes kOutGroup output channels (16; 4 in the variant rae_conv_narrow,
-// for the 3-channel last layer) of a 16x16 tile: the input channels
-// are walked kChunk at a time through an 18x18 shared-memory tile (the tile and its 1-pixel
-// apron, zeros outside the level), so each input value is read from memory ~1.27 times per
-// output group instead of 9. Workgroup row gl_WorkGroupID.y = group * tilesY + tile row.
+// for the 3-channel last layer) of a 16x16 tile: the input channels are walked kChunk at a
+// time through an 18x18 shared-memory tile (the tile and its 1-pixel apron, zeros outside the
+// level), so each input value is read from memory ~1.27 times per output group instead of 9.
+// Workgroup row gl_WorkGroupID.y = output group * tilesY + tile row.
 // variant: rae_conv_narrow RTD_RAE_NARROW
 #include "common.glsl"
 RTD_LOCAL_SIZE
@@ -22,9 +22,9 @@ layout(std430, binding = 3) readonly buffer Weights { float weights[]; };
 layout(std430, binding = 4) writeonly buffer Out { float outp[]; };
 
 layout(push_constant) uniform PC {
-  uint width, height, tilesY;         // the level's size; tile rows per output group
+  uint width, height, tilesY;            // the level's size; tile rows per output group
   uint channels0, channels1, channels2;  // input channels of each part (0: absent)
-  uint first0, first1, first2;        // the part's first plane in its buffer
+  uint first0, first1, first2;           // the part's first plane in its buffer
   uint outChannels, weightOffset, biasOffset;
   uint activation;
   float slope;
