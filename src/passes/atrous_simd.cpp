@@ -262,27 +262,41 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
       const vf gx = load(pgx + c) * sigmaZ2, gy = load(pgy + c) * sigmaZ2;
       vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
       const vf idc = pid ? load(pid + c) : splat(0.0f);
-      for (int dy = -R; dy <= R; ++dy)
-        for (int dx = -R; dx <= R; ++dx) {
-          if (!dx && !dy) continue;
-          const size_t q = c + ptrdiff_t(dy) * S + dx;
-          const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-          vf v = -0.5f - vabs(zc - load(pz + q)) *
-                             vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(maxDen2)) + epsZ2);
-          vf wt;
-          if constexpr (kLogNormal) {
-            const vf xx = 1.0f - d;
-            v = (v - cn1 * xx) - (xx * xx) * (cn2 + xx * cn3);
-            wt = exp2Shifted(v);
-          } else {
-            const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v);
-            wt = wn >= kMinWeight ? wn : splat(0.0f);
-          }
-          if (pid) wt = load(pid + q) == idc ? wt : splat(0.0f);  // the mesh-id term
-          sw += wt;
-          s1 += wt * load(A + q);
-          s2 += wt * load(B + q);
+      auto tap = [&](int dx, int dy, vf depthScale) {
+        const size_t q = c + ptrdiff_t(dy) * S + dx;
+        const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
+        vf v = -0.5f - vabs(zc - load(pz + q)) * depthScale;
+        vf wt;
+        if constexpr (kLogNormal) {
+          const vf xx = 1.0f - d;
+          v = (v - cn1 * xx) - (xx * xx) * (cn2 + xx * cn3);
+          wt = exp2Shifted(v);
+        } else {
+          const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v);
+          wt = wn >= kMinWeight ? wn : splat(0.0f);
         }
+        if (pid) wt = load(pid + q) == idc ? wt : splat(0.0f);  // the mesh-id term
+        sw += wt;
+        s1 += wt * load(A + q);
+        s2 += wt * load(B + q);
+      };
+      // Opposite offsets share the depth denominator's reciprocal; the default radius 3 (48
+      // taps) is unrolled at compile time.
+      auto window = [&](auto radius) {
+        constexpr int kR = decltype(radius)::value;
+        const int r = kR > 0 ? kR : R;
+#pragma GCC unroll 7
+        for (int dy = -r; dy <= 0; ++dy)
+#pragma GCC unroll 7
+          for (int dx = -r; dx <= r; ++dx) {
+            if (dy == 0 && dx >= 0) break;
+            const vf depthScale = vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(maxDen2)) + epsZ2);
+            tap(dx, dy, depthScale);
+            tap(-dx, -dy, depthScale);
+          }
+      };
+      if (R == 3) window(std::integral_constant<int, 3>{});
+      else window(std::integral_constant<int, 0>{});
       const vf m1 = s1 / sw, m2 = s2 / sw;
       const vf v = vflush(vmax(m2 - vsquareOrZero(m1), splat(0.0f)));
       for (int k = 0; k < lanes; ++k)
