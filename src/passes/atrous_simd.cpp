@@ -23,21 +23,20 @@ namespace {
 // n = round(v), |g| <= 1/2: 2^(v + 1/2) = 2^n sqrt(2) e^(g ln 2), the last two by their
 // degree-5 Taylor polynomial in Estrin's form (relative error <= 5e-6). As |v| >= 1/2, g is 0
 // or at least 2^-25 in magnitude, so the polynomial's powers of g do not underflow either.
-// Where v is below `kCut` the result is exactly 0 (v = -inf and NaN too). n
-// comes from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n; on AVX-512 a
+// Where v is below `cut` the result is exactly 0 (v = -inf and NaN too). n comes from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n; on AVX-512 a
 // zero-masked vscalefps applies 2^n and the cut in one instruction. The pass is bound by the FP
-// ports' throughput (~35 vector operations per tap), so every operation counts.
+// ports' throughput (about 35 vector operations per tap), so every operation counts.
 constexpr float kLog2e = 1.44269504088896341f, kLn2 = 0.693147180559945f;
 /// v's starting value for a tap of kernel weight h: the -1/2 shift plus log2 h.
 inline float exp2Start(float h) { return -0.5f + std::log2(h); }
 /// Where v falls below it, 2^(v + 1/2) is cut to 0: the weight without h is then below
 /// 2^kMinWeightExp2 (the scalar weights' bound, atrous.h).
 inline float exp2Cut(float h) { return float(kMinWeightExp2) - 0.5f + std::log2(h); }
-inline vf exp2Shifted(vf v, float kCut = exp2Cut(1.0f)) {
+inline vf exp2Shifted(vf v, float cut = exp2Cut(1.0f)) {
   constexpr float kMagic = 12582912.0f;  // 1.5 * 2^23: v + kMagic rounds v to an integer
 #ifndef RTD_SIMD_AVX512
-  v = vmax(v, splat(kCut - 1.0f));  // NaN: the bound
-  const vi keep = v >= kCut;
+  v = vmax(v, splat(cut - 1.0f));  // NaN: the bound
+  const vi keep = v >= cut;
 #endif
   const vf t = v + kMagic;
   const vf n = t - kMagic;
@@ -47,7 +46,7 @@ inline vf exp2Shifted(vf v, float kCut = exp2Cut(1.0f)) {
   const vf g2 = g * g;
   const vf p = (r2 + g * (r2 * l1)) + g2 * ((r2 * l2 + g * (r2 * l3)) + g2 * (r2 * l4 + g * (r2 * l5)));
 #ifdef RTD_SIMD_AVX512
-  return _mm512_maskz_scalef_ps(_mm512_cmp_ps_mask(v, splat(kCut), _CMP_GE_OQ), p, n);
+  return _mm512_maskz_scalef_ps(_mm512_cmp_ps_mask(v, splat(cut), _CMP_GE_OQ), p, n);
 #else
   // The low bits of t hold n + 2^22 (t's exponent is that of kMagic): 2^n's exponent bits.
   return p * asFloat(((asInt(t) + (127 - int(0x4b400000))) << 23) & keep);
