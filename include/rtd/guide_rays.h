@@ -15,8 +15,8 @@ namespace rtd {
 /// The non-guide samples of one frame: sample k (k = 1 .. spp-1) of every pixel.
 struct GuideRaySamples {
   /// Per sample index: its radiance buffers (Color and the same ones of Direct, Indirect,
-  /// Diffuse, Specular, Emission, IndirectDiffuse as the guide frame) and its primary hit's Depth and Normal (sky: depth >= the guides' sky
-  /// depth, normal 0), in the native conventions.
+  /// Diffuse, Specular, Emission, IndirectDiffuse as the guide frame) and its primary hit's
+  /// Depth and Normal (sky: depth >= the guides' sky depth, normal 0), in the native conventions.
   std::vector<Frame> samples;
   /// Per sample index: XY, the sample's position minus its pixel's centre, in pixels, in
   /// [-0.5, 0.5] (x right, y down the rows).
