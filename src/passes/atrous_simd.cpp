@@ -82,7 +82,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
                 const AtrousTap* taps, int tapCount, float h0) {
   const PaddedPlane& z = g.depth;
   const int w = z.width;
-  const float sigmaZ = lv.sigmaDepth, epsZ = lv.depthEpsilon;
+  const float sigmaZ = lv.sigmaDepth, epsZ = lv.depthEpsilon, epsRelZ = lv.depthEpsilonRelative;
   const int e = std::max(1, lv.normalExponent);
   const float sigmaN = float(e);
   const float minCosine = std::exp2(float(kMinWeightExp2) / float(e)), kMinWeight = std::exp2(float(kMinWeightExp2));
@@ -110,6 +110,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       const size_t c = z.index(x, y);
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
+      const vf epsZc = epsZ + epsRelZ * vabs(zc);  // depthEpsilonAt
       const vf lc = load(pl + c);
       vf inv, ziInv, zic;
       {
@@ -166,7 +167,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       // + eps are equal: one reciprocal serves both (atrousLevel orders the list that way).
       for (int k = 0, n = tapCount; k < n / 2; ++k) {
         const AtrousTap& a = taps[k];
-        const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(kMaxDepthDenominator)) + epsZ);
+        const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(kMaxDepthDenominator)) + epsZc);
         tap(a, depthScale);
         tap(taps[n - 1 - k], depthScale);
       }
@@ -202,7 +203,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
 
 template <bool kLogNormal>
 void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const PaddedPlane& pb, const Plane& len,
-                         float shortHistory, int R, float sigmaZ, float epsZ, int e, PaddedPlane& var,
+                         float shortHistory, int R, float sigmaZ, float epsZ, float epsRelZ, int e, PaddedPlane& var,
                          const PaddedPlane* objectId) {
   const float* pid = objectId ? objectId->data.data() : nullptr;
   const PaddedPlane& z = g.depth;
@@ -225,6 +226,7 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
       const size_t c = z.index(x, y);
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
+      const vf epsZc = epsZ + epsRelZ * vabs(zc);  // depthEpsilonAt
       vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
       const vf idc = pid ? load(pid + c) : splat(0.0f);
       for (int dy = -R; dy <= R; ++dy)
@@ -233,7 +235,7 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
           const size_t q = c + ptrdiff_t(dy) * S + dx;
           const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
           vf expo = kExpShift + vabs(zc - load(pz + q)) *
-                                    vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(kMaxDepthDenominator)) + epsZ);
+                                    vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(kMaxDepthDenominator)) + epsZc);
           vf wt;
           if constexpr (kLogNormal) {
             const vf xx = 1.0f - d;
@@ -285,10 +287,12 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
 }
 
 void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,
-                         float shortHistory, int R, float sigmaDepth, float depthEpsilon, int e, PaddedPlane& var,
-                         const PaddedPlane* objectId) {
-  if (e >= 16) spatialVarianceRowsT<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var, objectId);
-  else spatialVarianceRowsT<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var, objectId);
+                         float shortHistory, int R, float sigmaDepth, float depthEpsilon, float depthEpsilonRelative, int e,
+                         PaddedPlane& var, const PaddedPlane* objectId) {
+  if (e >= 16)
+    spatialVarianceRowsT<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, depthEpsilonRelative, e, var, objectId);
+  else
+    spatialVarianceRowsT<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, depthEpsilonRelative, e, var, objectId);
 }
 
 }  // namespace rtd::RTD_SIMD_NS
