@@ -19,8 +19,9 @@ enum class SvgfKernel { b3spline5x5, binomial3x3 };
 /// 3.3): indirect diffuse (Buffer::IndirectDiffuse) and the rest of Color (direct + indirect
 /// specular) are accumulated separately, the indirect diffuse median-filtered and shared
 /// between the eyes, then the two are added and filtered as one stream.
-/// `diffuse` (Dundr Sec. 4.1): only the diffuse lobe (Buffer::Diffuse) is filtered, the
-/// specular lobe added unfiltered; Color as one stream where the frame lacks the split.
+/// `diffuse` (a literal reading of Dundr Sec. 4.1): only the diffuse lobe (Buffer::Diffuse) is
+/// filtered, the specular lobe added unfiltered; Color as one stream where the frame lacks the
+/// split. The dundr preset uses `color` (docs/methods/svgf.md, "Dundr's stream").
 enum class SvgfComponents { automatic, color, directIndirect, diffuseSpecular, composite, diffuse };
 /// The last step of the output (Gersthofer Sec. 3.5): none (linear radiance, the library's
 /// contract) or the ACES filmic curve (Narkowicz fit), display-referred [0, 1].
@@ -249,7 +250,7 @@ struct SvgfSettings {
     switch (v) {
       case SvgfVariant::schied: break;
       case SvgfVariant::dundr:  // Dundr, "Progressive SVGF", Sec. 4
-        components = SvgfComponents::diffuse;    // "we will filter only a diffuse lighting component"
+        components = SvgfComponents::color;      // one stream: colour / albedo, his diffuse extraction
         alphaColor = alphaMoments = 0.1f;        // "values around 0.1"
         momentsTrueAverage = true;               // r = max(a, 1/age) for light and moments
         luminance = SvgfLuminance::rec601;       // 0.299R + 0.587G + 0.114B

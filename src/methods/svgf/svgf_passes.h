@@ -98,7 +98,7 @@ struct StreamPlan {
   /// GlossCol passes: Buffer::DiffuseAlbedo, Buffer::SpecularAlbedo); Albedo otherwise.
   Buffer albedo = Buffer::Albedo;
   /// false: added to the output as it comes, neither accumulated nor filtered (the specular
-  /// lobe under components = diffuse, Dundr Sec. 4.1).
+  /// lobe under components = diffuse).
   bool filtered = true;
 };
 
@@ -119,8 +119,8 @@ template <class Has> int planStreams(SvgfComponents c, Has has, StreamPlan out[2
   };
   switch (c) {
     case SvgfComponents::diffuse:
-      // Dundr Sec. 4.1: only the diffuse light is filtered; without the split, the whole colour
-      // divided by the albedo is the approximate diffuse component (his black-box extraction).
+      // A literal reading of Dundr Sec. 4.1: only the diffuse light is filtered; without the
+      // split, the whole colour divided by the albedo is the approximate diffuse component.
       if (!(has(Buffer::Diffuse) && has(Buffer::Specular))) break;
       out[0] = {Buffer::Diffuse, "diffuse", true, false, Lobe::diffuse,
                 has(Buffer::DiffuseAlbedo) ? Buffer::DiffuseAlbedo : Buffer::Albedo};

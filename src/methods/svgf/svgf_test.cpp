@@ -639,17 +639,17 @@ TEST(SvgfEndToEnd, SplitStreamWithZeroIndirectEqualsColorStream) {
 // setting given after the preset wins.
 TEST(SvgfSettingsTest, PresetsChooseTheirPapersStreams) {
   EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::schied).components, SvgfComponents::automatic);  // direct + indirect
-  EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::dundr).components, SvgfComponents::diffuse);
+  EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::dundr).components, SvgfComponents::color);  // one stream
   EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::gersthofer).components, SvgfComponents::composite);  // one stream
   auto device = Device::create();
   auto d = device->createDenoiser("svgf");
   d->set("variant", "dundr");
-  d->set("components", "auto");
-  EXPECT_EQ(d->getSettings<SvgfSettings>().components, SvgfComponents::automatic);
+  d->set("components", "diffuse");
+  EXPECT_EQ(d->getSettings<SvgfSettings>().components, SvgfComponents::diffuse);
   d->set("variant", "gersthofer");  // a preset resets it again
   EXPECT_EQ(d->getSettings<SvgfSettings>().components, SvgfComponents::composite);
-  // Dundr's streams: the diffuse lobe filtered, the specular one not; the whole colour
-  // without the split (his black-box extraction).
+  // components = diffuse: the diffuse lobe filtered, the specular one not; the whole colour
+  // without the split.
   svgf::StreamPlan plan[2];
   const auto all = [](Buffer) { return true; };
   ASSERT_EQ(svgf::planStreams(SvgfComponents::diffuse, all, plan), 2);
@@ -661,10 +661,10 @@ TEST(SvgfSettingsTest, PresetsChooseTheirPapersStreams) {
   EXPECT_EQ(plan[0].buffer, Buffer::Color);
 }
 
-// The dundr preset on a frame split into diffuse = colour and a specular lobe S: the output is
-// the colour-only output plus S exactly (S is neither accumulated nor filtered; TAA off, which
-// is not additive).
-TEST(SvgfEndToEnd, DundrAddsTheSpecularLobeUnfiltered) {
+// components = diffuse (dundr preset otherwise) on a frame split into diffuse = colour and a
+// specular lobe S: the output is the colour-only output plus S exactly (S is neither
+// accumulated nor filtered; TAA off, which is not additive).
+TEST(SvgfEndToEnd, DiffuseComponentAddsTheSpecularLobeUnfiltered) {
   auto device = Device::create();
   const auto scene = smallScene();
   Image out[2] = {Image(scene.width, scene.height, 3), Image(scene.width, scene.height, 3)};
@@ -674,6 +674,7 @@ TEST(SvgfEndToEnd, DundrAddsTheSpecularLobeUnfiltered) {
   for (int k = 0; k < 2; ++k) {
     auto d = device->createDenoiser("svgf");
     d->set("variant", "dundr");
+    d->set("components", "diffuse");
     d->set("taa", "false");
     for (int i = 0; i < 4; ++i) {
       Frame f = synthetic::makeFrame(scene, i);
