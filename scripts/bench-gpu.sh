@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The GPU benchmark in one command: every Vulkan method (SVGF, BMFR, A-SVGF, TNND; $METHODS
+# The GPU benchmark in one command: every Vulkan method (SVGF, BMFR, A-SVGF, TNND, RAE; $METHODS
 # to choose) at 1920x1080 (per-pass GPU timestamp medians, "gpu filter" = everything between
 # import and export), with the device name; then Gersthofer's stereo pipeline, both eyes at
 # 1440x1600 (thesis Table 5.3; $STEREO_SIZE for another). Targets on an H100: SVGF <= 1.0 ms, BMFR <= 1.5 ms (gpu filter).
@@ -17,7 +17,7 @@ if [ ! -x "$cli" ]; then
 fi
 $cli devices
 command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,clocks.max.sm --format=csv || true
-for m in ${METHODS:-svgf bmfr asvgf tnnd}; do
+for m in ${METHODS:-svgf bmfr asvgf tnnd rae}; do
   # The progress bar goes to stderr; errors still show (set -e stops on them).
   $cli bench --backend vulkan --method "$m" --size "$size" --frames "${FRAMES:-50}" --warmup "${WARMUP:-10}" "$@"
 done

@@ -27,6 +27,7 @@ std::unique_ptr<Denoiser> createSvgfVulkan(vk::Context&);
 std::unique_ptr<Denoiser> createBmfrVulkan(vk::Context&);
 std::unique_ptr<Denoiser> createTnndVulkan(vk::Context&);
 std::unique_ptr<Denoiser> createAsvgfVulkan(vk::Context&);
+std::unique_ptr<Denoiser> createRaeVulkan(vk::Context&);
 std::unique_ptr<StereoDenoiser> createSvgfStereoVulkan(vk::Context&);
 #else
 #define RTD_VULKAN_FACTORY(f) nullptr
@@ -47,9 +48,8 @@ const std::vector<MethodEntry>& methodRegistry() {
        &defaultsOf<TnndSettings>, &createTnndCpu, RTD_VULKAN_FACTORY(createTnndVulkan)},
       {"asvgf", "adaptive SVGF: history dropped where re-shaded gradient samples changed (Schied 2018; Higginson)",
        &defaultsOf<AsvgfSettings>, &createAsvgfCpu, RTD_VULKAN_FACTORY(createAsvgfVulkan)},
-      // No Vulkan path yet (docs/methods/rae.md "Not done").
       {"rae", "recurrent denoising autoencoder, a U-Net with a recurrent block per encoder level (Chaitanya 2017)",
-       &defaultsOf<RaeSettings>, &createRaeCpu, nullptr},
+       &defaultsOf<RaeSettings>, &createRaeCpu, RTD_VULKAN_FACTORY(createRaeVulkan)},
   };
   return entries;
 }

@@ -80,7 +80,9 @@ inline vf load(const float* p) {
   return v;
 }
 inline void store(float* p, vf v) { std::memcpy(p, &v, sizeof v); }
-inline vf splat(float x) { return vf{} + x; }
+/// x in every lane (x - 0 is x for every x, -0 included, so GCC emits one broadcast; vf{} + x
+/// would cost an addition first).
+inline vf splat(float x) { return x - vf{}; }
 inline vf asFloat(vi i) {
   vf f;
   std::memcpy(&f, &i, sizeof f);

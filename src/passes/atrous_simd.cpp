@@ -15,31 +15,42 @@ namespace rtd::RTD_SIMD_NS {
 
 namespace {
 
-// factor * exp(-x) from xs = x + kExpShift, x >= 0: one exp shared by the depth, normal and
-// luminance weights. The weights' exponents are sums of products (|z_p - z_q| / denominator,
-// |l_p - l_q| / bandwidth, the normal series); accumulating them onto kExpShift with fused
-// multiply-adds means no product is ever rounded on its own, so none can underflow, however
-// small (with FMA; core/flush.h). Then exp(-x) = 2^(v + 1/2) with v = -xs log2(e) <= -1/2,
-// v = n + g, n = round(v), |g| <= 1/2, and 2^(g + 1/2) = sqrt(2) e^(g ln 2) by its degree-5
-// Taylor polynomial in Estrin's form (relative error <= 5e-6). As |v| >= 1/2, g is 0 or at
-// least 2^-25 in magnitude, so the polynomial's powers of g do not underflow either. Where 2^u
-// is below 2^kMinWeightExp2 the result is exactly 0 (x = +inf and NaN too): the exponent's bits
-// are masked to zero. The mask and 2^n are off the critical path. The pass is bound by the
-// latency of this chain (a tap's weight is ~20 dependent operations), so its depth matters
-// more than its operation count.
-constexpr float kExpShift = 0.5f * 0.693147180559945f;
-inline vf expNegShifted(vf xs, vf factor = vf{} + 1.0f) {
-  constexpr float kBound = float(kMinWeightExp2) - 1.5f;
-  const vf v = vmax(xs * -1.44269504088896341f, splat(kBound));  // NaN: the bound
-  const vi keep = v >= float(kMinWeightExp2) - 0.5f;
-  const vf n = vround(v);
+// h exp(-x) as 2^(v + 1/2) for v <= -1/2: the one exponential shared by the depth, normal and
+// luminance weights and the kernel weight h. The callers accumulate v = -1/2 + log2 h -
+// log2(e) (x_z + x_n + x_l) with fused multiply-adds onto exp2Start(h), the exponents'
+// coefficients scaled by log2(e) once per pixel or per tap pair, so no product is ever rounded
+// on its own and none can underflow, however small (with FMA; core/flush.h). With v = n + g,
+// n = round(v), |g| <= 1/2: 2^(v + 1/2) = 2^n sqrt(2) e^(g ln 2), the last two by their
+// degree-5 Taylor polynomial in Estrin's form (relative error <= 5e-6). As |v| >= 1/2, g is 0
+// or at least 2^-25 in magnitude, so the polynomial's powers of g do not underflow either.
+// Where v is below `cut` the result is exactly 0 (v = -inf and NaN too). n comes from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n; on AVX-512 a
+// zero-masked vscalefps applies 2^n and the cut in one instruction. The pass is bound by the FP
+// ports' throughput (about 35 vector operations per tap), so every operation counts.
+constexpr float kLog2e = 1.44269504088896341f, kLn2 = 0.693147180559945f;
+/// v's starting value for a tap of kernel weight h: the -1/2 shift plus log2 h.
+inline float exp2Start(float h) { return -0.5f + std::log2(h); }
+/// Where v falls below it, 2^(v + 1/2) is cut to 0: the weight without h is then below
+/// 2^kMinWeightExp2 (the scalar weights' bound, atrous.h).
+inline float exp2Cut(float h) { return float(kMinWeightExp2) - 0.5f + std::log2(h); }
+inline vf exp2Shifted(vf v, float cut = exp2Cut(1.0f)) {
+  constexpr float kMagic = 12582912.0f;  // 1.5 * 2^23: v + kMagic rounds v to an integer
+#ifndef RTD_SIMD_AVX512
+  v = vmax(v, splat(cut - 1.0f));  // NaN: the bound
+  const vi keep = v >= cut;
+#endif
+  const vf t = v + kMagic;
+  const vf n = t - kMagic;
   const vf g = v - n;
-  constexpr float r2 = 1.41421356237309505f, l1 = 0.693147180559945f, l2 = l1 * l1 / 2, l3 = l2 * l1 / 3,
-                  l4 = l3 * l1 / 4, l5 = l4 * l1 / 5;
+  constexpr float r2 = 1.41421356237309505f, l1 = kLn2, l2 = l1 * l1 / 2, l3 = l2 * l1 / 3, l4 = l3 * l1 / 4,
+                  l5 = l4 * l1 / 5;
   const vf g2 = g * g;
   const vf p = (r2 + g * (r2 * l1)) + g2 * ((r2 * l2 + g * (r2 * l3)) + g2 * (r2 * l4 + g * (r2 * l5)));
-  const vf scale = asFloat(((__builtin_convertvector(n, vi) + 127) << 23) & keep);
-  return p * (scale * factor);  // factor * exp(-x): the product with the factor off the chain
+#ifdef RTD_SIMD_AVX512
+  return _mm512_maskz_scalef_ps(_mm512_cmp_ps_mask(v, splat(cut), _CMP_GE_OQ), p, n);
+#else
+  // The low bits of t hold n + 2^22 (t's exponent is that of kMagic): 2^n's exponent bits.
+  return p * asFloat(((asInt(t) + (127 - int(0x4b400000))) << 23) & keep);
+#endif
 }
 
 // d^e by repeated squaring; kSquarings >= 0: e = 2^kSquarings, unrolled (sigma_n = 128 is
@@ -104,13 +115,25 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const float* pzi = kGlossy ? lv.indirectDistance->data.data() : nullptr;
   const float* pziScale = kGlossy ? lv.indirectDistanceScale->data.data() : nullptr;
   const float* pcentre = lv.centreScale ? lv.centreScale->data.data() : nullptr;
+  // Each tap's starting exponent and cut (exp2Shifted), and its bound on h w_n w_z w_l.
+  float start[32], cut[32], minWeight[32];
+  assert(tapCount == 24 || tapCount == 8);
+  for (int k = 0; k < tapCount; ++k) {
+    start[k] = exp2Start(taps[k].h);
+    cut[k] = exp2Cut(taps[k].h);
+    minWeight[k] = taps[k].h * kMinWeight;
+  }
+  // The normal series' coefficients and the depth denominator in log2 units: the reciprocal
+  // of ln 2 (sigma_z |grad z . o| + eps) is log2(e) / (...).
+  const float cn1 = sigmaN * kLog2e, cn2 = 0.5f * sigmaN * kLog2e, cn3 = sigmaN / 3.0f * kLog2e;
+  const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, epsRelZ2 = epsRelZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
 
   stridedRows(z.height, lv.step, [&](int y) {
     for (int x = 0; x < w; x += kLanes) {
       const size_t c = z.index(x, y);
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
-      const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
-      const vf epsZc = epsZ + epsRelZ * vabs(zc);  // depthEpsilonAt
+      const vf gx = load(pgx + c) * sigmaZ2, gy = load(pgy + c) * sigmaZ2;
+      const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
       const vf lc = load(pl + c);
       vf inv, ziInv, zic;
       {
@@ -122,39 +145,41 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         v = vmax(v, splat(0.0f));
         const vf sd = useVar ? v : vsqrt(v);
         const vf k = pscale ? load(pscale + c) : splat(1.0f);
-        inv = k > 0.0f ? 1.0f / (sigmaL * k * sd + epsL) : splat(0.0f);
+        inv = k > 0.0f ? kLog2e / (sigmaL * k * sd + epsL) : splat(0.0f);
         if constexpr (kGlossy) {
           // Gersthofer Eq. 3.2: (1 - roughness(p)) / (sqrt(g3x3(Var)) + eps), folded into one factor.
-          ziInv = load(pziScale + c) / ((useVar ? vsqrt(v) : sd) + epsL);
+          ziInv = load(pziScale + c) * kLog2e / ((useVar ? vsqrt(v) : sd) + epsL);
           zic = load(pzi + c);
         }
       }
-      const vf fall = kFalloff ? load(pfall + c) : splat(0.0f);
+      const vf fall = kFalloff ? load(pfall + c) * kLog2e : splat(0.0f);
       vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
       if (pcentre) w0 *= load(pcentre + c);  // w_r on every neighbour = 1/w_r on the centre
       vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
       vf sv = kPropagate ? w0 * w0 * load(pv + c) : splat(0.0f);
-      auto tap = [&](const AtrousTap& t, vf depthScale) {
+      // One tap: v = start - log2(e) (x_z + x_l [+ falloff] [+ x_zi] + x_n), then h w = 2^(v + 1/2).
+      auto tap = [&](int k, vf depthScale) {
+        const AtrousTap& t = taps[k];
         const size_t q = c + t.offset;
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-        vf expo = kExpShift + vabs(zc - load(pz + q)) * depthScale;  // fused: expNegShifted
-        expo = expo + vabs(lc - load(pl + q)) * inv;
-        if constexpr (kFalloff) expo += fall * t.k2;
-        if constexpr (kGlossy) expo += vabs(zic - load(pzi + q)) * ziInv;
+        vf v = start[k] - vabs(zc - load(pz + q)) * depthScale;  // fused: exp2Shifted
+        v = v - vabs(lc - load(pl + q)) * inv;
+        if constexpr (kFalloff) v -= fall * t.k2;
+        if constexpr (kGlossy) v -= vabs(zic - load(pzi + q)) * ziInv;
         vf wt;
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
           // series is exact to 1e-5 relative where w_n matters (d > 0.9 for sigma_n = 64) and
           // makes w_n ~ 0 where d <= 0, so it joins the one exp.
-          // Evaluated as expo + sigma_n x + x^2 (sigma_n/2 + sigma_n x/3): three steps deep.
+          // Evaluated as v - c1 x - x^2 (c2 + c3 x), c_i = sigma_n log2(e) / i: three steps deep.
           const vf x = 1.0f - d;
-          expo = (expo + sigmaN * x) + (x * x) * (0.5f * sigmaN + x * (sigmaN / 3.0f));
-          wt = expNegShifted(expo, splat(t.h));
+          v = (v - cn1 * x) - (x * x) * (cn2 + x * cn3);
+          wt = exp2Shifted(v, cut[k]);
         } else {
           // d below 2^(kMinWeightExp2 / e) gives w_n < 2^kMinWeightExp2: 0, so the powers
-          // stay normal; the product with w_z w_l is cut at the same bound.
-          const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * expNegShifted(expo);
-          wt = t.h * (wn >= kMinWeight ? wn : splat(0.0f));
+          // stay normal; the product w_n w_z w_l is cut at the same bound.
+          const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v, cut[k]);
+          wt = wn >= minWeight[k] ? wn : splat(0.0f);
         }
         if constexpr (kMasked) wt *= load(pvalid + q);
         sw += wt;
@@ -165,12 +190,19 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       };
       // Taps come in opposite pairs (q, 2p - q) whose w_z denominators sigma_z |grad z . (p - q)|
       // + eps are equal: one reciprocal serves both (atrousLevel orders the list that way).
-      for (int k = 0, n = tapCount; k < n / 2; ++k) {
-        const AtrousTap& a = taps[k];
-        const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(kMaxDepthDenominator)) + epsZc);
-        tap(a, depthScale);
-        tap(taps[n - 1 - k], depthScale);
-      }
+      // The 3x3 and 5x5 kernels' 8 and 24 taps as compile-time counts: fully unrolled.
+      auto pairs = [&](auto count) {
+        constexpr int n = decltype(count)::value;
+#pragma GCC unroll 12
+        for (int k = 0; k < n / 2; ++k) {
+          const AtrousTap& a = taps[k];
+          const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(maxDen2)) + epsZc2);
+          tap(k, depthScale);
+          tap(n - 1 - k, depthScale);
+        }
+      };
+      if (tapCount == 24) pairs(std::integral_constant<int, 24>{});
+      else pairs(std::integral_constant<int, 8>{});
       vf rcp;
       if constexpr (kMasked) {
         // Any weight that is not 0 is >= 2^-32 (core/flush.h).
@@ -215,6 +247,8 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
   const float *pnx = g.normal[0].data.data(), *pny = g.normal[1].data.data(), *pnz = g.normal[2].data.data();
   const float *pgx = g.gradX.data.data(), *pgy = g.gradY.data.data();
   const float *A = pa.data.data(), *B = pb.data.data();
+  const float cn1 = sigmaN * kLog2e, cn2 = 0.5f * sigmaN * kLog2e, cn3 = sigmaN / 3.0f * kLog2e;
+  const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, epsRelZ2 = epsRelZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
   parallelRows(z.height, [&](int y) {
     const float* n = len.row(y);
     float* out = var.row(y);
@@ -225,31 +259,45 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
       if (!any) continue;  // long histories keep the temporal variance
       const size_t c = z.index(x, y);
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
-      const vf gx = load(pgx + c) * sigmaZ, gy = load(pgy + c) * sigmaZ;
-      const vf epsZc = epsZ + epsRelZ * vabs(zc);  // depthEpsilonAt
+      const vf gx = load(pgx + c) * sigmaZ2, gy = load(pgy + c) * sigmaZ2;
+      const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
       vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
       const vf idc = pid ? load(pid + c) : splat(0.0f);
-      for (int dy = -R; dy <= R; ++dy)
-        for (int dx = -R; dx <= R; ++dx) {
-          if (!dx && !dy) continue;
-          const size_t q = c + ptrdiff_t(dy) * S + dx;
-          const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-          vf expo = kExpShift + vabs(zc - load(pz + q)) *
-                                    vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(kMaxDepthDenominator)) + epsZc);
-          vf wt;
-          if constexpr (kLogNormal) {
-            const vf xx = 1.0f - d;
-            expo = (expo + sigmaN * xx) + (xx * xx) * (0.5f * sigmaN + xx * (sigmaN / 3.0f));
-            wt = expNegShifted(expo);
-          } else {
-            const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * expNegShifted(expo);
-            wt = wn >= kMinWeight ? wn : splat(0.0f);
-          }
-          if (pid) wt = load(pid + q) == idc ? wt : splat(0.0f);  // the mesh-id term
-          sw += wt;
-          s1 += wt * load(A + q);
-          s2 += wt * load(B + q);
+      auto tap = [&](int dx, int dy, vf depthScale) {
+        const size_t q = c + ptrdiff_t(dy) * S + dx;
+        const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
+        vf v = -0.5f - vabs(zc - load(pz + q)) * depthScale;
+        vf wt;
+        if constexpr (kLogNormal) {
+          const vf xx = 1.0f - d;
+          v = (v - cn1 * xx) - (xx * xx) * (cn2 + xx * cn3);
+          wt = exp2Shifted(v);
+        } else {
+          const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v);
+          wt = wn >= kMinWeight ? wn : splat(0.0f);
         }
+        if (pid) wt = load(pid + q) == idc ? wt : splat(0.0f);  // the mesh-id term
+        sw += wt;
+        s1 += wt * load(A + q);
+        s2 += wt * load(B + q);
+      };
+      // Opposite offsets share the depth denominator's reciprocal; the default radius 3 (48
+      // taps) is unrolled at compile time.
+      auto window = [&](auto radius) {
+        constexpr int kR = decltype(radius)::value;
+        const int r = kR > 0 ? kR : R;
+#pragma GCC unroll 7
+        for (int dy = -r; dy <= 0; ++dy)
+#pragma GCC unroll 7
+          for (int dx = -r; dx <= r; ++dx) {
+            if (dy == 0 && dx >= 0) break;
+            const vf depthScale = vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(maxDen2)) + epsZc2);
+            tap(dx, dy, depthScale);
+            tap(-dx, -dy, depthScale);
+          }
+      };
+      if (R == 3) window(std::integral_constant<int, 3>{});
+      else window(std::integral_constant<int, 0>{});
       const vf m1 = s1 / sw, m2 = s2 / sw;
       const vf v = vflush(vmax(m2 - vsquareOrZero(m1), splat(0.0f)));
       for (int k = 0; k < lanes; ++k)

@@ -15,7 +15,9 @@ namespace {
 
 class RaeCpu final : public CpuDenoiser<RaeSettings> {
  public:
-  explicit RaeCpu(tbb::task_arena& arena) : CpuDenoiser(arena), weights_(rae::loadWeights("")) {}
+  explicit RaeCpu(tbb::task_arena& arena) : CpuDenoiser(arena), weights_(rae::loadWeights("")) {
+    network_.setThreads(arena.max_concurrency());  // --threads bounds oneDNN's OpenMP threads too
+  }
   std::vector<Buffer> requiredBuffers() const override {
     std::vector<Buffer> b{Buffer::Color};
     if (weights_.albedo) b.push_back(Buffer::Albedo);

@@ -16,8 +16,16 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "io/small_file.h"
+#include "methods/rae/rae_codec_kernels.h"
 #include "methods/weights_header.h"
 #include "rtd/error.h"
+
+// The OpenMP runtime's API (libgomp, the runtime of Debian's oneDNN), declared here rather than
+// through <omp.h>, which only GCC's -fopenmp include path has.
+extern "C" {
+int omp_get_max_threads(void);
+void omp_set_num_threads(int);
+}
 
 namespace rtd::rae {
 
@@ -161,6 +169,7 @@ struct Network::Impl {
   dnnl::engine engine{dnnl::engine::kind::cpu, 0};
   dnnl::stream stream{engine};
   Weights weights;
+  int threads = 0;            // setThreads()
   int width = 0, height = 0;  // the frame's
   int pw = 0, ph = 0;         // padded to weights.multiple()
 
@@ -309,11 +318,34 @@ struct Network::Impl {
   }
 };
 
+namespace {
+
+/// Bounds the OpenMP threads of the primitives this thread runs by n (and by the bound it had:
+/// OMP_NUM_THREADS still lowers it; OpenMP's nthreads-var is the calling thread's), restoring
+/// the previous bound when it goes out of scope.
+class OpenMpThreads {
+ public:
+  explicit OpenMpThreads(int n) : saved_(omp_get_max_threads()) {
+    if (n > 0) omp_set_num_threads(std::min(n, saved_));
+  }
+  ~OpenMpThreads() { omp_set_num_threads(saved_); }
+  OpenMpThreads(const OpenMpThreads&) = delete;
+  OpenMpThreads& operator=(const OpenMpThreads&) = delete;
+
+ private:
+  int saved_;
+};
+
+}  // namespace
+
 Network::Network() : impl_(std::make_unique<Impl>()) {}
 Network::~Network() = default;
 
+void Network::setThreads(int threads) { impl_->threads = threads; }
+
 void Network::configure(const Weights& weights, int width, int height) {
   Impl& m = *impl_;
+  const OpenMpThreads bound(m.threads);  // the weights' reorders run OpenMP regions too
   m.weights = weights;
   m.width = width;
   m.height = height;
@@ -334,6 +366,7 @@ void Network::forEachState(const std::function<void(const float*, size_t)>& visi
 
 void Network::run(const Plane* color, const Plane* albedo, const Plane* normal, Plane3& out, FrameStats& stats) {
   Impl& m = *impl_;
+  const OpenMpThreads bound(m.threads);
   const Weights& wt = m.weights;
   const int w = m.width, h = m.height, pw = m.pw, L = wt.levels();
   const int nf = wt.featureChannels(), cin = 3 + nf;
@@ -347,6 +380,20 @@ void Network::run(const Plane* color, const Plane* albedo, const Plane* normal, 
     float* f = nf ? static_cast<float*>(m.level[0].f.get_data_handle()) : nullptr;
     parallelRows(m.ph, [&](int py) {
       const int y = std::min(py, h - 1);
+      // Per channel: k and log1p(max(c, 0) / k) of the frame's row y (vectorized), then
+      // interleaved into x and f with the padding columns repeating the last pixel.
+      thread_local std::vector<float> scratch;
+      scratch.resize(size_t(6) * w);
+      float* k = scratch.data();
+      float* logc = k + size_t(3) * w;
+      for (int c = 0; c < 3; ++c) {
+        float* kc = k + size_t(c) * w;
+        if (wt.albedo) {
+          const float* a = albedo[c].row(y);
+          for (int xx = 0; xx < w; ++xx) kc[xx] = std::clamp(a[xx], 0.0f, 1.0f) + eps;
+        }
+        RTD_SIMD(raeLog1pRatio)(color[c].row(y), wt.albedo ? kc : nullptr, logc + size_t(c) * w, w);
+      }
       for (int px = 0; px < pw; ++px) {
         const int xx = std::min(px, w - 1);
         float* xp = x + (size_t(py) * pw + px) * cin;
@@ -356,10 +403,7 @@ void Network::run(const Plane* color, const Plane* albedo, const Plane* normal, 
           for (int c = 0; c < 3; ++c) feat[n++] = std::clamp(albedo[c](xx, y), 0.0f, 1.0f);
         if (wt.normal)
           for (int c = 0; c < 3; ++c) feat[n++] = normal[c](xx, y);
-        for (int c = 0; c < 3; ++c) {
-          const float k = wt.albedo ? std::clamp(albedo[c](xx, y), 0.0f, 1.0f) + eps : 1.0f;
-          xp[c] = std::log1p(std::max(color[c](xx, y), 0.0f) / k);
-        }
+        for (int c = 0; c < 3; ++c) xp[c] = logc[size_t(c) * w + xx];
         std::copy_n(feat, n, xp + 3);
         if (f) std::copy_n(feat, n, f + (size_t(py) * pw + px) * nf);
       }
@@ -381,12 +425,17 @@ void Network::run(const Plane* color, const Plane* albedo, const Plane* normal, 
   PassTimer t(stats, "decode");
   const float* y = static_cast<const float*>(m.level[0].d.get_data_handle());
   parallelRows(h, [&](int py) {
+    thread_local std::vector<float> scratch;
+    scratch.resize(size_t(2) * w);
+    float* yc = scratch.data();
+    float* k = yc + w;
     for (int c = 0; c < 3; ++c) {
-      float* o = out[c].row(py);
-      for (int px = 0; px < w; ++px) {
-        const float k = wt.albedo ? std::clamp(albedo[c](px, py), 0.0f, 1.0f) + eps : 1.0f;
-        o[px] = std::expm1(std::clamp(y[(size_t(py) * pw + px) * 3 + c], 0.0f, kMaxOutput)) * k;
+      for (int px = 0; px < w; ++px) yc[px] = y[(size_t(py) * pw + px) * 3 + c];
+      if (wt.albedo) {
+        const float* a = albedo[c].row(py);
+        for (int px = 0; px < w; ++px) k[px] = std::clamp(a[px], 0.0f, 1.0f) + eps;
       }
+      RTD_SIMD(raeExpm1Scaled)(yc, wt.albedo ? k : nullptr, out[c].row(py), w, kMaxOutput);
     }
   });
 }

@@ -67,6 +67,10 @@ class Network {
   Network(const Network&) = delete;
   Network& operator=(const Network&) = delete;
 
+  /// oneDNN's OpenMP threads while configure() and run() execute: at most `threads` (the
+  /// denoiser's thread count; 0 = OpenMP's own bound, OMP_NUM_THREADS or the cores), and never
+  /// more than OpenMP's own bound. The calling thread's OpenMP setting is restored after.
+  void setThreads(int threads);
   void configure(const Weights& weights, int width, int height);
   /// Clears the hidden states: the next frame is denoised as a first frame.
   void reset();

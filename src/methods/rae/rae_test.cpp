@@ -6,49 +6,23 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "backend/cpu/cpu_denoiser.h"
+#include "methods/rae/rae_codec_kernels.h"
+#include "methods/rae/rae_fixture.h"
 #include "methods/rae/rae_model.h"
 #include "rtd/rtd.h"
+#include "support/cpu_paths.h"
 #include "support/test_frames.h"
 #include "synthetic/synthetic.h"
 
 namespace rtd {
 namespace {
 
-const std::string kFixtures = std::string(RTD_SOURCE_DIR) + "/src/methods/rae/testdata/";
-
-struct RaeFixture {
-  std::vector<Frame> frames;
-  std::vector<Image> expected;  ///< radiance computed by PyTorch in float64, per frame
-  std::string weights;          ///< path of the fixture's weights file
-};
-
-RaeFixture loadFixture(const std::string& inputs) {
-  std::ifstream in(kFixtures + "rae_fixture_" + inputs + ".json");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const auto j = nlohmann::json::parse(ss.str());
-  const int w = j["width"], h = j["height"];
-  RaeFixture f;
-  f.weights = kFixtures + j["weights"].get<std::string>();
-  for (size_t t = 0; t < j["color"].size(); ++t) {
-    Frame frame;
-    frame.width = w;
-    frame.height = h;
-    frame[Buffer::Color] = test::planarImage(j["color"][t], w, h);
-    frame[Buffer::Albedo] = test::planarImage(j["albedo"], w, h);
-    frame[Buffer::Normal] = test::planarImage(j["normal"], w, h);
-    for (int i = 0; i < 16; ++i) frame.camera.worldToCamera[size_t(i)] = j["worldToCamera"][size_t(i)].get<float>();
-    frame.camera.valid = true;
-    f.frames.push_back(frame);
-    f.expected.push_back(test::planarImage(j["expected"][t], w, h));
-  }
-  return f;
-}
+using test::loadRaeFixture;
+using test::RaeFixture;
 
 Image denoise(Denoiser& d, const Frame& f) {
   Image out(f.width, f.height, 3);
@@ -66,7 +40,7 @@ double maxAbsDifference(const Image& a, const Image& b) {
 // max |a - e| / (1 + |e|) < 1e-4 (the float32 rounding of ~100-term sums, compounded).
 TEST(Rae, CpuMatchesPyTorchOverThreeFrames) {
   for (const char* inputs : {"color_albedo_normal", "color"}) {
-    const RaeFixture f = loadFixture(inputs);
+    const RaeFixture f = loadRaeFixture(inputs);
     auto device = Device::create();
     auto d = device->createDenoiser("rae");
     d->set("weights", f.weights);
@@ -79,7 +53,7 @@ TEST(Rae, CpuMatchesPyTorchOverThreeFrames) {
 // inputs (fixture frames 1 and 2 are the same), in PyTorch and in the library; reset(), a
 // camera cut and recurrent = false each give the first-frame output again.
 TEST(Rae, HiddenStateChangesTheOutputAndResetClearsIt) {
-  const RaeFixture f = loadFixture("color_albedo_normal");
+  const RaeFixture f = loadRaeFixture("color_albedo_normal");
   EXPECT_GT(maxAbsDifference(f.expected[1], f.expected[2]), 1e-3) << "the fixture's frames 1 and 2 agree in PyTorch";
   auto device = Device::create();
   auto d = device->createDenoiser("rae");
@@ -144,6 +118,58 @@ TEST(Rae, BadInputReachesNeitherOutputNorHiddenState) {
     for (size_t i = 0; i < count; ++i) ASSERT_TRUE(std::isfinite(data[i])) << "hidden state value " << i;
   });
   EXPECT_GT(hidden, 0u);
+}
+
+// The encode/decode colour transform (rae_codec_simd.cpp: polynomial log1p and expm1 on
+// vectors) against double precision on every CPU path: within 2 ulp (relative to the result;
+// 0.85 and 0.97 measured)
+// of log1p(max(c, 0) / k) (of the float quotient) and of expm1(clamp(y, 0, 12)) k, over values
+// from 1e-30 to 1e30 (log1p) and -1 to 13 (expm1), 1003 of them (a tail after the vectors).
+TEST(Rae, ColourTransformMatchesDoublePrecisionOnEveryCpuPath) {
+  const int n = 1003;
+  std::vector<float> c(n), k(n), y(n), out(n);
+  for (int i = 0; i < n; ++i) {
+    c[size_t(i)] = i % 7 == 0 ? (i % 2 ? 0.0f : -1.0f) : std::pow(10.0f, -30.0f + 60.0f * float(i) / n);
+    k[size_t(i)] = 0.01f + float(i % 101) / 100.0f;
+    y[size_t(i)] = -1.0f + 14.0f * float(i) / n;
+  }
+  const double ulp = std::ldexp(1.0, -23);
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath scoped(path);
+    for (bool withK : {true, false}) {
+      RTD_SIMD(raeLog1pRatio)(c.data(), withK ? k.data() : nullptr, out.data(), n);
+      for (int i = 0; i < n; ++i) {
+        const float q = std::max(c[size_t(i)], 0.0f) / (withK ? k[size_t(i)] : 1.0f);
+        const double e = std::log1p(double(q));
+        ASSERT_LE(std::abs(out[size_t(i)] - e), 2 * ulp * e) << cpuPathName(path) << ": log1p(" << q << ")";
+      }
+      RTD_SIMD(raeExpm1Scaled)(y.data(), withK ? k.data() : nullptr, out.data(), n, 12.0f);
+      for (int i = 0; i < n; ++i) {
+        const double e = std::expm1(std::clamp(double(y[size_t(i)]), 0.0, 12.0)) * (withK ? k[size_t(i)] : 1.0);
+        ASSERT_LE(std::abs(out[size_t(i)] - e), 2 * ulp * e) << cpuPathName(path) << ": expm1(" << y[size_t(i)] << ")";
+      }
+    }
+  }
+}
+
+// --threads bounds oneDNN's OpenMP threads (Debian's oneDNN runs on libgomp, not on the
+// denoiser's oneTBB arena): a one-thread device starts no thread of its own, OpenMP's included.
+// (ctest runs each test in a process of its own, where a second OpenMP thread would show; in a
+// process whose earlier tests already started OpenMP's pool the count cannot grow either.)
+TEST(Rae, OneThreadDeviceStartsNoOpenMpThread) {
+  auto threads = [] {
+    size_t n = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator("/proc/self/task")) ++n;
+    return n;
+  };
+  if (!std::filesystem::exists("/proc/self/task")) GTEST_SKIP() << "no /proc/self/task";
+  const size_t before = threads();
+  auto d = Device::create({.threads = 1})->createDenoiser("rae");
+  synthetic::Scene scene;
+  scene.width = 64;
+  scene.height = 48;
+  for (int t = 0; t < 2; ++t) denoise(*d, synthetic::makeFrame(scene, t));
+  EXPECT_LE(threads(), before);
 }
 
 // A missing required buffer is named; the built-in weights' architecture is the documented one.

@@ -3,6 +3,7 @@
 // accumulate colour and luminance moments, estimate the variance, filter with the a-trous
 // wavelet (feeding one level back as colour history); then sum the streams, remodulate and
 // apply TAA. docs/methods/svgf.md has the details.
+#include <algorithm>
 #include <cmath>
 
 #include "backend/cpu/cpu_denoiser.h"
@@ -215,6 +216,11 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
         float* o = sum_[c].row(y);
         const float* m = times ? (*times)[c].row(y) : nullptr;
         const float* a = divide ? (*divide)[c].row(y) : nullptr;
+        if (!m && !a) {  // the common case, as loops that vectorize
+          if (first) std::copy(in, in + w, o);
+          else for (int x = 0; x < w; ++x) o[x] += in[x];
+          continue;
+        }
         for (int x = 0; x < w; ++x) {
           float v = in[x];
           if (m) v *= demodulationFactor(m[x]);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <type_traits>
 #include <vector>
 
 #include "core/parallel.h"
@@ -17,30 +18,44 @@ size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const Va
   const bool spatial = p.shortHistory == SvgfShortHistory::spatialEstimate && p.shortHistoryFrames > 0;
   // Colour, its luminance and the temporal variance everywhere; the window inputs (current
   // luminance and its square, or the accumulated moments) for the spatial estimate.
-  parallelRows(h, [&](int y) {
-    size_t count = 0;
-    const float* len = in.historyLength->row(y);
-    const float *m1 = in.moment1->row(y), *m2 = in.moment2->row(y);
-    const float *r = acc[0].row(y), *gg = acc[1].row(y), *b = acc[2].row(y);
-    for (int c = 0; c < 3; ++c) std::copy(acc[c].row(y), acc[c].row(y) + w, out.color[c].row(y));
-    float *lum = out.lum.row(y), *var = out.var.row(y);
-    float *sa = scratch[0].row(y), *sb = scratch[1].row(y);
-    const Plane3* cur = in.current;
-    for (int x = 0; x < w; ++x) {
-      lum[x] = flushTiny(momentLuminance(p.luminance, r[x], gg[x], b[x]));
-      var[x] = flushTiny(std::max(0.0f, m2[x] - squareOrZero(m1[x])));
-      count += len[x] < float(p.shortHistoryFrames);
-      if (!spatial) continue;
+  // One instantiation per luminance, each loop free of branches, so that they vectorize.
+  auto rows = [&](auto luminanceConstant) {
+    constexpr MomentLuminance L = decltype(luminanceConstant)::value;
+    const float shortFrames = float(p.shortHistoryFrames);
+    parallelRows(h, [&](int y) {
+      size_t count = 0;
+      const float* len = in.historyLength->row(y);
+      const float *m1 = in.moment1->row(y), *m2 = in.moment2->row(y);
+      const float *r = acc[0].row(y), *gg = acc[1].row(y), *b = acc[2].row(y);
+      for (int c = 0; c < 3; ++c) std::copy(acc[c].row(y), acc[c].row(y) + w, out.color[c].row(y));
+      float *lum = out.lum.row(y), *var = out.var.row(y);
+      for (int x = 0; x < w; ++x) {
+        lum[x] = flushTiny(momentLuminance(L, r[x], gg[x], b[x]));
+        var[x] = flushTiny(std::max(0.0f, m2[x] - squareOrZero(m1[x])));
+        count += len[x] < shortFrames;
+      }
+      spatialCount += count;
+      if (!spatial) return;
+      float *sa = scratch[0].row(y), *sb = scratch[1].row(y);
       if (p.fromMoments) {
-        sa[x] = m1[x];
-        sb[x] = m2[x];
-      } else {
-        sa[x] = flushTiny(momentLuminance(p.luminance, (*cur)[0].row(y)[x], (*cur)[1].row(y)[x], (*cur)[2].row(y)[x]));
+        std::copy(m1, m1 + w, sa);
+        std::copy(m2, m2 + w, sb);
+        return;
+      }
+      const float *cr = (*in.current)[0].row(y), *cg = (*in.current)[1].row(y), *cb = (*in.current)[2].row(y);
+      for (int x = 0; x < w; ++x) {
+        sa[x] = flushTiny(momentLuminance(L, cr[x], cg[x], cb[x]));
         sb[x] = squareOrZero(sa[x]);
       }
-    }
-    spatialCount += count;
-  });
+    });
+  };
+  switch (p.luminance) {
+    case MomentLuminance::Rec601: rows(std::integral_constant<MomentLuminance, MomentLuminance::Rec601>{}); break;
+    case MomentLuminance::CieLightness:
+      rows(std::integral_constant<MomentLuminance, MomentLuminance::CieLightness>{});
+      break;
+    default: rows(std::integral_constant<MomentLuminance, MomentLuminance::Rec709>{});
+  }
   const size_t count = spatialCount.load();
   if (!spatial || count == 0) return 0;
   // Short history: depth/normal-weighted window estimate (Schied Sec. 4.2; Voorhuis Sec. 6

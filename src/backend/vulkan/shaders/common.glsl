@@ -37,3 +37,8 @@ float fxaaLuma(vec3 c) {
   const float y = max(0.0, luminance(c));
   return sqrt(y / (1.0 + y));
 }
+
+// log(1 + x) for x >= 0 and e^x - 1 for x >= 0 (the learned methods' colour transform, std::log1p and
+// std::expm1 on the CPU): below 0.01 by their series, where log(1.0 + x) and exp(x) - 1.0 would lose digits.
+float log1pNonNegative(float x) { return x < 0.01 ? x * (1.0 - x * (0.5 - x * (1.0 / 3.0))) : log(1.0 + x); }
+float expm1NonNegative(float x) { return x < 0.01 ? x * (1.0 + x * (0.5 + x * (1.0 / 6.0))) : exp(x) - 1.0; }

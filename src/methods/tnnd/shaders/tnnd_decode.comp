@@ -14,8 +14,6 @@ void main() {
   if (outside(p, pc.width, pc.height)) return;
   const uint plane = pc.width * pc.height, i = p.y * pc.width + p.x;
   for (uint c = 0; c < 3u; ++c) {
-    const float s = max(state[c * plane + i], 0.0);
-    // e^s - 1; below 0.01 by its series, where exp(s) - 1.0 would lose digits.
-    outp[c * plane + i] = s < 0.01 ? s * (1.0 + s * (0.5 + s * (1.0 / 6.0))) : exp(s) - 1.0;
+    outp[c * plane + i] = expm1NonNegative(max(state[c * plane + i], 0.0));
   }
 }

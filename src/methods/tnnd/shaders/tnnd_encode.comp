@@ -18,9 +18,7 @@ void main() {
   const uint plane = pc.width * pc.height, i = p.y * pc.width + p.x;
   const vec3 n = vec3(normal[i], normal[plane + i], normal[2u * plane + i]);
   for (uint c = 0; c < 3u; ++c) {
-    // log(1 + x); below 0.01 by its series, where log(1.0 + x) would lose digits.
-    const float x = max(color[c * plane + i], 0.0);
-    state[c * plane + i] = x < 0.01 ? x * (1.0 - x * (0.5 - x * (1.0 / 3.0))) : log(1.0 + x);
+    state[c * plane + i] = log1pNonNegative(max(color[c * plane + i], 0.0));
     precise float v = pc.r[c * 3u] * n.x + pc.r[c * 3u + 1u] * n.y + pc.r[c * 3u + 2u] * n.z;
     state[(3u + c) * plane + i] = v;
     state[(6u + c) * plane + i] = albedo[c * plane + i];
