@@ -17,13 +17,14 @@ namespace {
 
 // h exp(-x) as 2^(v + 1/2) for v <= -1/2: the one exponential shared by the depth, normal and
 // luminance weights and the kernel weight h. The callers accumulate v = -1/2 + log2 h -
-// log2(e) (x_z + x_n + x_l) with fused multiply-adds onto exp2Start(h), the exponents'
-// coefficients scaled by log2(e) once per pixel or per tap pair, so no product is ever rounded
-// on its own and none can underflow, however small (with FMA; core/flush.h). With v = n + g,
-// n = round(v), |g| <= 1/2: 2^(v + 1/2) = 2^n sqrt(2) e^(g ln 2), the last two by their
-// degree-5 Taylor polynomial in Estrin's form (relative error <= 5e-6). As |v| >= 1/2, g is 0
-// or at least 2^-25 in magnitude, so the polynomial's powers of g do not underflow either.
-// Where v is below `cut` the result is exactly 0 (v = -inf and NaN too). n comes from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n; on AVX-512 a
+// log2(e) (x_z + x_n + x_l) with fused multiply-adds (vfnmadd, core/simd.h) onto exp2Start(h),
+// the exponents' coefficients scaled by log2(e) once per pixel or per tap pair, so no product is
+// ever rounded on its own and none can underflow, however small (on the FMA paths;
+// core/flush.h). With v = n + g, n = round(v), |g| <= 1/2: 2^(v + 1/2) = 2^n sqrt(2) e^(g ln 2),
+// the last two by their degree-5 Taylor polynomial in Estrin's form (relative error <= 5e-6).
+// As |v| >= 1/2, g is 0 or at least 2^-25 in magnitude, so the polynomial's powers of g do not
+// underflow either. Where v is below `cut` the result is exactly 0 (v = -inf and NaN too). n
+// comes from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n; on AVX-512 a
 // zero-masked vscalefps applies 2^n and the cut in one instruction. The pass is bound by the FP
 // ports' throughput (about 35 vector operations per tap), so every operation counts.
 constexpr float kLog2e = 1.44269504088896341f, kLn2 = 0.693147180559945f;
@@ -162,10 +163,10 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         const AtrousTap& t = taps[k];
         const size_t q = c + t.offset;
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-        vf v = start[k] - vabs(zc - load(pz + q)) * depthScale;  // fused: exp2Shifted
-        v = v - vabs(lc - load(pl + q)) * inv;
-        if constexpr (kFalloff) v -= fall * t.k2;
-        if constexpr (kGlossy) v -= vabs(zic - load(pzi + q)) * ziInv;
+        vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(start[k]));  // fused: exp2Shifted
+        v = vfnmadd(vabs(lc - load(pl + q)), inv, v);
+        if constexpr (kFalloff) v = vfnmadd(fall, splat(t.k2), v);
+        if constexpr (kGlossy) v = vfnmadd(vabs(zic - load(pzi + q)), ziInv, v);
         vf wt;
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
@@ -266,7 +267,7 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
       auto tap = [&](int dx, int dy, vf depthScale) {
         const size_t q = c + ptrdiff_t(dy) * S + dx;
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-        vf v = -0.5f - vabs(zc - load(pz + q)) * depthScale;
+        vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(-0.5f));
         vf wt;
         if constexpr (kLogNormal) {
           const vf xx = 1.0f - d;
