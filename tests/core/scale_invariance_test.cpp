@@ -2,7 +2,11 @@
 // scene with its geometry and camera scaled by 10 and by 0.1 (world positions, view depths and
 // the camera's translation multiplied, motion in pixels unchanged) gives the same history
 // decisions as at unit scale for svgf's and bmfr's reprojection defaults, and the same output for
-// accumulate and bmfr. The absolute form of the position test (BMFR code: 0.04 world units) does
+// accumulate and bmfr (bmfr's per-block feature normalization is scale-free once a position
+// channel that is constant to rounding, a wall's z = -4 +- 1 ulp, is judged against the
+// position's magnitude: judged alone, its square was a column of rounding noise whose pattern
+// changed with the scale and the compiler's FMA contraction, 1.4 % of the peak with
+// RTD_NATIVE=ON). The absolute form of the position test (BMFR code: 0.04 world units) does
 // not, which shows the comparison can tell. Not covered (not scale-free yet, see
 // docs/methods/accumulate.md): svgf's a-trous depth weight (depthEpsilon and the cap on its
 // denominator are in depth units), and history from the cameras without motion vectors, where
