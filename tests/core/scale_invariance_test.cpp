@@ -101,7 +101,9 @@ TEST(ScaleInvariance, OutputsDoNotDependOnTheSceneScale) {
       for (float v : img.pixels) peak = std::max(peak, double(v));
     for (float s : {10.0f, 0.1f}) {
       const auto other = denoiseSequence(cpu, method, {}, sc, 5, scaled(s));
-      EXPECT_LE(maxDifference(unit, other), 1e-3 * peak) << method << " at scale " << s;
+      // Float rounding of the scaled inputs only: bmfr measured <= 1.3e-6 of the peak at both
+      // scales with RTD_NATIVE=ON and OFF (0.023, 1.4 %, before the constant-feature fix, native).
+      EXPECT_LE(maxDifference(unit, other), 1e-5 * peak) << method << " at scale " << s;
     }
   }
 }
