@@ -14,7 +14,7 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-/usr/lib/llvm-14/bin/llvm-symbolizer}
 
 status=0
-for t in native_sequence blender_sequence sequence_json settings; do
+for t in native_sequence blender_sequence per_buffer sequence_json settings; do
   dir=$work/$t
   mkdir -p "$dir/corpus" "$dir/seeds"
   # Seeds: fuzz/corpus/<target>, the regression fixtures tests/fixtures/fuzz/<target>, and the

@@ -48,7 +48,11 @@ typedef enum RTDError {
   RTD_ERROR_OUT_OF_MEMORY = 4,
   /** Not available in this build or on this machine: no Vulkan device (or none matching the
    *  "vulkanDevice" parameter), a method without an implementation on the device's backend. */
-  RTD_ERROR_UNSUPPORTED = 5
+  RTD_ERROR_UNSUPPORTED = 5,
+  /** Not a value. The *_MAX_ENUM entries make each enum 32 bits wide in C and C++ alike, so any
+   *  int a C caller passes is a valid object of the type and is refused by a range check (a
+   *  value outside a narrower enum's range would be undefined behaviour in C++). */
+  RTD_ERROR_MAX_ENUM = 0x7fffffff
 } RTDError;
 
 /** Called for every error of a device (and of its denoisers), on the thread of the failing call,
@@ -68,7 +72,7 @@ int rtdGetMethodCount(void);
 const char* rtdGetMethodName(int index);
 const char* rtdGetMethodSummary(int index);
 
-typedef enum RTDBackend { RTD_BACKEND_CPU = 0, RTD_BACKEND_VULKAN = 1 } RTDBackend;
+typedef enum RTDBackend { RTD_BACKEND_CPU = 0, RTD_BACKEND_VULKAN = 1, RTD_BACKEND_MAX_ENUM = 0x7fffffff } RTDBackend;
 
 /** Devices this machine can run on: the CPU first, then each Vulkan device. The strings stay
  *  valid until the next rtdGetPhysicalDeviceCount call. */
@@ -141,7 +145,8 @@ typedef enum RTDFormat {
   RTD_FORMAT_HALF = 6,
   RTD_FORMAT_HALF2 = 7,
   RTD_FORMAT_HALF3 = 8,
-  RTD_FORMAT_HALF4 = 9
+  RTD_FORMAT_HALF4 = 9,
+  RTD_FORMAT_MAX_ENUM = 0x7fffffff /* not a value (see RTD_ERROR_MAX_ENUM) */
 } RTDFormat;
 
 /** Pixels owned by the application: pixel (x, y), channel c, at

@@ -135,6 +135,20 @@ inline vf vround(vf x) {
   return (x + 12582912.0f) - 12582912.0f;  // 1.5 * 2^23
 #endif
 }
+/// c - a * b rounded once where the path has FMA (AVX2, AVX-512), whatever the compiler's
+/// contraction rules: code whose small products must not underflow on their own (the weight
+/// exponents of passes/atrous_simd.cpp) says so with this instead of relying on
+/// -ffp-contract=fast, which clang applies only within a basic block (an instrumented or -O1
+/// build splits them). SSE2 has no FMA: c - a * b.
+inline vf vfnmadd(vf a, vf b, vf c) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_fnmadd_ps(a, b, c);
+#elif defined(RTD_SIMD_AVX2)
+  return _mm256_fnmadd_ps(a, b, c);
+#else
+  return c - a * b;
+#endif
+}
 /// Magnitudes below kTiny to 0 (core/flush.h), for every stored value.
 inline vf vflush(vf x) { return keepIf(vabs(x) >= kTiny, x); }
 /// x * x, or 0 where |x| < sqrt(kTiny) (core/flush.h).

@@ -88,10 +88,10 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
 }
 
 void spatialVariance(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,
-                     float shortHistory, int radius, float sigmaDepth, float depthEpsilon, int normalExponent,
-                     PaddedPlane& var, const PaddedPlane* objectId) {
+                     float shortHistory, int radius, float sigmaDepth, float depthEpsilon, float depthEpsilonRelative,
+                     int normalExponent, PaddedPlane& var, const PaddedPlane* objectId) {
   RTD_SIMD(spatialVarianceRows)(g, a, b, len, shortHistory, std::min(radius, a.pad), sigmaDepth, depthEpsilon,
-                                std::max(1, normalExponent), var, objectId);
+                                depthEpsilonRelative, std::max(1, normalExponent), var, objectId);
 }
 
 void gaussian3x3(const PaddedPlane& in, PaddedPlane& out) {

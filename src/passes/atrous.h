@@ -45,9 +45,13 @@ struct PaddedPlane {
 // subnormal), as the vectorized filter's weights are.
 
 /// w_z = exp(-|z(p) - z(q)| / (sigma_z |grad z(p) . (p - q)| + eps)).
+/// eps = depthEpsilon + depthEpsilonRelative |z(p)| (depthEpsilonAt): the relative part makes
+/// w_z independent of the scene's units (issue 12), the absolute one is the original form.
 inline float depthWeight(float zp, float zq, float gradDotOffset, float sigmaDepth, float eps) {
   return weightExp(std::abs(zp - zq) / (std::min(sigmaDepth * std::abs(gradDotOffset), kMaxDepthDenominator) + eps));
 }
+/// eps of w_z at a pixel of depth z.
+inline float depthEpsilonAt(float z, float absolute, float relative) { return absolute + relative * std::abs(z); }
 /// w_n = max(0, n(p) . n(q))^sigma_n.
 inline float normalWeight(float cosine, int exponent) {
   if (!(cosine > 0.0f)) return 0.0f;
@@ -102,7 +106,10 @@ struct AtrousLevel {
   AtrousKernel kernel = AtrousKernel::B3Spline5x5;
   int step = 1;                ///< tap spacing 2^i
   float sigmaDepth = 1.0f;
+  /// eps of w_z at p: depthEpsilon + depthEpsilonRelative |z(p)| (depthEpsilonAt); their sum
+  /// must be > 0 wherever z(p) is a surface.
   float depthEpsilon = 1e-2f;
+  float depthEpsilonRelative = 0.0f;
   int normalExponent = 128;    ///< >= 1
   /// Luminance weight bandwidth at the centre pixel p: sigma_l * k(p) * s(p) + eps, with
   /// s = sqrt(V) (Schied) or V (varianceScale, Dundr), V = g3x3(var) if prefilterVariance
@@ -163,13 +170,13 @@ void atrousLevel(const AtrousGuide& guide, const AtrousLevel& level, const Atrou
 
 /// Spatial variance estimate (Schied Sec. 4.2): for each pixel whose historyLength is below
 /// `shortHistory`, var = E_w[b] - E_w[a]^2 over the (2 radius + 1)^2 window with weights
-/// w_z w_n (offsets in pixels, centre weight 1); a, b are the luminance and its square, or
+/// w_z w_n (offsets in pixels, centre weight 1; w_z's eps as AtrousLevel's); a, b are the luminance and its square, or
 /// the accumulated moments (Voorhuis). Other pixels keep their `var`. radius <= a.pad.
 /// `objectId` (optional): neighbours with another object id weigh 0 (Gersthofer Sec. 3.4.3:
 /// "guided by differences in depth, normal and mesh ID").
 void spatialVariance(const AtrousGuide& guide, const PaddedPlane& a, const PaddedPlane& b, const Plane& historyLength,
-                     float shortHistory, int radius, float sigmaDepth, float depthEpsilon, int normalExponent,
-                     PaddedPlane& var, const PaddedPlane* objectId = nullptr);
+                     float shortHistory, int radius, float sigmaDepth, float depthEpsilon, float depthEpsilonRelative,
+                     int normalExponent, PaddedPlane& var, const PaddedPlane* objectId = nullptr);
 
 /// 3x3 Gaussian (binomial 1/16, 1/8, 1/4) of a plane, clamped to edge (SVGF's g3x3, run once
 /// in Dundr's variant). Inside atrousLevel the same kernel reads the zero border instead.

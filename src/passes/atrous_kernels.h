@@ -22,6 +22,6 @@ void atrousRows(const AtrousGuide& guide, const AtrousLevel& level, const Atrous
                 const AtrousTap* taps, int tapCount, float h0);
 /// spatialVariance's rows, radius R <= a.pad, normal exponent e >= 1.
 void spatialVarianceRows(const AtrousGuide& guide, const PaddedPlane& a, const PaddedPlane& b, const Plane& length,
-                         float shortHistory, int R, float sigmaDepth, float depthEpsilon, int e, PaddedPlane& var,
-                         const PaddedPlane* objectId);
+                         float shortHistory, int R, float sigmaDepth, float depthEpsilon, float depthEpsilonRelative, int e,
+                         PaddedPlane& var, const PaddedPlane* objectId);
 )

@@ -17,13 +17,14 @@ namespace {
 
 // h exp(-x) as 2^(v + 1/2) for v <= -1/2: the one exponential shared by the depth, normal and
 // luminance weights and the kernel weight h. The callers accumulate v = -1/2 + log2 h -
-// log2(e) (x_z + x_n + x_l) with fused multiply-adds onto exp2Start(h), the exponents'
-// coefficients scaled by log2(e) once per pixel or per tap pair, so no product is ever rounded
-// on its own and none can underflow, however small (with FMA; core/flush.h). With v = n + g,
-// n = round(v), |g| <= 1/2: 2^(v + 1/2) = 2^n sqrt(2) e^(g ln 2), the last two by their
-// degree-5 Taylor polynomial in Estrin's form (relative error <= 5e-6). As |v| >= 1/2, g is 0
-// or at least 2^-25 in magnitude, so the polynomial's powers of g do not underflow either.
-// Where v is below `cut` the result is exactly 0 (v = -inf and NaN too). n comes from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n; on AVX-512 a
+// log2(e) (x_z + x_n + x_l) with fused multiply-adds (vfnmadd, core/simd.h) onto exp2Start(h),
+// the exponents' coefficients scaled by log2(e) once per pixel or per tap pair, so no product is
+// ever rounded on its own and none can underflow, however small (on the FMA paths;
+// core/flush.h). With v = n + g, n = round(v), |g| <= 1/2: 2^(v + 1/2) = 2^n sqrt(2) e^(g ln 2),
+// the last two by their degree-5 Taylor polynomial in Estrin's form (relative error <= 5e-6).
+// As |v| >= 1/2, g is 0 or at least 2^-25 in magnitude, so the polynomial's powers of g do not
+// underflow either. Where v is below `cut` the result is exactly 0 (v = -inf and NaN too). n
+// comes from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n; on AVX-512 a
 // zero-masked vscalefps applies 2^n and the cut in one instruction. The pass is bound by the FP
 // ports' throughput (about 35 vector operations per tap), so every operation counts.
 constexpr float kLog2e = 1.44269504088896341f, kLn2 = 0.693147180559945f;
@@ -93,7 +94,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
                 const AtrousTap* taps, int tapCount, float h0) {
   const PaddedPlane& z = g.depth;
   const int w = z.width;
-  const float sigmaZ = lv.sigmaDepth, epsZ = lv.depthEpsilon;
+  const float sigmaZ = lv.sigmaDepth, epsZ = lv.depthEpsilon, epsRelZ = lv.depthEpsilonRelative;
   const int e = std::max(1, lv.normalExponent);
   const float sigmaN = float(e);
   const float minCosine = std::exp2(float(kMinWeightExp2) / float(e)), kMinWeight = std::exp2(float(kMinWeightExp2));
@@ -126,13 +127,14 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   // The normal series' coefficients and the depth denominator in log2 units: the reciprocal
   // of ln 2 (sigma_z |grad z . o| + eps) is log2(e) / (...).
   const float cn1 = sigmaN * kLog2e, cn2 = 0.5f * sigmaN * kLog2e, cn3 = sigmaN / 3.0f * kLog2e;
-  const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
+  const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, epsRelZ2 = epsRelZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
 
   stridedRows(z.height, lv.step, [&](int y) {
     for (int x = 0; x < w; x += kLanes) {
       const size_t c = z.index(x, y);
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ2, gy = load(pgy + c) * sigmaZ2;
+      const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
       const vf lc = load(pl + c);
       vf inv, ziInv, zic;
       {
@@ -161,10 +163,10 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         const AtrousTap& t = taps[k];
         const size_t q = c + t.offset;
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-        vf v = start[k] - vabs(zc - load(pz + q)) * depthScale;  // fused: exp2Shifted
-        v = v - vabs(lc - load(pl + q)) * inv;
-        if constexpr (kFalloff) v -= fall * t.k2;
-        if constexpr (kGlossy) v -= vabs(zic - load(pzi + q)) * ziInv;
+        vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(start[k]));  // fused: exp2Shifted
+        v = vfnmadd(vabs(lc - load(pl + q)), inv, v);
+        if constexpr (kFalloff) v = vfnmadd(fall, splat(t.k2), v);
+        if constexpr (kGlossy) v = vfnmadd(vabs(zic - load(pzi + q)), ziInv, v);
         vf wt;
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
@@ -195,7 +197,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
 #pragma GCC unroll 12
         for (int k = 0; k < n / 2; ++k) {
           const AtrousTap& a = taps[k];
-          const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(maxDen2)) + epsZ2);
+          const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(maxDen2)) + epsZc2);
           tap(k, depthScale);
           tap(n - 1 - k, depthScale);
         }
@@ -234,7 +236,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
 
 template <bool kLogNormal>
 void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const PaddedPlane& pb, const Plane& len,
-                         float shortHistory, int R, float sigmaZ, float epsZ, int e, PaddedPlane& var,
+                         float shortHistory, int R, float sigmaZ, float epsZ, float epsRelZ, int e, PaddedPlane& var,
                          const PaddedPlane* objectId) {
   const float* pid = objectId ? objectId->data.data() : nullptr;
   const PaddedPlane& z = g.depth;
@@ -247,7 +249,7 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
   const float *pgx = g.gradX.data.data(), *pgy = g.gradY.data.data();
   const float *A = pa.data.data(), *B = pb.data.data();
   const float cn1 = sigmaN * kLog2e, cn2 = 0.5f * sigmaN * kLog2e, cn3 = sigmaN / 3.0f * kLog2e;
-  const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
+  const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, epsRelZ2 = epsRelZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
   parallelRows(z.height, [&](int y) {
     const float* n = len.row(y);
     float* out = var.row(y);
@@ -259,12 +261,13 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
       const size_t c = z.index(x, y);
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ2, gy = load(pgy + c) * sigmaZ2;
+      const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
       vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
       const vf idc = pid ? load(pid + c) : splat(0.0f);
       auto tap = [&](int dx, int dy, vf depthScale) {
         const size_t q = c + ptrdiff_t(dy) * S + dx;
         const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-        vf v = -0.5f - vabs(zc - load(pz + q)) * depthScale;
+        vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(-0.5f));
         vf wt;
         if constexpr (kLogNormal) {
           const vf xx = 1.0f - d;
@@ -289,7 +292,7 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
 #pragma GCC unroll 7
           for (int dx = -r; dx <= r; ++dx) {
             if (dy == 0 && dx >= 0) break;
-            const vf depthScale = vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(maxDen2)) + epsZ2);
+            const vf depthScale = vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(maxDen2)) + epsZc2);
             tap(dx, dy, depthScale);
             tap(-dx, -dy, depthScale);
           }
@@ -333,10 +336,12 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
 }
 
 void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,
-                         float shortHistory, int R, float sigmaDepth, float depthEpsilon, int e, PaddedPlane& var,
-                         const PaddedPlane* objectId) {
-  if (e >= 16) spatialVarianceRowsT<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var, objectId);
-  else spatialVarianceRowsT<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, e, var, objectId);
+                         float shortHistory, int R, float sigmaDepth, float depthEpsilon, float depthEpsilonRelative, int e,
+                         PaddedPlane& var, const PaddedPlane* objectId) {
+  if (e >= 16)
+    spatialVarianceRowsT<true>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, depthEpsilonRelative, e, var, objectId);
+  else
+    spatialVarianceRowsT<false>(g, a, b, len, shortHistory, R, sigmaDepth, depthEpsilon, depthEpsilonRelative, e, var, objectId);
 }
 
 }  // namespace rtd::RTD_SIMD_NS

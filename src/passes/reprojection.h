@@ -106,13 +106,46 @@ template <class Valid> bool setBilinear(Reprojection& out, size_t i, float px, f
   return true;
 }
 
+/// A camera's world-to-clip transform of directions (points at infinity, w = 0): the 4x3
+/// matrix (projection x worldToCamera)[:, 0:3], row-major.
+inline std::array<float, 12> directionToClip(const Camera& c) {
+  std::array<float, 12> a{};
+  for (int r = 0; r < 4; ++r)
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j) a[size_t(r) * 3 + k] += c.projection[size_t(r) * 4 + j] * c.worldToCamera[size_t(j) * 4 + k];
+  return a;
+}
+
+/// Previous position (pixels) of the point at infinity seen through current pixel position
+/// (sx, sy): the sky of a pixel without geometry, whose world position means nothing. The
+/// direction d solves (A_x - ndc_x A_w) . d = (A_y - ndc_y A_w) . d = 0 with A_w . d > 0 (A =
+/// directionToClip of the current camera): the cross product of the two rows. False where the
+/// camera has no such direction (orthographic) or the previous camera looks away from it.
+inline bool reprojectDirection(const std::array<float, 12>& cur, const std::array<float, 12>& prev, float sx, float sy,
+                               int w, int h, float& px, float& py) {
+  const float nx = 2.0f * sx / float(w) - 1.0f, ny = 1.0f - 2.0f * sy / float(h);
+  float r0[3], r1[3];
+  for (int k = 0; k < 3; ++k) r0[k] = cur[k] - nx * cur[9 + k], r1[k] = cur[3 + k] - ny * cur[9 + k];
+  float d[3] = {r0[1] * r1[2] - r0[2] * r1[1], r0[2] * r1[0] - r0[0] * r1[2], r0[0] * r1[1] - r0[1] * r1[0]};
+  const float cw = cur[9] * d[0] + cur[10] * d[1] + cur[11] * d[2];
+  if (!(std::abs(cw) > 0.0f)) return false;
+  if (cw < 0.0f) for (float& v : d) v = -v;
+  float c[4];
+  for (int r = 0; r < 4; ++r) c[r] = prev[size_t(r) * 3] * d[0] + prev[size_t(r) * 3 + 1] * d[1] + prev[size_t(r) * 3 + 2] * d[2];
+  if (!(c[3] > 0.0f)) return false;
+  px = (c[0] / c[3] * 0.5f + 0.5f) * float(w);
+  py = (0.5f - c[1] / c[3] * 0.5f) * float(h);
+  return true;
+}
+
 /// The 3x3 fallback kernel of Higginson Eq. 1.4 (a Gaussian with sigma ~ 1.04 px), row-major.
 extern const float kFallbackKernel3x3[9];
 
 /// Fills `out` for the current frame. With `previous == nullptr` every pixel is None.
 /// The motion of a pixel is Buffer::Motion if the frame has it; otherwise, if both frames have
 /// valid cameras and the current frame has Buffer::Position, the projection of the position
-/// with the previous camera (a static scene); otherwise zero.
+/// with the previous camera (a static scene), or for a pixel without geometry (zero normal)
+/// the projection of its view direction (reprojectDirection: a sky at infinity); otherwise zero.
 void reproject(const FrameData& current, const FrameData* previous, const ReprojectionSettings& s,
                Reprojection& out);
 /// reproject() for rows [rowBegin, rowEnd) only, on the calling thread, so a method can run

@@ -255,6 +255,12 @@ void reprojectRows(const FrameData& cur, const FrameData* previous, const Reproj
   const bool motion = cur.has(Buffer::Motion);
   const bool fromCamera = !motion && cur.camera.valid && prev.camera.valid && cur.has(Buffer::Position);
   const TapTest test(cur, prev, s);
+  // Pixels without geometry (zero normal, as TapTest::Pixel::background) see the sky.
+  const float* normal[3] = {};
+  if (fromCamera && cur.has(Buffer::Normal))
+    for (int c = 0; c < 3; ++c) normal[c] = cur.plane(Buffer::Normal, c).ptr();
+  std::array<float, 12> curDirections{}, prevDirections{};
+  if (normal[0]) curDirections = directionToClip(cur.camera), prevDirections = directionToClip(prev.camera);
   const float* motionX = motion ? cur.plane(Buffer::Motion, 0).ptr() : nullptr;
   const float* motionY = motion ? cur.plane(Buffer::Motion, 1).ptr() : nullptr;
 
@@ -294,8 +300,11 @@ void reprojectRows(const FrameData& cur, const FrameData* previous, const Reproj
     } else {
       for (int x = 0; x < w; ++x) {
         float px = x + 0.5f, py = y + 0.5f;
-        if (fromCamera) {
-          const size_t i = row + x;
+        const size_t i = row + x;
+        const bool sky = normal[0] && normal[0][i] * normal[0][i] + normal[1][i] * normal[1][i] + normal[2][i] * normal[2][i] < 0.25f;
+        if (sky) {
+          if (!reprojectDirection(curDirections, prevDirections, px, py, w, h, px, py)) px = py = -1e6f;
+        } else if (fromCamera) {
           float v[4], c[4];
           transformPoint(prev.camera.worldToCamera, cur.plane(Buffer::Position, 0).data[i],
                          cur.plane(Buffer::Position, 1).data[i], cur.plane(Buffer::Position, 2).data[i], v);

@@ -49,6 +49,44 @@ TEST(Reprojection, KnownCameraTranslationGivesAnalyticPreviousPositions) {
     if (withMotion[Buffer::ObjectId].pixels[i] != 0) { ASSERT_NEAR(rm.prevX.data[i], rp.prevX.data[i], 2e-3); }
 }
 
+// Without motion vectors, a pixel without geometry (the sky) reprojects its view direction: a
+// camera turning by d about +y (the synthetic scene's yaw) sees direction v = (sx, sy, -1) of
+// the current camera at (cos d v.x + sin d v.z, v.y, -sin d v.x + cos d v.z) in the previous
+// camera's space, whatever the sky pixels' world positions hold (0 here).
+TEST(Reprojection, SkyWithoutMotionVectorsFollowsTheCameraRotation) {
+  synthetic::Scene scene;
+  scene.width = 96;
+  scene.height = 54;
+  scene.cameraSpeed = 0.03f;
+  scene.cameraYawSpeed = 0.02f;
+  Frame prev = synthetic::makeFrame(scene, 3), cur = synthetic::makeFrame(scene, 4);
+  cur[Buffer::Motion] = Image();
+  prev[Buffer::Motion] = Image();
+  // The scene fills the view: its top 10 rows become sky (no normal, position 0).
+  constexpr int kSkyRows = 10;
+  for (Frame* f : {&prev, &cur})
+    for (int y = 0; y < kSkyRows; ++y)
+      for (int x = 0; x < scene.width; ++x)
+        for (int k = 0; k < 3; ++k) (*f)[Buffer::Normal].at(x, y, k) = (*f)[Buffer::Position].at(x, y, k) = 0.0f;
+  const FrameData p = test::toFrameData(prev), c = test::toFrameData(cur);
+  Reprojection rp;
+  reproject(c, &p, ReprojectionSettings{}, rp);
+  const double t = std::tan(scene.verticalFov / 2.0), aspect = double(scene.width) / scene.height;
+  const double d = scene.cameraYawSpeed;
+  int checked = 0;
+  for (int y = 0; y < scene.height; ++y)
+    for (int x = 0; x < scene.width; ++x) {
+      if (y >= kSkyRows) continue;  // geometry
+      const double vx = (2.0 * (x + 0.5) / scene.width - 1.0) * t * aspect, vy = (1.0 - 2.0 * (y + 0.5) / scene.height) * t;
+      const double qx = std::cos(d) * vx - std::sin(d), qz = -std::sin(d) * vx - std::cos(d);
+      const double ex = (qx / -qz / (t * aspect) * 0.5 + 0.5) * scene.width, ey = (0.5 - vy / -qz / t * 0.5) * scene.height;
+      EXPECT_NEAR(rp.prevX(x, y), ex, 2e-3) << x << "," << y;
+      EXPECT_NEAR(rp.prevY(x, y), ey, 2e-3) << x << "," << y;
+      ++checked;
+    }
+  EXPECT_EQ(checked, scene.width * kSkyRows);
+}
+
 TEST(Reprojection, StaticCameraMapsEveryPixelToItselfWithFullWeight) {
   const Frame f = test::flatFrame(13, 7, 0.5f);
   const FrameData d = test::toFrameData(f);

@@ -211,7 +211,7 @@ TEST(Subnormal, AtrousLevelsOnExtremeInputs) {
     Plane len(im.w, im.h, 1.0f);
     for (int exponent : {128, 8}) {
       SubnormalProbe probe;
-      spatialVariance(im.guide, im.in.lum, im.in.color[0], len, 4.0f, 3, 1.0f, 1e-2f, exponent, im.out.var);
+      spatialVariance(im.guide, im.in.lum, im.in.color[0], len, 4.0f, 3, 1.0f, 1e-2f, 0.0f, exponent, im.out.var);
       gaussian3x3(im.out.var, im.out.lum);
       if (probeApplies(path)) {
         EXPECT_FALSE(probe.raised()) << cpuPathName(path) << " " << exponent;

@@ -46,7 +46,9 @@ TEST(ApiErrors, MisuseOfEveryMethodOnBothBackendsRaisesOnlyRtdErrors) {
     for (const MethodInfo& m : listMethods()) {
       if (!(backend == Backend::Cpu ? m.cpu : m.vulkan)) continue;
       const std::string where = std::string(backendName(backend)) + " " + m.name;
-      for (auto [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {2, 3}, {1, 70}, {70, 1}, {33, 65}}) {
+      for (const auto& size : std::vector<std::pair<int, int>>{{1, 1}, {2, 3}, {1, 70}, {70, 1}, {33, 65}}) {
+        // Named copies, not a structured binding: clang 14 (the asan build) cannot capture those.
+        const int w = size.first, h = size.second;
         synthetic::Scene scene;
         scene.width = w;
         scene.height = h;

@@ -173,7 +173,8 @@ TEST(SequenceValidation, GapsAndMarkedCutsResetHistory) {
   // Without the cut (the frame's inputs with cameraCut cleared) history is used.
   auto noCut = device->createDenoiser("svgf");
   for (int i = 0; i < 4; ++i) {
-    FrameInputs in = seq->read(i).inputs();
+    const Frame frame = seq->read(i);  // the views of `in` point into it
+    FrameInputs in = frame.inputs();
     in.cameraCut = false;
     noCut->denoise(in, out.view());
   }

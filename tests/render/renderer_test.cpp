@@ -22,8 +22,9 @@ namespace fs = std::filesystem;
 bool sameFrames(const Frame& a, const Frame& b, std::string& which) {
   for (int i = 0; i < kBufferCount; ++i) {
     const Image &x = a.buffers[i], &y = b.buffers[i];
+    // Bitwise (NaN payloads and -0 included); memcmp of an empty buffer's null data is undefined.
     if (x.pixels.size() != y.pixels.size() ||
-        std::memcmp(x.pixels.data(), y.pixels.data(), x.pixels.size() * sizeof(float)) != 0) {
+        (!x.pixels.empty() && std::memcmp(x.pixels.data(), y.pixels.data(), x.pixels.size() * sizeof(float)) != 0)) {
       which = std::string(bufferName(Buffer(i)));
       return false;
     }

@@ -69,6 +69,7 @@ TEST(VulkanSvgfPasses, VarianceMatchesCpu) {
     p.radius = cs.radius;
     p.fromMoments = cs.fromMoments;
     if (cs.disable) p.shortHistory = SvgfShortHistory::disableLuminanceWeight;
+    if (cs.fromMoments) svgf::setDepthEpsilon(p, 0.0f, 2.5e-3f);  // the scale-free eps (svgf's default)
     AtrousImage cpuOut;
     cpuOut.resize(w, h, 8);
     PaddedPlane scratch[2];
@@ -89,8 +90,9 @@ TEST(VulkanSvgfPasses, VarianceMatchesCpu) {
       float sigmaDepth, depthEpsilon;
       int32_t normalExponent;
       uint32_t luminanceMode, flags;
+      float depthEpsilonRelative;
     } pc{uint32_t(w), uint32_t(h), 4.0f, cs.radius, p.sigmaDepth, p.depthEpsilon, p.normalExponent, 0,
-         (cs.disable ? 4u : 1u) | (cs.fromMoments ? 2u : 0u) | (cs.bandwidth ? 8u : 0u)};
+         (cs.disable ? 4u : 1u) | (cs.fromMoments ? 2u : 0u) | (cs.bandwidth ? 8u : 0u), p.depthEpsilonRelative};
     vk::DescriptorCache cache(ctx);
     ctx.runOnce([&](VkCommandBuffer cmd) {
       vk::Recorder rec(ctx, cache, cmd, VK_NULL_HANDLE, 0);

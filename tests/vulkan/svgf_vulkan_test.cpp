@@ -68,6 +68,7 @@ TEST(VulkanSvgf, MatchesCpuWithSeparatedEmission) {
 TEST(VulkanSvgf, MatchesCpuDundr) {
   RTD_REQUIRE_VULKAN();
   runBoth({"variant=dundr"}, false, 5, "dundr");
+  runBoth({"variant=dundr", "components=diffuse"}, true, 4, "dundr, diffuse filtered, specular unfiltered");
 }
 TEST(VulkanSvgf, MatchesCpuGersthofer) {
   RTD_REQUIRE_VULKAN();

@@ -66,8 +66,9 @@ struct AsvgfSettings {
   float sigmaNormal = 128.0f;
   /// sigma_l of w_l (Eq. 2.10; thesis: not given; Schied 2017: 4).
   float sigmaLuminance = 4.0f;
-  /// eps of w_d, depth units (as svgf).
-  float depthEpsilon = 1e-2f;
+  /// eps of w_d = depthEpsilon + depthEpsilonRelative z(p) (as svgf).
+  float depthEpsilon = 0.0f;
+  float depthEpsilonRelative = 2.5e-3f;
   /// eps of w_l (as svgf).
   float luminanceEpsilon = 1e-10f;
   /// Thesis Sec. 1.2.1 / Fig. 3.6: the filter's normal is the normal of the reflected hit where
@@ -98,7 +99,9 @@ struct AsvgfSettings {
     v("sigmaDepth", sigmaDepth, "sigma_z of the depth weight (Schied 1)", Range{0, 1e9});
     v("sigmaNormal", sigmaNormal, "normal weight exponent (Schied 128)", Range{0, 4096});
     v("sigmaLuminance", sigmaLuminance, "sigma_l of the luminance weight (Schied 4)", Range{0, 1e9});
-    v("depthEpsilon", depthEpsilon, "eps of the depth weight, depth units", Range{1e-9, 1e9});
+    v("depthEpsilon", depthEpsilon, "absolute part of the depth weight's eps, depth units (as svgf)", Range{0, 1e9});
+    v("depthEpsilonRelative", depthEpsilonRelative, "scale-free part of the depth weight's eps, times the pixel's depth (as svgf)",
+      Range{0, 1e9});
     v("luminanceEpsilon", luminanceEpsilon, "eps of the luminance weight", Range{1e-12, 1e9});
     v("reflectedNormals", reflectedNormals, "filter with the reflected hit's normal on mirror pixels (thesis Fig. 3.6)");
     reprojection.visit(v);

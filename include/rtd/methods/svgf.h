@@ -19,7 +19,10 @@ enum class SvgfKernel { b3spline5x5, binomial3x3 };
 /// 3.3): indirect diffuse (Buffer::IndirectDiffuse) and the rest of Color (direct + indirect
 /// specular) are accumulated separately, the indirect diffuse median-filtered and shared
 /// between the eyes, then the two are added and filtered as one stream.
-enum class SvgfComponents { automatic, color, directIndirect, diffuseSpecular, composite };
+/// `diffuse` (a literal reading of Dundr Sec. 4.1): only the diffuse lobe (Buffer::Diffuse) is
+/// filtered, the specular lobe added unfiltered; Color as one stream where the frame lacks the
+/// split. The dundr preset uses `color` (docs/methods/svgf.md, "Dundr's stream").
+enum class SvgfComponents { automatic, color, directIndirect, diffuseSpecular, composite, diffuse };
 /// The last step of the output (Gersthofer Sec. 3.5): none (linear radiance, the library's
 /// contract) or the ACES filmic curve (Narkowicz fit), display-referred [0, 1].
 enum class SvgfToneMap { none, aces };
@@ -94,8 +97,11 @@ struct SvgfSettings {
   float sigmaNormal = 128.0f;
   /// sigma_l of w_l = exp(-|l(p)-l(q)| / (sigma_l sqrt(g3x3(Var)) + eps)) (Schied 4; Dundr 4; Voorhuis 5). [variant]
   float sigmaLuminance = 4.0f;
-  /// eps of w_z, in depth units (not given by Schied; Dundr 0.005 for normalized depth).
-  float depthEpsilon = 1e-2f;
+  /// eps of w_z = depthEpsilon + depthEpsilonRelative z(p) (not given by Schied; Dundr 0.005
+  /// for normalized depth): the relative part keeps w_z independent of the scene's units; the
+  /// absolute part (depth units) is the original form (0.01 with depthEpsilonRelative = 0).
+  float depthEpsilon = 0.0f;
+  float depthEpsilonRelative = 2.5e-3f;
   /// eps of w_l (Falcor-style 1e-10; Dundr "0.01 to 0.1" with the variance scale). [variant]
   float luminanceEpsilon = 1e-10f;
   /// Dundr Sec. 4.4.2: w_z = 1 where |grad z| > maxDepthSlope * z (very steep surfaces); 0 = off.
@@ -244,6 +250,7 @@ struct SvgfSettings {
     switch (v) {
       case SvgfVariant::schied: break;
       case SvgfVariant::dundr:  // Dundr, "Progressive SVGF", Sec. 4
+        components = SvgfComponents::color;      // one stream: colour / albedo, his diffuse extraction
         alphaColor = alphaMoments = 0.1f;        // "values around 0.1"
         momentsTrueAverage = true;               // r = max(a, 1/age) for light and moments
         luminance = SvgfLuminance::rec601;       // 0.299R + 0.587G + 0.114B
@@ -305,8 +312,9 @@ struct SvgfSettings {
       "(Ours), voorhuisBase / voorhuisNoSpecReproj = its baselines, voorhuisRobustness = its Sec. 6 changes only",
       {"schied", "dundr", "gersthofer", "voorhuis", "voorhuisBase", "voorhuisNoSpecReproj", "voorhuisRobustness"});
     v("components", components, "[variant] radiance streams filtered separately and summed; composite (Gersthofer): "
-      "indirectDiffuse and the rest of color accumulated apart, added, filtered as one",
-      {"auto", "color", "directIndirect", "diffuseSpecular", "composite"});
+      "indirectDiffuse and the rest of color accumulated apart, added, filtered as one; diffuse (Dundr): the diffuse "
+      "lobe filtered, the specular one added unfiltered (color where the frame lacks them)",
+      {"auto", "color", "directIndirect", "diffuseSpecular", "composite", "diffuse"});
     v("alphaColor", alphaColor, "[variant] colour blend floor w = max(1/n, alpha) (Schied 0.2, Dundr 0.1)", Range{0.001, 1});
     v("alphaMoments", alphaMoments, "[variant] moments blend (Schied 0.2, Dundr 0.1)", Range{0.001, 1});
     v("momentsTrueAverage", momentsTrueAverage, "[variant] moments averaged exactly for short histories (Voorhuis, Dundr)");
@@ -328,7 +336,9 @@ struct SvgfSettings {
     v("sigmaDepth", sigmaDepth, "sigma_z of the depth weight (Schied 1)", Range{0, 1e9});
     v("sigmaNormal", sigmaNormal, "[variant] normal weight exponent (Schied 128, Dundr/Voorhuis 64)", Range{0, 4096});
     v("sigmaLuminance", sigmaLuminance, "[variant] sigma_l of the luminance weight (Schied 4, Voorhuis 5)", Range{0, 1e9});
-    v("depthEpsilon", depthEpsilon, "eps of the depth weight, depth units", Range{1e-9, 1e9});
+    v("depthEpsilon", depthEpsilon, "absolute part of the depth weight's eps, depth units (before issue 12: 0.01)", Range{0, 1e9});
+    v("depthEpsilonRelative", depthEpsilonRelative,
+      "scale-free part of the depth weight's eps, times the pixel's depth (0.0025: 0.01 at depth 4)", Range{0, 1e9});
     v("luminanceEpsilon", luminanceEpsilon, "[variant] eps of the luminance weight (Dundr 0.05)", Range{1e-12, 1e9});
     v("maxDepthSlope", maxDepthSlope, "depth weight off where |grad z| > maxDepthSlope * z (Dundr); 0 = off", Range{0, 1e9});
     v("luminanceScale", luminanceScale, "[variant] w_l scaled by std deviation (Schied) or variance (Dundr)",

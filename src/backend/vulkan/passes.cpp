@@ -31,7 +31,7 @@ void remodulate(Recorder& rec, const Planes& illumination, const Planes* albedo,
 void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const ReprojectionSettings& s, Planes& rp) {
   enum : uint32_t {
     kPrevious = 1, kDepth = 2, kNormal = 4, kId = 8, kPosition = 16, kMotion = 32, kFromCamera = 64,
-    kDepthGradient = 128, kFallback = 256
+    kDepthGradient = 128, kFallback = 256, kSky = 512
   };
   struct PC {
     uint32_t width, height, flags;
@@ -49,7 +49,10 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
     if (s.testObjectId && both(Buffer::ObjectId)) pc.flags |= kId;
     if ((s.positionTolerance > 0 || s.positionFootprints > 0) && both(Buffer::Position)) pc.flags |= kPosition;
     if (cur.has(Buffer::Motion)) pc.flags |= kMotion;
-    else if (cur.cameraValue.valid && p.cameraValue.valid && cur.has(Buffer::Position)) pc.flags |= kFromCamera;
+    else if (cur.cameraValue.valid && p.cameraValue.valid && cur.has(Buffer::Position)) {
+      pc.flags |= kFromCamera;
+      if (cur.has(Buffer::Normal)) pc.flags |= kSky;  // pixels without geometry: their view direction
+    }
     if (cur.has(Buffer::DepthGradient)) pc.flags |= kDepthGradient;
     if (s.fallback3x3) pc.flags |= kFallback;
   }
@@ -59,7 +62,7 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
                 p.bindingOf(Buffer::Normal, ctx), cur.bindingOf(Buffer::ObjectId, ctx),
                 p.bindingOf(Buffer::ObjectId, ctx), cur.bindingOf(Buffer::Position, ctx),
                 p.bindingOf(Buffer::Position, ctx), cur.bindingOf(Buffer::Motion, ctx),
-                cur.bindingOf(Buffer::DepthGradient, ctx), p.camera, rp},
+                cur.bindingOf(Buffer::DepthGradient, ctx), p.camera, rp, cur.camera},
                pc, cur.width, cur.height);
 }
 
@@ -144,12 +147,13 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
     int32_t normalExponent;
     float sigmaLuminance, luminanceEpsilon;
     uint32_t flags, luminanceMode, validPlane;
+    float depthEpsilonRelative;
   } pc{uint32_t(in.width), uint32_t(in.height), lv.step, lv.radius, lv.sigmaDepth, lv.depthEpsilon,
        std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
            (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u) | (lv.indirectDistance ? 32u : 0u) |
            (lv.centreScale ? 64u : 0u),
-       lv.luminanceMode, uint32_t(lv.validInPlane)};
+       lv.luminanceMode, uint32_t(lv.validInPlane), lv.depthEpsilonRelative};
   const Binding dummy(rec.context().dummy());
   std::vector<Binding> bindings{depth, normal, gradient, in, out, lv.sigmaScale ? Binding(*lv.sigmaScale) : dummy,
                                 lv.spatialFalloff ? Binding(*lv.spatialFalloff) : dummy};

@@ -78,7 +78,7 @@ class GpuTemporalAccumulator {
 struct GpuAtrousLevel {
   int radius = 2;  ///< 2: 5x5 B3 spline; 1: 3x3 binomial
   int step = 1;
-  float sigmaDepth = 1.0f, depthEpsilon = 1e-2f;
+  float sigmaDepth = 1.0f, depthEpsilon = 1e-2f, depthEpsilonRelative = 0.0f;
   int normalExponent = 128;
   float sigmaLuminance = 4.0f, luminanceEpsilon = 1e-10f;
   bool prefilterVariance = true, varianceScale = false, propagateVariance = true;

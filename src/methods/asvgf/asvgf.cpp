@@ -96,8 +96,7 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
     }
     {
       PassTimer t(stats, "gradientAtrous");
-      asvgf::filterGradient(gradient_, s.gradientIterations, p.variance.sigmaDepth, p.variance.depthEpsilon,
-                            p.variance.normalExponent, !samples);
+      asvgf::filterGradient(gradient_, s.gradientIterations, p.variance, !samples);
       if (!samples) asvgf::historyAntilagGradient(gradient_, s.antilagNoiseSigmas, s.antilagScale);
     }
     {

@@ -13,7 +13,7 @@ svgf::FilterParams filterParams(const AsvgfSettings& s) {
   p.variance.shortHistoryFrames = s.shortHistoryFrames;
   p.variance.radius = s.spatialVarianceRadius;
   p.variance.sigmaDepth = s.sigmaDepth;
-  p.variance.depthEpsilon = s.depthEpsilon;
+  svgf::setDepthEpsilon(p.variance, s.depthEpsilon, s.depthEpsilonRelative);
   p.variance.normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
   p.iterations = s.atrousIterations;
   p.feedbackLevel = s.feedbackLevel;
@@ -129,16 +129,16 @@ size_t historyLuminances(const Reprojection& rp, const Plane3& cur, const Plane&
   return found;
 }
 
-void filterGradient(GradientImage& g, int iterations, float sigmaDepth, float depthEpsilon, int normalExponent,
-                    bool propagateVariance) {
+void filterGradient(GradientImage& g, int iterations, const svgf::VarianceParams& v, bool propagateVariance) {
   int cur = 0;
   for (int i = 0; i < iterations; ++i) {
     AtrousLevel lv;
     lv.kernel = AtrousKernel::Binomial3x3;
     lv.step = 1 << i;
-    lv.sigmaDepth = sigmaDepth;
-    lv.depthEpsilon = depthEpsilon;
-    lv.normalExponent = normalExponent;
+    lv.sigmaDepth = v.sigmaDepth;
+    lv.depthEpsilon = v.depthEpsilon;
+    lv.depthEpsilonRelative = v.depthEpsilonRelative;
+    lv.normalExponent = v.normalExponent;
     lv.sigmaScale = &g.noLuminanceWeight;
     lv.prefilterVariance = false;
     lv.propagateVariance = propagateVariance;

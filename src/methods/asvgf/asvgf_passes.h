@@ -99,8 +99,8 @@ inline float antilagGradient(float lc, float lh, float variance, float k, float 
 /// 1, 2, 4, ...; w = w_z w_n on the strata features, no luminance weight; invalid strata weigh
 /// 0 and are filled from valid neighbours; the variance propagated when `propagateVariance`),
 /// then out.result = colour 0 of the last level (G; 0 where nothing valid is within reach).
-void filterGradient(GradientImage& g, int iterations, float sigmaDepth, float depthEpsilon, int normalExponent,
-                    bool propagateVariance = false);
+/// The weights' sigma_z, eps and sigma_n are `v`'s.
+void filterGradient(GradientImage& g, int iterations, const svgf::VarianceParams& v, bool propagateVariance = false);
 
 /// After filterGradient on historyLuminances: g.result = antilagGradient of the filtered level.
 void historyAntilagGradient(GradientImage& g, float noiseSigmas, float scale);

@@ -171,7 +171,7 @@ TEST(AsvgfGradientFilter, LevelIStridesTwoToTheIAndFillsStrataWithoutSamples) {
   // reached exactly the strata within 2^k - 1 of it (per axis), and spread its G there.
   for (int k = 0; k <= 4; ++k) {
     GradientGrid grid(41, 41, k);
-    asvgf::filterGradient(grid.g, k, 1.0f, 1e-2f, 128);
+    asvgf::filterGradient(grid.g, k, svgf::VarianceParams{});
     const int reach = (1 << k) - 1, c = 20;
     for (int y = 0; y < 41; ++y)
       for (int x = 0; x < 41; ++x) {
@@ -188,7 +188,7 @@ TEST(AsvgfGradientFilter, StopsAtADepthEdge) {
   // The right half (strata x >= 11) is a wall far behind.
   for (int y = 0; y < 21; ++y)
     for (int x = 11; x < 21; ++x) grid.g.guide.depth.at(x, y) = 40.0f;
-  asvgf::filterGradient(grid.g, 3, 1.0f, 1e-2f, 128);
+  asvgf::filterGradient(grid.g, 3, svgf::VarianceParams{});
   EXPECT_NEAR(grid.g.result(9, 10), 1.0f, 1e-5);  // same surface, filled
   EXPECT_LT(grid.g.result(12, 10), 1e-6f);        // across the depth edge: nothing arrives
 }

@@ -101,6 +101,7 @@ class AsvgfVulkan final : public vk::VulkanDenoiser<AsvgfSettings> {
       lv.step = 1 << i;
       lv.sigmaDepth = p.variance.sigmaDepth;
       lv.depthEpsilon = p.variance.depthEpsilon;
+      lv.depthEpsilonRelative = p.variance.depthEpsilonRelative;
       lv.normalExponent = p.variance.normalExponent;
       lv.sigmaScale = &noLuminanceWeight_;
       lv.prefilterVariance = false;

@@ -158,8 +158,8 @@ struct GlossyScene {
         double wt = 1.0;
         if (dx || dy) {
           const double g = 0.01 * dx * lv.step;
-          const double wz = std::exp(-std::abs(double(guide.depth.at(x, y)) - guide.depth.at(qx, qy)) /
-                                     (lv.sigmaDepth * std::abs(g) + lv.depthEpsilon));
+          const double zp = guide.depth.at(x, y), eps = lv.depthEpsilon + lv.depthEpsilonRelative * std::abs(zp);
+          const double wz = std::exp(-std::abs(zp - guide.depth.at(qx, qy)) / (lv.sigmaDepth * std::abs(g) + eps));
           const double wl = std::exp(-std::abs(double(in.lum.at(x, y)) - in.lum.at(qx, qy)) /
                                      (lv.sigmaLuminance * sd + lv.luminanceEpsilon));
           const double wzi = std::exp(-std::abs(double(zi.at(x, y)) - zi.at(qx, qy)) * ziScale.at(x, y) /
@@ -255,10 +255,10 @@ TEST(GersthoferVariance, SpatialEstimateIsGuidedByMeshId) {
       b.at(x, y) = l * l;
       ids.at(x, y) = x < 8 ? 1.0f : 2.0f;
     }
-  spatialVariance(g, a, b, length, 4.0f, 1, 1.0f, 1e-2f, 128, var, &ids);
+  spatialVariance(g, a, b, length, 4.0f, 1, 1.0f, 1e-2f, 0.0f, 128, var, &ids);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) EXPECT_NEAR(var.at(x, y), 0.0f, 1e-2f) << x;
-  spatialVariance(g, a, b, length, 4.0f, 1, 1.0f, 1e-2f, 128, var, nullptr);
+  spatialVariance(g, a, b, length, 4.0f, 1, 1.0f, 1e-2f, 0.0f, 128, var, nullptr);
   EXPECT_GT(var.at(7, 4), 100.0f);  // 3 of 9 taps across the border: (50^2) * 2/9 * ... > 0
   EXPECT_NEAR(var.at(3, 4), 0.0f, 1e-2f);
 }

@@ -105,6 +105,12 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     for (int k = 0; k < nStreams; ++k) {
       Stream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
+      if (!st.plan.filtered) {  // components = diffuse: the specular lobe as it comes
+        PassTimer t(stats, "sum" + suffix);
+        const std::vector<Plane>& raw = frame.planes(st.plan.buffer);
+        addStream([&](int c, int y) { return raw[c].row(y); }, k == 0, nullptr, albedo);
+        continue;
+      }
       const svgf::Reflections::StreamInputs in = reflections_.stream(frame, st.plan, reprojection_, guide_, k);
       const AtrousImage& result = filterStream(frame, st, in, suffix, stats);
       if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse) {

@@ -58,7 +58,7 @@ FilterParams filterParams(const SvgfSettings& s, bool indirect) {
   v.radius = s.spatialVarianceRadius;
   v.fromMoments = s.spatialVarianceFromMoments;
   v.sigmaDepth = s.sigmaDepth;
-  v.depthEpsilon = s.depthEpsilon;
+  setDepthEpsilon(v, s.depthEpsilon, s.depthEpsilonRelative);
   v.normalExponent = std::max(1, int(std::lround(s.sigmaNormal)));
   v.luminance = toMomentLuminance(s.luminance);
   p.variancePrefilter = s.variancePrefilter;
@@ -128,6 +128,7 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     lv.step = steps[i];
     lv.sigmaDepth = p.variance.sigmaDepth;
     lv.depthEpsilon = p.variance.depthEpsilon;
+    lv.depthEpsilonRelative = p.variance.depthEpsilonRelative;
     lv.normalExponent = p.variance.normalExponent;
     lv.sigmaLuminance = p.sigmaLuminance;
     lv.luminanceEpsilon = p.luminanceEpsilon;

@@ -34,8 +34,9 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
       float sigmaDepth, depthEpsilon;
       int32_t normalExponent;
       uint32_t luminanceMode, flags;
+      float depthEpsilonRelative;
     } pc{uint32_t(width), uint32_t(height), float(v.shortHistoryFrames), v.radius, v.sigmaDepth, v.depthEpsilon,
-         v.normalExponent, lum, 0};
+         v.normalExponent, lum, 0, v.depthEpsilonRelative};
     if (v.shortHistory == SvgfShortHistory::spatialEstimate && v.shortHistoryFrames > 0) pc.flags |= 1;
     if (v.fromMoments) pc.flags |= 2;
     if (v.shortHistory == SvgfShortHistory::disableLuminanceWeight) pc.flags |= 4;
@@ -61,6 +62,7 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
     lv.step = steps[i];
     lv.sigmaDepth = p.variance.sigmaDepth;
     lv.depthEpsilon = p.variance.depthEpsilon;
+    lv.depthEpsilonRelative = p.variance.depthEpsilonRelative;
     lv.normalExponent = p.variance.normalExponent;
     lv.sigmaLuminance = p.sigmaLuminance;
     lv.luminanceEpsilon = p.luminanceEpsilon;

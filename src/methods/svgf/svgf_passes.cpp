@@ -61,7 +61,7 @@ size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const Va
   // Short history: depth/normal-weighted window estimate (Schied Sec. 4.2; Voorhuis Sec. 6
   // averages the accumulated moments instead of the current luminance).
   spatialVariance(g, scratch[0], scratch[1], *in.historyLength, float(p.shortHistoryFrames), p.radius, p.sigmaDepth,
-                  p.depthEpsilon, p.normalExponent, out.var, in.objectId);
+                  p.depthEpsilon, p.depthEpsilonRelative, p.normalExponent, out.var, in.objectId);
   return count;
 }
 

@@ -28,10 +28,17 @@ struct VarianceParams {
   SvgfShortHistory shortHistory = SvgfShortHistory::spatialEstimate;
   int radius = 3;                 ///< spatial window (2 radius + 1)^2
   bool fromMoments = false;       ///< Voorhuis: window average of accumulated moments
-  float sigmaDepth = 1.0f, depthEpsilon = 1e-2f;
+  float sigmaDepth = 1.0f, depthEpsilon = 1e-2f, depthEpsilonRelative = 0.0f;  ///< AtrousLevel's
   int normalExponent = 128;
   MomentLuminance luminance = MomentLuminance::Rec709;
 };
+
+/// w_z's eps from the settings (svgf, asvgf): depthEpsilon + depthEpsilonRelative |z(p)|, the
+/// absolute part at least 1e-30 so that a pixel of depth 0 is never 0/0.
+inline void setDepthEpsilon(VarianceParams& v, float absolute, float relative) {
+  v.depthEpsilon = std::max(absolute, 1e-30f);
+  v.depthEpsilonRelative = relative;
+}
 
 /// Level-0 input of the filter: out.color = accumulated colour, out.lum its luminance, out.var
 /// = max(0, mu2 - mu1^2) where the history length n >= shortHistoryFrames; where it is shorter
@@ -90,6 +97,9 @@ struct StreamPlan {
   /// The stream's own demodulation colour where the frame has it (Blender's DiffCol /
   /// GlossCol passes: Buffer::DiffuseAlbedo, Buffer::SpecularAlbedo); Albedo otherwise.
   Buffer albedo = Buffer::Albedo;
+  /// false: added to the output as it comes, neither accumulated nor filtered (the specular
+  /// lobe under components = diffuse).
+  bool filtered = true;
 };
 
 /// The streams of a frame under the `components` setting; `has(b)` says whether the frame has
@@ -108,6 +118,14 @@ template <class Has> int planStreams(SvgfComponents c, Has has, StreamPlan out[2
     if (!has(b)) throw Error("svgf: components setting needs buffer '" + std::string(bufferName(b)) + "', absent from the frame");
   };
   switch (c) {
+    case SvgfComponents::diffuse:
+      // A literal reading of Dundr Sec. 4.1: only the diffuse light is filtered; without the
+      // split, the whole colour divided by the albedo is the approximate diffuse component.
+      if (!(has(Buffer::Diffuse) && has(Buffer::Specular))) break;
+      out[0] = {Buffer::Diffuse, "diffuse", true, false, Lobe::diffuse,
+                has(Buffer::DiffuseAlbedo) ? Buffer::DiffuseAlbedo : Buffer::Albedo};
+      out[1] = {Buffer::Specular, "specular", false, false, Lobe::specular, Buffer::Albedo, false};
+      return 2;
     case SvgfComponents::directIndirect:
       need(Buffer::Direct);
       need(Buffer::Indirect);
@@ -124,10 +142,10 @@ template <class Has> int planStreams(SvgfComponents c, Has has, StreamPlan out[2
                 specularAlbedo ? Buffer::SpecularAlbedo : Buffer::Albedo};
       return 2;
     }
-    default:
-      out[0] = {Buffer::Color, "color", true, false};
-      return 1;
+    default: break;
   }
+  out[0] = {Buffer::Color, "color", true, false};
+  return 1;
 }
 
 }  // namespace rtd::svgf

@@ -112,8 +112,8 @@ void referencePixel(const Scene& s, const AtrousLevel& lv, int x, int y, double 
         for (int c = 0; c < 3; ++c) dot += double(s.guide.normal[c].at(x, y)) * s.guide.normal[c].at(qx, qy);
         const double wn = std::pow(std::max(0.0, dot), lv.normalExponent);
         const double g = double(s.guide.gradX.at(x, y)) * dx * lv.step + double(s.guide.gradY.at(x, y)) * dy * lv.step;
-        const double wz = std::exp(-std::abs(double(s.guide.depth.at(x, y)) - s.guide.depth.at(qx, qy)) /
-                                   (lv.sigmaDepth * std::abs(g) + lv.depthEpsilon));
+        const double zp = s.guide.depth.at(x, y), eps = lv.depthEpsilon + lv.depthEpsilonRelative * std::abs(zp);
+        const double wz = std::exp(-std::abs(zp - s.guide.depth.at(qx, qy)) / (lv.sigmaDepth * std::abs(g) + eps));
         const double wl = std::exp(-std::abs(double(s.a.lum.at(x, y)) - s.a.lum.at(qx, qy)) * inv);
         wt = wn * wz * wl;
       }
@@ -155,6 +155,7 @@ TEST(Atrous, MatchesDoublePrecisionReferenceBothKernels) {
       AtrousLevel lv = level(k, step, &s.inv);
       lv.normalExponent = step == 1 ? 64 : 5;  // the unrolled and the generic power
       lv.varianceScale = k == AtrousKernel::Binomial3x3;  // Dundr's variance scale
+      if (step == 4) lv.depthEpsilon = 0.0f, lv.depthEpsilonRelative = 2.5e-3f;  // the scale-free eps
       atrousLevel(s.guide, lv, s.a, s.b);
       for (int y = 0; y < s.h; ++y)
         for (int x = 0; x < s.w; ++x) {
@@ -632,6 +633,64 @@ TEST(SvgfEndToEnd, SplitStreamWithZeroIndirectEqualsColorStream) {
     return n;
   }();
   EXPECT_NE(std::find(names.begin(), names.end(), "atrous1.indirect"), names.end());
+}
+
+// Issue 12 item 4: each preset filters the streams its paper describes, and a components
+// setting given after the preset wins.
+TEST(SvgfSettingsTest, PresetsChooseTheirPapersStreams) {
+  EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::schied).components, SvgfComponents::automatic);  // direct + indirect
+  EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::dundr).components, SvgfComponents::color);  // one stream
+  EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::gersthofer).components, SvgfComponents::composite);  // one stream
+  auto device = Device::create();
+  auto d = device->createDenoiser("svgf");
+  d->set("variant", "dundr");
+  d->set("components", "diffuse");
+  EXPECT_EQ(d->getSettings<SvgfSettings>().components, SvgfComponents::diffuse);
+  d->set("variant", "gersthofer");  // a preset resets it again
+  EXPECT_EQ(d->getSettings<SvgfSettings>().components, SvgfComponents::composite);
+  // components = diffuse: the diffuse lobe filtered, the specular one not; the whole colour
+  // without the split.
+  svgf::StreamPlan plan[2];
+  const auto all = [](Buffer) { return true; };
+  ASSERT_EQ(svgf::planStreams(SvgfComponents::diffuse, all, plan), 2);
+  EXPECT_EQ(plan[0].buffer, Buffer::Diffuse);
+  EXPECT_TRUE(plan[0].filtered);
+  EXPECT_EQ(plan[1].buffer, Buffer::Specular);
+  EXPECT_FALSE(plan[1].filtered);
+  ASSERT_EQ(svgf::planStreams(SvgfComponents::diffuse, [](Buffer b) { return b != Buffer::Specular; }, plan), 1);
+  EXPECT_EQ(plan[0].buffer, Buffer::Color);
+}
+
+// components = diffuse (dundr preset otherwise) on a frame split into diffuse = colour and a
+// specular lobe S: the output is the colour-only output plus S exactly (S is neither
+// accumulated nor filtered; TAA off, which is not additive).
+TEST(SvgfEndToEnd, DiffuseComponentAddsTheSpecularLobeUnfiltered) {
+  auto device = Device::create();
+  const auto scene = smallScene();
+  Image out[2] = {Image(scene.width, scene.height, 3), Image(scene.width, scene.height, 3)};
+  Image specular(scene.width, scene.height, 3);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 2.0f);
+  for (int k = 0; k < 2; ++k) {
+    auto d = device->createDenoiser("svgf");
+    d->set("variant", "dundr");
+    d->set("components", "diffuse");
+    d->set("taa", "false");
+    for (int i = 0; i < 4; ++i) {
+      Frame f = synthetic::makeFrame(scene, i);
+      if (k == 1) {
+        for (float& v : specular.pixels) v = u(rng);  // noisy: filtering would change it
+        f[Buffer::Diffuse] = f[Buffer::Color];
+        f[Buffer::Specular] = specular;
+        for (size_t j = 0; j < specular.pixels.size(); ++j) f[Buffer::Color].pixels[j] += specular.pixels[j];
+      }
+      d->denoise(f.inputs(), out[k].view());
+    }
+  }
+  double worst = 0;
+  for (size_t j = 0; j < specular.pixels.size(); ++j)
+    worst = std::max(worst, std::abs(double(out[1].pixels[j]) - out[0].pixels[j] - specular.pixels[j]));
+  EXPECT_LT(worst, 1e-4);
 }
 
 TEST(SvgfEndToEnd, ProgressiveQuarterSampleRate) {

@@ -96,10 +96,14 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     for (int k = 0; k < nStreams; ++k) {
       GpuStream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
-      const svgf::GpuReflections::StreamInputs in = reflections_.stream(rec, frame, st.plan, reprojection_, primaryGuide, k);
-      const vk::Planes* streamAlbedo = in.albedo;
-      const vk::Planes* result = &filterStream(rec, frame, st, in, suffix);
-      if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse) {
+      const vk::Planes* streamAlbedo = nullptr;
+      const vk::Planes* result = &frame[st.plan.buffer];  // components = diffuse: the specular lobe as it comes
+      if (st.plan.filtered) {
+        const svgf::GpuReflections::StreamInputs in = reflections_.stream(rec, frame, st.plan, reprojection_, primaryGuide, k);
+        streamAlbedo = in.albedo;
+        result = &filterStream(rec, frame, st, in, suffix);
+      }
+      if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse && st.plan.filtered) {
         // The diffuse lobe's median, everywhere (as svgf.cpp).
         rec.pass("median" + suffix);
         struct PC {

@@ -70,6 +70,7 @@ layout(push_constant) uniform PC {
   uint flags;
   uint luminanceMode;
   uint validPlane;  // atrous_masked: plane of binding 7 holding the input validity
+  float depthEpsilonRelative;  // w_z's eps = depthEpsilon + depthEpsilonRelative |z(p)|
 } pc;
 
 float kernel1D(int d) {
@@ -124,6 +125,7 @@ void main() {
   const float zc = depth[c];
   const vec3 n = vec3(normal[c], normal[plane + c], normal[2u * plane + c]);
   const float gx = grad[c] * pc.sigmaDepth, gy = grad[plane + c] * pc.sigmaDepth;
+  const float epsZ = pc.depthEpsilon + pc.depthEpsilonRelative * abs(zc);
   const float lc = img[3u * plane + c];
 
   // w_l bandwidth from the (3x3-Gaussian-prefiltered, Eq. 5) variance at the centre.
@@ -188,7 +190,7 @@ void main() {
         lq = img[3u * plane + q];
       }
       const float wn = normalWeight(dot(n, nq), pc.normalExponent);
-      const float denomZ = abs(gx * float(ox) + gy * float(oy)) + pc.depthEpsilon;
+      const float denomZ = abs(gx * float(ox) + gy * float(oy)) + epsZ;
 #ifdef RTD_GLOSSY
       const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv + fall * float(dx * dx + dy * dy) +
                          (distance ? abs(zic - zi[q]) * ziInv : 0.0);

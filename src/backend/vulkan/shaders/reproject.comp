@@ -19,6 +19,8 @@ layout(std430, binding = 9) readonly buffer DepthGrad { float depthGrad[]; };
 // Previous camera: worldToCamera then projection, row-major (rtd::Camera).
 layout(std430, binding = 10) readonly buffer PrevCamera { float prevCamera[]; };
 layout(std430, binding = 11) writeonly buffer Rp { uint rp[]; };
+// Current camera, same layout (for the view direction of pixels without geometry).
+layout(std430, binding = 12) readonly buffer CurCamera { float curCamera[]; };
 
 #define F_PREVIOUS 1u
 #define F_DEPTH 2u
@@ -29,6 +31,7 @@ layout(std430, binding = 11) writeonly buffer Rp { uint rp[]; };
 #define F_FROM_CAMERA 64u
 #define F_DEPTH_GRADIENT 128u
 #define F_FALLBACK 256u
+#define F_SKY 512u  // with F_FROM_CAMERA: pixels with a zero normal reproject their view direction
 
 layout(push_constant) uniform PC {
   uint width, height, flags;
@@ -123,6 +126,34 @@ vec4 transformPoint(uint m, vec3 p) {
   return r;
 }
 
+// Row r of directionToClip (src/passes/reprojection.h): (projection x worldToCamera)[r, 0:3].
+vec3 curDirectionRow(uint r) {
+  vec3 a = vec3(0.0);
+  for (uint j = 0; j < 3; ++j) a += curCamera[16 + r * 4 + j] * vec3(curCamera[j * 4], curCamera[j * 4 + 1], curCamera[j * 4 + 2]);
+  return a;
+}
+vec3 prevDirectionRow(uint r) {
+  vec3 a = vec3(0.0);
+  for (uint j = 0; j < 3; ++j) a += prevCamera[16 + r * 4 + j] * vec3(prevCamera[j * 4], prevCamera[j * 4 + 1], prevCamera[j * 4 + 2]);
+  return a;
+}
+
+// reprojectDirection (src/passes/reprojection.h): the previous position of the point at
+// infinity seen through (sx, sy).
+bool reprojectDirection(float sx, float sy, out float px, out float py) {
+  const float nx = 2.0 * sx / float(pc.width) - 1.0, ny = 1.0 - 2.0 * sy / float(pc.height);
+  const vec3 aw = curDirectionRow(3u);
+  vec3 d = cross(curDirectionRow(0u) - nx * aw, curDirectionRow(1u) - ny * aw);
+  const float cw = dot(aw, d);
+  if (!(abs(cw) > 0.0)) return false;
+  if (cw < 0.0) d = -d;
+  const vec4 c = vec4(dot(prevDirectionRow(0u), d), dot(prevDirectionRow(1u), d), 0.0, dot(prevDirectionRow(3u), d));
+  if (!(c.w > 0.0)) return false;
+  px = (c.x / c.w * 0.5 + 0.5) * float(pc.width);
+  py = (0.5 - c.y / c.w * 0.5) * float(pc.height);
+  return true;
+}
+
 void store(uint i, uint plane, uint kindMask, int base, vec4 wt, float px, float py) {
   rp[i] = kindMask;
   rp[plane + i] = uint(base);
@@ -145,6 +176,13 @@ void main() {
   if (has(F_MOTION)) {
     px += motion[i];
     py += motion[plane + i];
+  } else if (has(F_SKY) && dot(vec3(curNormal[i], curNormal[plane + i], curNormal[2u * plane + i]),
+                                vec3(curNormal[i], curNormal[plane + i], curNormal[2u * plane + i])) < 0.25) {
+    float sx = px, sy = py;
+    if (!reprojectDirection(sx, sy, px, py)) {
+      px = -1e6;
+      py = -1e6;
+    }
   } else if (has(F_FROM_CAMERA)) {
     const vec3 pos = vec3(curPos[i], curPos[plane + i], curPos[2u * plane + i]);
     const vec4 v = transformPoint(0u, pos);

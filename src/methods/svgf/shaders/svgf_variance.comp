@@ -33,6 +33,7 @@ layout(push_constant) uniform PC {
   int normalExponent;
   uint luminanceMode;
   uint flags;
+  float depthEpsilonRelative;  // w_z's eps = depthEpsilon + depthEpsilonRelative |z(p)|
 } pc;
 
 void main() {
@@ -51,6 +52,7 @@ void main() {
   } else {
     const int x = int(p.x), y = int(p.y);
     const float zc = depth[i], gx = grad[i], gy = grad[plane + i];
+    const float epsZ = pc.depthEpsilon + pc.depthEpsilonRelative * abs(zc);
     const vec3 n = vec3(normal[i], normal[plane + i], normal[2u * plane + i]);
     float sw = 0.0, s1 = 0.0, s2 = 0.0;
     for (int dy = -pc.radius; dy <= pc.radius; ++dy)
@@ -61,7 +63,7 @@ void main() {
         float wt = 1.0;
         if (dx != 0 || dy != 0) {
           const vec3 nq = vec3(normal[q], normal[plane + q], normal[2u * plane + q]);
-          const float wz = exp(-abs(zc - depth[q]) / (pc.sigmaDepth * abs(gx * float(dx) + gy * float(dy)) + pc.depthEpsilon));
+          const float wz = exp(-abs(zc - depth[q]) / (pc.sigmaDepth * abs(gx * float(dx) + gy * float(dy)) + epsZ));
           wt = cutWeight(normalWeight(dot(n, nq), pc.normalExponent) * wz);
           if ((pc.flags & F_OBJECT_ID) != 0u && objectId[q] != objectId[i]) wt = 0.0;
           if (!(wt > 0.0)) continue;
