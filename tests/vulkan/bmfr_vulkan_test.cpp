@@ -133,6 +133,23 @@ TEST(VulkanBmfr, MatchesCpuWithOtherFeatureSets) {
           frames(3, kWidth, kHeight, false), "squares only");
 }
 
+// The wall's z and the floor's y with rounding noise of +-1 ulp and +-1e-7 (as a ray caster's
+// o + t d gives them, whatever the compiler's contraction): both backends judge those channels
+// and their squares constant on the blocks that see only the wall or the floor.
+TEST(VulkanBmfr, MatchesCpuWithRoundingNoiseInConstantPositions) {
+  RTD_REQUIRE_VULKAN();
+  auto seq = frames(3, 100, 70, false);
+  for (Frame& f : seq)
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x) {
+        float* w = f[Buffer::Position].pixel(x, y);
+        const int k = (x * 31 + y * 17) % 3 - 1;  // -1, 0, 1
+        if (std::abs(w[2] + 4.0f) < 1e-5f) w[2] = k ? std::nextafter(-4.0f, float(k) * 8.0f) : -4.0f;
+        if (std::abs(w[1]) < 1e-5f) w[1] = 1e-7f * float(k);
+      }
+  runBoth(settingsFrom({}), seq, "rounding noise 100x70");
+}
+
 // Independent of the CPU: a colour that is exactly albedo * (a combination of [1, n, w, w^2])
 // is reproduced by the fit of a first frame without regularization (the flat walls' constant
 // features are rank-deficient: their pivots must be dropped, not divided by).

@@ -39,6 +39,12 @@ template <class Has> void selectFeatures(const BmfrSettings& s, Has&& has, std::
   add(s.featureRoughness, Buffer::Roughness, FeatureKind::Roughness, 1);
 }
 
+/// A feature whose half range over a block is at most this fraction of its magnitude is
+/// constant to rounding and becomes a zero column (CPU normalization() and its GLSL twin in
+/// shaders/bmfr_fit.comp). The magnitude of a channel of n or w is the largest |value| of the
+/// vector's three channels on the block; (w - c)^2 is constant when w is.
+inline constexpr float kConstantFeature = 1e-6f;
+
 /// Buffers BMFR cannot run without: colour, and the normal / position while their features are on.
 inline std::vector<Buffer> requiredBuffers(const BmfrSettings& s) {
   std::vector<Buffer> b{Buffer::Color};

@@ -97,13 +97,18 @@ struct Range {
 
 // The block's normalization of one feature: (f - centre) * scale spans [-1, 1] (Sec. 4.2:
 // "T within every block is scaled to be in range [-1, 1]"). A feature that is constant on
-// the block (to rounding) becomes a zero column, which the regularization noise fills.
-inline void normalization(const Range& range, float& centre, float& scale) {
+// the block to rounding, its half range at most 1e-6 of `magnitude`, becomes a zero column,
+// which the regularization noise fills. `magnitude` is the feature's own largest |f|, or for a
+// channel of n or w the largest |f| of the vector's three channels on the block: a wall's
+// z = -4 +- 1 ulp, or a floor's y = 0 +- rounding, is rounding noise of the position, not a
+// feature (docs/methods/bmfr.md, "Constant features").
+inline void normalization(const Range& range, float magnitude, float& centre, float& scale) {
   const float lo = range.min(), hi = range.max();
   centre = 0.5f * (lo + hi);
   const float half = 0.5f * (hi - lo);
-  scale = half > 1e-6f * std::max({std::abs(lo), std::abs(hi), 1e-30f}) ? 1.0f / half : 0.0f;
+  scale = half > rtd::bmfr::kConstantFeature * std::max(magnitude, 1e-30f) ? 1.0f / half : 0.0f;
 }
+inline float magnitudeOf(const Range& range) { return std::max(std::abs(range.min()), std::abs(range.max())); }
 
 class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
  public:
@@ -401,10 +406,12 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     if (sampled) blockPixels(bx, by, tiling.rows, index);
     int columnX[kMaxBlock];  // the block's pixel columns, mirrored at the image borders
     for (int lx = 0; lx < grid_.size; ++lx) columnX[lx] = rtd::bmfr::mirror(grid_.x0(bx) + lx, grid_.width);
-    // Raw feature columns and their block range. The squares are taken about the block's
-    // position mid-range (same span as w^2 with the constant and w, better conditioned).
+    // Raw feature columns and their block range, all gathered before any is normalized, so
+    // that the channels of n and w are judged against their vector's magnitude. The squares
+    // are taken about the block's position mid-range (same span as w^2 with the constant and
+    // w, better conditioned); w is gathered into the square's column if it is not a feature.
     int positionColumn[3] = {-1, -1, -1};
-    Range positionRange[3];
+    Range ranges[kMaxFeatures], positionRange[3];
     // Gathers raw feature f into column k; its range covers every image pixel of a
     // sub-sampled block too.
     auto gatherFeature = [&](const Feature& f, int k) {
@@ -412,37 +419,51 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, 0.0f, false, range);
       return range;
     };
+    float normalMagnitude = 0.0f, positionMagnitude = 0.0f;
     for (int k = 0; k < m; ++k) {
       const Feature& f = features_[size_t(k)];
       if (f.kind == FeatureKind::Constant) {
         for (int t = 0; t < tiling.tileCount; ++t) std::fill_n(tiling.column(base, t, k), tiling.rowsIn(t), 1.0f);
-        fit.centre[k] = 0.0f;
-        fit.scale[k] = 1.0f;
         continue;
       }
-      Range range;
-      if (f.kind == FeatureKind::PositionSquared) {
-        // The position's range gives the centre; the position column is gathered here if w
-        // itself is not a feature.
-        int from = positionColumn[f.channel];
-        if (from >= 0) {
-          range = positionRange[f.channel];
-        } else {
-          from = k;
-          range = gatherFeature(f, k);
-        }
-        const float pc = 0.5f * (range.min() + range.max());
-        fit.positionCentre[f.channel] = pc;
-        range = squareColumn(base, tiling, from, k, pc);
-        if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, pc, true, range);
-      } else {
-        range = gatherFeature(f, k);
-        if (f.kind == FeatureKind::Position) {
-          positionColumn[f.channel] = k;
-          positionRange[f.channel] = range;
-        }
+      if (f.kind == FeatureKind::PositionSquared && positionColumn[f.channel] >= 0) continue;
+      ranges[k] = gatherFeature(f, k);
+      if (f.kind == FeatureKind::Position || f.kind == FeatureKind::PositionSquared) {
+        positionColumn[f.channel] = k;
+        positionRange[f.channel] = ranges[k];
+        positionMagnitude = std::max(positionMagnitude, magnitudeOf(ranges[k]));
+      } else if (f.kind == FeatureKind::Normal) {
+        normalMagnitude = std::max(normalMagnitude, magnitudeOf(ranges[k]));
       }
-      normalization(range, fit.centre[k], fit.scale[k]);
+    }
+    for (int k = 0; k < m; ++k) {
+      const Feature& f = features_[size_t(k)];
+      switch (f.kind) {
+        case FeatureKind::Constant:
+          fit.centre[k] = 0.0f;
+          fit.scale[k] = 1.0f;
+          break;
+        case FeatureKind::Normal: normalization(ranges[k], normalMagnitude, fit.centre[k], fit.scale[k]); break;
+        case FeatureKind::Position: normalization(ranges[k], positionMagnitude, fit.centre[k], fit.scale[k]); break;
+        case FeatureKind::PositionSquared: {
+          const Range& w = positionRange[f.channel];
+          const float pc = 0.5f * (w.min() + w.max());
+          fit.positionCentre[f.channel] = pc;
+          // A constant w has a constant square: (w - c)^2 of rounding noise spans [0, ulp^2]
+          // and, judged against its own magnitude, would be normalized into a noise column.
+          normalization(w, positionMagnitude, fit.centre[k], fit.scale[k]);
+          if (fit.scale[k] == 0.0f) {
+            fit.centre[k] = 0.0f;
+            for (int t = 0; t < tiling.tileCount; ++t) std::fill_n(tiling.column(base, t, k), tiling.rowsIn(t), 0.0f);
+            break;
+          }
+          Range range = squareColumn(base, tiling, positionColumn[f.channel], k, pc);
+          if (sampled) extendOverBlock(rawPlane(frame, f), bx, by, pc, true, range);
+          normalization(range, magnitudeOf(range), fit.centre[k], fit.scale[k]);
+          break;
+        }
+        default: normalization(ranges[k], magnitudeOf(ranges[k]), fit.centre[k], fit.scale[k]);
+      }
     }
     // Normalize to [-1, 1] and add the regularization noise to T only (Eq. 7); the synthesis
     // uses the noise-free T.

@@ -330,6 +330,39 @@ TEST(Bmfr, FlatWallIsFiniteWithRegularization) {
   }
 }
 
+// A position channel that is constant on a block up to rounding (a wall's z = -4 +- 1 ulp, a
+// floor's y = 0 +- 1e-7 as a ray caster computes them) is not a feature: neither w nor its
+// square (w - c)^2, whose ulp^2 values would otherwise be normalized into a [-1, 1] column of
+// rounding noise that fits the colour noise and changes with the scene's scale (issue 12).
+TEST(Bmfr, RoundingNoiseOfAConstantPositionIsNotAFeature) {
+  const int w = 96, h = 64;
+  Frame exact = flatWallFrame(w, h);
+  for (int y = 0; y < h; ++y)  // noisy colour, for the spurious feature to fit
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) exact[Buffer::Color].at(x, y, c) *= 0.5f + float((x * 7 + y * 13 + c * 5) % 11) / 10.0f;
+  for (float z : {-4.0f, 0.0f}) {
+    Frame a = exact, b = exact;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int k = (x * 31 + y * 17) % 3 - 1;  // -1, 0, 1
+        a[Buffer::Position].at(x, y, 2) = z;
+        b[Buffer::Position].at(x, y, 2) = z == 0.0f ? 1e-7f * float(k) : k ? std::nextafter(z, float(k) * 8.0f) : z;
+      }
+    auto da = makeBmfr(BmfrSettings{}), db = makeBmfr(BmfrSettings{});
+    Image outA(w, h, 3), outB(w, h, 3);
+    double diff = 0, peak = 0;
+    for (int t = 0; t < 3; ++t) {
+      da->denoise(a.inputs(), outA.view());
+      db->denoise(b.inputs(), outB.view());
+      for (size_t i = 0; i < outA.pixels.size(); ++i) {
+        diff = std::max(diff, std::abs(double(outA.pixels[i]) - outB.pixels[i]));
+        peak = std::max(peak, double(outA.pixels[i]));
+      }
+    }
+    EXPECT_LE(diff, 1e-6 * peak) << "z = " << z << " with rounding noise";
+  }
+}
+
 TEST(Bmfr, DeterministicPerFrame) {
   // The regularization noise and block offsets depend only on the frame index since the
   // reset: two denoisers (and one after reset()) give bit-identical sequences.

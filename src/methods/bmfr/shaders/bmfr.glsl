@@ -14,6 +14,9 @@
 #define BMFR_MATERIAL_ID 4u
 #define BMFR_ROUGHNESS 5u
 #define BMFR_MAX_FEATURES 12
+// bmfr::kConstantFeature: a feature whose half range is at most this fraction of its magnitude
+// is constant on the block.
+#define BMFR_CONSTANT_FEATURE 1e-6
 #define BMFR_MAX_COLUMNS 15
 // Floats per block in the fit buffer: alpha[3][12], centre[12], scale[12], positionCentre[3].
 #define BMFR_FIT_STRIDE 64u

@@ -95,12 +95,14 @@ uint pixelOfRow(uint r, int x0, int y0, uint block, bool sampled, uint cellsX, u
   return uint(mirrorIndex(y0 + ly, h)) * pc.width + uint(mirrorIndex(x0 + lx, w));
 }
 
-// The block's normalization of one feature (bmfr.cpp normalization()): (f - centre) * scale
-// spans [-1, 1]; a feature constant on the block (to rounding) becomes a zero column.
-void normalization(float lo, float hi, out float centre, out float scale) {
+// The block's normalization of one feature (bmfr_simd.cpp normalization()): (f - centre) *
+// scale spans [-1, 1]; a feature constant on the block to rounding (half range at most
+// BMFR_CONSTANT_FEATURE of `magnitude`: its own largest |f|, or its vector's for n and w)
+// becomes a zero column.
+void normalization(float lo, float hi, float magnitude, out float centre, out float scale) {
   centre = 0.5 * (lo + hi);
   const float halfRange = 0.5 * (hi - lo);
-  scale = halfRange > 1e-6 * max(max(abs(lo), abs(hi)), 1e-30) ? 1.0 / halfRange : 0.0;
+  scale = halfRange > BMFR_CONSTANT_FEATURE * max(magnitude, 1e-30) ? 1.0 / halfRange : 0.0;
 }
 
 void main() {
@@ -154,14 +156,27 @@ void main() {
   centre[0] = 0.0;
   scale[0] = 1.0;
   bool squares = false;
+  // The channels of n and w are judged against their vector's magnitude on the block (the
+  // squares' raw columns hold w).
+  float normalMagnitude = 0.0, positionMagnitude = 0.0;
+  for (uint k = 1; k < M; ++k) {
+    const float m = max(abs(red[k * HALF]), abs(red[(M + k) * HALF]));
+    const uint kind = featureKind(codes[k]);
+    if (kind == BMFR_NORMAL) normalMagnitude = max(normalMagnitude, m);
+    if (kind == BMFR_POSITION || kind == BMFR_POSITION_SQUARED) positionMagnitude = max(positionMagnitude, m);
+  }
   for (uint k = 1; k < M; ++k) {
     const float lo = red[k * HALF], hi = red[(M + k) * HALF];
-    if (featureKind(codes[k]) == BMFR_POSITION_SQUARED) {
+    const uint kind = featureKind(codes[k]);
+    // A square's scale is first w's: 0 when w is constant, and then the square is too.
+    const float magnitude = kind == BMFR_NORMAL ? normalMagnitude
+                            : kind == BMFR_POSITION || kind == BMFR_POSITION_SQUARED ? positionMagnitude
+                                                                                      : max(abs(lo), abs(hi));
+    normalization(lo, hi, magnitude, centre[k], scale[k]);
+    if (kind == BMFR_POSITION_SQUARED) {
       // Squares about the block's position mid-range: same span as w^2 with 1 and w.
       positionCentre[featureChannel(codes[k])] = 0.5 * (lo + hi);
       squares = true;
-    } else {
-      normalization(lo, hi, centre[k], scale[k]);
     }
   }
   barrier();  // every thread has read the ranges before `red` is reused
@@ -192,7 +207,11 @@ void main() {
       }
     reduce(v, 2u * M, REDUCE_MIN_MAX, M);
     for (uint k = 1; k < M; ++k)
-      if (featureKind(codes[k]) == BMFR_POSITION_SQUARED) normalization(red[k * HALF], red[(M + k) * HALF], centre[k], scale[k]);
+      if (featureKind(codes[k]) == BMFR_POSITION_SQUARED) {
+        const float lo = red[k * HALF], hi = red[(M + k) * HALF];
+        if (scale[k] != 0.0) normalization(lo, hi, max(abs(lo), abs(hi)), centre[k], scale[k]);
+        else centre[k] = 0.0;
+      }
   }
 
   // 3. Normalize to [-1, 1] and add the noise to T only (Eq. 7): uniform on [-eps, eps] per
