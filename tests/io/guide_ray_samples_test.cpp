@@ -126,7 +126,10 @@ TEST(GuideRaySampleFiles, WriterRefusesInconsistentSamples) {
   const fs::path dir = scratch("writer");
   std::mt19937 rng(8);
   SequenceWriter w(dir);
-  auto [f1, s1] = frameWithSamples(1, 2, rng);
+  // Named variables, not structured bindings: clang 14 (the asan build) cannot capture those.
+  auto first = frameWithSamples(1, 2, rng);
+  const Frame& f1 = first.first;
+  GuideRaySamples& s1 = first.second;
   // A radiance buffer of the frame missing in the samples: the mixed colour would not be the
   // sum of the lobes.
   GuideRaySamples noLobe = s1;
@@ -139,7 +142,9 @@ TEST(GuideRaySampleFiles, WriterRefusesInconsistentSamples) {
   fewOffsets.offsets.pop_back();
   EXPECT_TRUE(has(errorOf([&] { w.write(f1, &fewOffsets); }), "offset images"));
   w.write(f1, &s1);
-  auto [f2, s2] = frameWithSamples(2, 3, rng);
+  auto second = frameWithSamples(2, 3, rng);
+  const Frame& f2 = second.first;
+  GuideRaySamples& s2 = second.second;
   const std::string msg = errorOf([&] { w.write(f2, &s2); });
   EXPECT_TRUE(has(msg, "frame 2") && has(msg, "differ from the first frame")) << msg;
   EXPECT_TRUE(has(errorOf([&] { w.write(f2); }), "frame 2"));
