@@ -18,23 +18,11 @@ class RaeCpu final : public CpuDenoiser<RaeSettings> {
   explicit RaeCpu(tbb::task_arena& arena) : CpuDenoiser(arena), weights_(rae::loadWeights("")) {
     network_.setThreads(arena.max_concurrency());  // --threads bounds oneDNN's OpenMP threads too
   }
-  std::vector<Buffer> requiredBuffers() const override {
-    std::vector<Buffer> b{Buffer::Color};
-    if (weights_.albedo) b.push_back(Buffer::Albedo);
-    if (weights_.normal) b.push_back(Buffer::Normal);
-    return b;
-  }
+  std::vector<Buffer> requiredBuffers() const override { return rae::requiredBuffers(weights_); }
 
  protected:
   void settingsChanged() override {
-    if (settings_.weights == loaded_) return;
-    try {
-      weights_ = rae::loadWeights(settings_.weights);
-      loaded_ = settings_.weights;
-    } catch (...) {
-      settings_.weights = loaded_;  // the setting keeps naming the weights in use
-      throw;
-    }
+    if (!rae::reloadWeights(settings_.weights, loaded_, weights_)) return;
     if (width_ > 0) network_.configure(weights_, width_, height_);  // new weights: new network, no state
   }
   void resizeHistory(int w, int h) override {

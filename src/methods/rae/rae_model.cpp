@@ -159,6 +159,25 @@ Weights loadWeights(const std::string& path) {
   return parseWeights(readSmallFile(path, std::uintmax_t(64) << 20, "RAE weights '" + path + "'"), path);
 }
 
+std::vector<Buffer> requiredBuffers(const Weights& w) {
+  std::vector<Buffer> b{Buffer::Color};
+  if (w.albedo) b.push_back(Buffer::Albedo);
+  if (w.normal) b.push_back(Buffer::Normal);
+  return b;
+}
+
+bool reloadWeights(std::string& requested, std::string& loaded, Weights& w) {
+  if (requested == loaded) return false;
+  try {
+    w = loadWeights(requested);
+    loaded = requested;
+  } catch (...) {
+    requested = loaded;
+    throw;
+  }
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------------
 
 using dnnl::memory;

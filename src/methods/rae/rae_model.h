@@ -55,6 +55,13 @@ Weights parseWeights(const std::string& json, const std::string& source);
 /// `path` empty: the built-in weights (src/methods/rae/rae_weights.json, embedded at build
 /// time); otherwise reads and parses the file.
 Weights loadWeights(const std::string& path);
+/// The input buffers a network with these weights reads: colour, then albedo and normal as its
+/// input set has them. The CPU and Vulkan denoisers both answer requiredBuffers() with it.
+std::vector<Buffer> requiredBuffers(const Weights& w);
+/// The "weights" setting applied by a denoiser: loads `requested` into `w` unless `loaded`
+/// already names it and returns true when it did. On an error `requested` goes back to `loaded`
+/// (the setting keeps naming the weights in use) and the error propagates.
+bool reloadWeights(std::string& requested, std::string& loaded, Weights& w);
 /// The JSON text of the built-in weights.
 const std::string& builtinWeightsJson();
 

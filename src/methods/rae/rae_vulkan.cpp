@@ -23,23 +23,11 @@ namespace {
 class RaeVulkan final : public vk::VulkanDenoiser<RaeSettings> {
  public:
   explicit RaeVulkan(vk::Context& ctx) : VulkanDenoiser(ctx), weights_(rae::loadWeights("")) {}
-  std::vector<Buffer> requiredBuffers() const override {
-    std::vector<Buffer> b{Buffer::Color};
-    if (weights_.albedo) b.push_back(Buffer::Albedo);
-    if (weights_.normal) b.push_back(Buffer::Normal);
-    return b;
-  }
+  std::vector<Buffer> requiredBuffers() const override { return rae::requiredBuffers(weights_); }
 
  protected:
   void settingsChanged() override {
-    if (settings_.weights == loaded_) return;
-    try {
-      weights_ = rae::loadWeights(settings_.weights);
-      loaded_ = settings_.weights;
-    } catch (...) {
-      settings_.weights = loaded_;  // the setting keeps naming the weights in use
-      throw;
-    }
+    if (!rae::reloadWeights(settings_.weights, loaded_, weights_)) return;
     // New weights, new network: the next frame reallocates (after the GPU is idle, with the
     // descriptor sets of the old buffers dropped) and starts from a cleared state.
     width_ = height_ = 0;
