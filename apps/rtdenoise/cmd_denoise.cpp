@@ -3,10 +3,12 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <tbb/info.h>
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
 #include "denoise_stereo.h"
+#include "io_pipeline.h"
 #include "rtd/guide_rays.h"
 #include "sanitize_report.h"
 
@@ -20,6 +22,13 @@ namespace {
 /// What `denoise` writes into its output directory (and --overwrite replaces).
 const std::vector<std::string> kDenoiseOutputs = {R"(frame_\d+\.(exr|png))", R"(timings\.json)"};
 
+// OpenEXR's pool (rtd::setExrThreads) gets --threads, the CPU device's oneTBB bound (0 = all
+// cores); with one thread there is no pool and files are decoded on the reading thread itself.
+void setExrThreadsFrom(const DenoiseOptions& o) {
+  const int threads = o.device.threads > 0 ? o.device.threads : tbb::info::default_concurrency();
+  setExrThreads(threads > 1 ? threads : 0);
+}
+
 void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   const auto backend = o.device.single();
   if (!o.preview && (cmd.count("--tonemap") || cmd.count("--exposure")))
@@ -32,6 +41,7 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   }
   previewToneMap.exposure = o.exposure;
   (void)methodInfo(o.method);
+  setExrThreadsFrom(o);
   if (isStereoSequence(o.input)) return runDenoiseStereo(o, previewToneMap);  // render --stereo output: both eyes
   auto reader = SequenceReader::open(o.input, o.sequence);
   const int frames = framesToUse(o.maxFrames, reader->frameCount());
@@ -69,43 +79,63 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   timing["settings"] = settings;
   if (guideSamples) timing["guideRays"] = {{"samplesPerPixel", guideSamples + 1}};
 
+  // Frame i + 1 is read and frame i - 1 written on their own threads while frame i is
+  // denoised (io_pipeline.h), unless --no-pipeline.
+  struct Input {
+    Frame frame;
+    GuideRaySamples samples;
+  };
+  ReadAhead<Input> inputs(frames, o.noPipeline ? 0 : kReadAheadFrames, [&](int i) {
+    Input in{reader->read(i), {}};
+    if (guideSamples) in.samples = reader->readGuideRaySamples(i);
+    return in;
+  });
+  WriteBehind outputs(o.noPipeline ? 0 : kWriteBehindFrames);
   Progress progress("denoise", frames);
   Image output(reader->width(), reader->height(), 3);
-  for (int i = 0; i < frames; ++i) {
-    const Frame frame = reader->read(i);
-    double premixMs = 0, resolveMs = 0;
-    if (guideSamples) {
-      using Clock = std::chrono::steady_clock;
-      const GuideRaySamples samples = reader->readGuideRaySamples(i);
-      GuideRays guideRays;
-      const auto t0 = Clock::now();
-      const Frame mixed = guideRays.premix(frame, samples);
-      premixMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-      denoiser->denoise(mixed.inputs(), output.view());
-      const auto t1 = Clock::now();
-      output = guideRays.resolve(output);
-      resolveMs = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
-    } else {
-      denoiser->denoise(frame.inputs(), output.view());
-    }
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%04d", frame.number);
-    writeRgbExr(out / (std::string(name) + ".exr"), output, o.half ? ExrPixels::Half : ExrPixels::Float);
-    if (o.preview) writeFileAtomic(out / (std::string(name) + ".png"), eval::encodePng(eval::toneMap(output, previewToneMap)));
+  try {
+    for (int i = 0; i < frames; ++i) {
+      const Input in = inputs.next();
+      const Frame& frame = in.frame;
+      double premixMs = 0, resolveMs = 0;
+      if (guideSamples) {
+        using Clock = std::chrono::steady_clock;
+        GuideRays guideRays;
+        const auto t0 = Clock::now();
+        const Frame mixed = guideRays.premix(frame, in.samples);
+        premixMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        denoiser->denoise(mixed.inputs(), output.view());
+        const auto t1 = Clock::now();
+        output = guideRays.resolve(output);
+        resolveMs = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+      } else {
+        denoiser->denoise(frame.inputs(), output.view());
+      }
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04d", frame.number);
+      outputs.submit([&o, &previewToneMap, path = out / name, image = output] {
+        writeRgbExr(path.string() + ".exr", image, o.half ? ExrPixels::Half : ExrPixels::Float);
+        if (o.preview) writeFileAtomic(path.string() + ".png", eval::encodePng(eval::toneMap(image, previewToneMap)));
+      });
 
-    FrameStats st = denoiser->stats();
-    json passes = json::object();
-    for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
-    if (guideSamples) {
-      passes["guideRays.premix"] = premixMs;
-      passes["guideRays.resolve"] = resolveMs;
-      st.totalMilliseconds += premixMs + resolveMs;
+      FrameStats st = denoiser->stats();
+      json passes = json::object();
+      for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
+      if (guideSamples) {
+        passes["guideRays.premix"] = premixMs;
+        passes["guideRays.resolve"] = resolveMs;
+        st.totalMilliseconds += premixMs + resolveMs;
+      }
+      log.add({{"number", frame.number}, {"passes", passes}}, st, frame.cut);
+      char detail[64];
+      std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
+      progress.update(i + 1, detail);
     }
-    log.add({{"number", frame.number}, {"passes", passes}}, st, frame.cut);
-    char detail[64];
-    std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
-    progress.update(i + 1, detail);
+  } catch (...) {
+    outputs.finish();  // a failed write of an earlier frame is the first error
+    throw;
   }
+  outputs.finish();
   progress.finish();
   log.write(out, o.half);
   std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.dir.c_str());
@@ -129,6 +159,9 @@ void addDenoise(CLI::App& app) {
                 "gaps in the frame numbering are not cuts (by default a gap resets history)");
   cmd->add_flag("--no-guide-rays", o->noGuideRays,
                 "ignore a sequence's guide-ray samples (render --guide-rays) and denoise its guide frames alone");
+  cmd->add_flag("--no-pipeline", o->noPipeline,
+                "read, denoise and write each frame in turn on one thread (by default frame N+1 is read and frame "
+                "N-1 written on threads of their own while frame N is denoised; the outputs are the same)");
   cmd->add_flag("--half", o->half, "write half-float EXRs (default 32-bit float)");
   cmd->add_flag("--preview", o->preview, "also write a tone-mapped 8-bit sRGB preview frame_NNNN.png per frame");
   cmd->add_option("--tonemap", o->toneMap, "tone map of the previews: aces, reinhard or clamp")->capture_default_str();
