@@ -78,7 +78,8 @@ constexpr Codec kCodecs[] = {{1, 1.0},  {1, 128.0},  {1, 2048.0}, {16, 2048.0}, 
 // then read from the wrong place (where a mutated file makes it an opaque attribute claiming
 // gigabytes). So the fixed-size types must claim exactly their size, and the variable ones
 // (string vector, preview image) must be consistent with theirs. The list is OpenEXR 3.1's
-// known attribute types (ImfStandardAttributes / Attribute::knownType).
+// known attribute types (ImfStandardAttributes / Attribute::knownType). The channel list, also
+// read by content, is checked by parseChannels.
 struct FixedType {
   const char* name;
   int32_t bytes;
@@ -95,6 +96,8 @@ void checkTypedSize(const std::string& type, int32_t bytes, const std::vector<un
     if (type == t.name && bytes != t.bytes)
       HeaderStream::fail(what + " of type " + type + " claims " + std::to_string(bytes) + " bytes; that type has " +
                          std::to_string(t.bytes));
+  if (type == "idmanifest" && bytes < 4)  // its uncompressed size, then size - 4 bytes of data
+    HeaderStream::fail(what + " of type idmanifest claims " + std::to_string(bytes) + " bytes, fewer than its 4-byte size field");
   if (type == "stringvector") {  // strings of (int length, characters) filling the value exactly
     size_t at = 0;
     while (at < value.size()) {
@@ -142,6 +145,11 @@ void parseChannels(const std::vector<unsigned char>& v, Part& part) {
     if (++count > kMaxChannels)
       HeaderStream::fail("the file declares more than " + std::to_string(kMaxChannels) + " channels");
   }
+  // OpenEXR reads the list up to its terminating null, whatever size it claims: bytes after
+  // it would be read as the next attribute (a fuzz finding, tests/fixtures/fuzz/native_sequence).
+  if (at + 1 != v.size())
+    HeaderStream::fail("the channel list ends at byte " + std::to_string(at + 1) + " of the " + std::to_string(v.size()) +
+                       " it claims");
   if (count == 0) HeaderStream::fail("the file has no channels");
   part.haveChannels = true;
 }

@@ -133,6 +133,13 @@ std::vector<Crafted> craftedFiles() {
        [](std::vector<char>& b) { putInt(b, attributeValue(b, "displayWindow", "box2i") - 4, 20); }},
       {"a float claiming 8 bytes", "of type float claims 8 bytes",
        [](std::vector<char>& b) { insertAttribute(b, "exposure", "float", {0, 0}); }},
+      {"a channel list claiming more bytes than it has", "the channel list ends at byte",
+       [](std::vector<char>& b) {  // 4 more bytes claimed, taken from the next attribute's name
+         const size_t at = attributeValue(b, "channels", "chlist");
+         int32_t size;
+         std::memcpy(&size, &b[at - 4], 4);
+         putInt(b, at - 4, size + 4);
+       }},
       // String vectors and previews are parsed by content: it must fill the claimed size.
       {"a string vector whose string claims 1 MB", "a string of the vector claims 1000000 bytes",
        [](std::vector<char>& b) { insertAttribute(b, "names", "stringvector", {1000000, 0x64636261}); }},
