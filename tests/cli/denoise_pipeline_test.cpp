@@ -1,4 +1,4 @@
-// `rtdenoise denoise` overlaps reading and writing with denoising (apps/rtdenoise/io_pipeline.h;
+// `rtdenoise denoise` (mono and stereo) overlaps reading and writing with denoising (apps/rtdenoise/io_pipeline.h;
 // --no-pipeline turns it off). The overlap must not change anything but the time: the same
 // bytes in every output, history reset at the same cuts and gaps; a frame that cannot be read
 // stops the run with the earlier frames written and none after it; an output that cannot be
@@ -93,6 +93,24 @@ TEST(DenoisePipeline, SameBytesWithAndWithoutThePipeline) {
       }
     }
   }
+  fs::remove_all(dir);
+}
+
+// A stereo input (left/, right/): both eyes go through the same pipeline.
+TEST(DenoisePipeline, StereoSameBytesWithAndWithoutThePipeline) {
+  const fs::path dir = scratch("stereo");
+  std::vector<int> numbers;
+  for (const char* eye : {"left", "right"}) numbers = writeSequence(dir / "in" / eye, 4);
+  std::string err;
+  const std::string args = "denoise -m svgf -i " + (dir / "in").string();
+  ASSERT_EQ(runCli("", args + " -o " + (dir / "on").string(), err), 0) << err;
+  ASSERT_EQ(runCli("", args + " --no-pipeline -o " + (dir / "off").string(), err), 0) << err;
+  for (const char* eye : {"left", "right"})
+    for (int n : numbers) {
+      const fs::path on = dir / "on" / eye / frameFile(n);
+      ASSERT_TRUE(fs::exists(on)) << on;
+      EXPECT_EQ(contents(on), contents(dir / "off" / eye / frameFile(n))) << on;
+    }
   fs::remove_all(dir);
 }
 
