@@ -85,8 +85,12 @@ struct AccumulationOptions {
   const Plane* sampleMask = nullptr;
   /// When set, the colour passed to run() is radiance, demodulated on the fly (divided by
   /// demodulationFactor of these three albedo planes, as demodulate() does) so the demodulated
-  /// image is never stored. Methods that need it stored (SVGF's variance) demodulate first.
+  /// image is never stored unless `current` is set.
   const std::vector<Plane>* albedo = nullptr;
+  /// When set (sized like the frame), the colour each pixel blends (demodulated when `albedo`
+  /// is set) is also stored here, in the same pass, for a later pass that reads the current
+  /// frame (SVGF's variance): the same values demodulate() writes, without a pass of its own.
+  Plane3* current = nullptr;
   /// Per-pixel colour blend floor, replacing `alpha` (Voorhuis Sec. 7: 0.2 on diffuse and 0.1
   /// on specular primary hits); the moments keep `momentsAlpha`.
   const Plane* alphaPlane = nullptr;

@@ -52,6 +52,7 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
   const float maxLength = float(maxHistoryLength);
   const float* mask = options.sampleMask ? options.sampleMask->ptr() : nullptr;
   const Plane* albedo = options.albedo ? options.albedo->data() : nullptr;
+  Plane* current = options.current ? options.current->data() : nullptr;
   const Plane* gradient = options.temporalGradient;
   const int gradientStride = std::max(1, options.temporalGradientStride);
   const float* alphas = options.alphaPlane ? options.alphaPlane->ptr() : nullptr;
@@ -63,6 +64,8 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
     float c[3] = {color[0].data[i], color[1].data[i], color[2].data[i]};
     if (albedo)
       for (int k = 0; k < 3; ++k) c[k] /= demodulationFactor(albedo[k].data[i]);
+    if (current)
+      for (int k = 0; k < 3; ++k) current[k].data[i] = c[k];
     const float l = options.luminance == MomentLuminance::Rec709 ? luminance(c[0], c[1], c[2])
                                                                  : momentLuminance(options.luminance, c[0], c[1], c[2]);
     // The scalar path (borders, disocclusions, the 3x3 fallback): 0 where there is no history.
@@ -182,6 +185,7 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
             const __m256 a = _mm256_loadu_ps(albedo[k].ptr() + i);
             c[k] = _mm256_div_ps(c[k], _mm256_blendv_ps(one, a, _mm256_cmp_ps(a, _mm256_set1_ps(kAlbedoEpsilon), _CMP_GT_OQ)));
           }
+          if (current) _mm256_storeu_ps(current[k].ptr() + i, c[k]);
           __m256 hist = taps8.gather(cPrev[k]);
           if (clipLo)
             hist = _mm256_min_ps(_mm256_max_ps(hist, _mm256_loadu_ps(clipLo[k].ptr() + i)), _mm256_loadu_ps(clipHi[k].ptr() + i));

@@ -196,34 +196,50 @@ TEST(SharedPassPaths, AccumulationWithoutMomentsKeepsColourAndLength) {
 }
 
 // Demodulating on the fly (AccumulationOptions::albedo) gives exactly what demodulate()
-// followed by the accumulation gives, albedo below the epsilon included.
+// followed by the accumulation gives, albedo below the epsilon included, on every CPU path;
+// AccumulationOptions::current then holds exactly demodulate()'s planes (SVGF's variance
+// reads them), with or without a sample mask.
 TEST(SharedPassPaths, OnTheFlyDemodulationEqualsTheDemodulatePass) {
   const int w = kWidth, h = kHeight;
-  Lcg rnd;
-  const TwoFrames frames(rnd);
-  const Reprojection &none = frames.none, &rp = frames.rp;
-  auto planes = [&](float zeroShare) {
-    std::vector<Plane> p(3, Plane(w, h));
-    for (auto& c : p)
-      for (float& v : c.data) v = rnd() < zeroShare ? 0.0f : rnd();
-    return p;
-  };
-  const std::vector<Plane> albedo = planes(0.1f);
-  TemporalAccumulator fused, separate;
-  fused.resize(w, h);
-  separate.resize(w, h);
-  AccumulationOptions opt;
-  opt.albedo = &albedo;
-  for (const Reprojection* r : {&none, &rp}) {
-    const std::vector<Plane> radiance = planes(0.0f);
-    Plane3 demodulated;
-    demodulate(radiance, &albedo, demodulated);
-    fused.run(*r, radiance, 0.2f, 0.2f, 255, opt);
-    separate.run(*r, demodulated, 0.2f, 0.2f, 255);
+  for (const CpuPath path : test::supportedCpuPaths()) {
+    const test::ScopedCpuPath scoped(path);
+    for (const bool masked : {false, true}) {
+      SCOPED_TRACE(std::string(cpuPathName(path)) + (masked ? ", sample mask" : ""));
+      Lcg rnd;
+      const TwoFrames frames(rnd);
+      const Reprojection &none = frames.none, &rp = frames.rp;
+      auto planes = [&](float zeroShare) {
+        std::vector<Plane> p(3, Plane(w, h));
+        for (auto& c : p)
+          for (float& v : c.data) v = rnd() < zeroShare ? 0.0f : rnd();
+        return p;
+      };
+      const std::vector<Plane> albedo = planes(0.1f);
+      Plane mask(w, h);
+      for (float& v : mask.data) v = rnd() < 0.25f ? 1.0f : 0.0f;
+      TemporalAccumulator fused, separate;
+      fused.resize(w, h);
+      separate.resize(w, h);
+      Plane3 current;
+      resize(current, w, h);
+      AccumulationOptions fusedOptions, separateOptions;
+      fusedOptions.albedo = &albedo;
+      fusedOptions.current = &current;
+      if (masked) fusedOptions.sampleMask = separateOptions.sampleMask = &mask;
+      for (const Reprojection* r : {&none, &rp}) {
+        const std::vector<Plane> radiance = planes(0.0f);
+        Plane3 demodulated;
+        demodulate(radiance, &albedo, demodulated);
+        fused.run(*r, radiance, 0.2f, 0.2f, 255, fusedOptions);
+        separate.run(*r, demodulated, 0.2f, 0.2f, 255, separateOptions);
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(current[c].data, demodulated[c].data);
+      }
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(fused.color()[c].data, separate.color()[c].data);
+      EXPECT_EQ(fused.moment1().data, separate.moment1().data);
+      EXPECT_EQ(fused.moment2().data, separate.moment2().data);
+      EXPECT_EQ(fused.historyLength().data, separate.historyLength().data);
+    }
   }
-  for (int c = 0; c < 3; ++c) EXPECT_EQ(fused.color()[c].data, separate.color()[c].data);
-  EXPECT_EQ(fused.moment1().data, separate.moment1().data);
-  EXPECT_EQ(fused.moment2().data, separate.moment2().data);
 }
 
 // Planes of one size must not share their offset within a page (see StaggeredAllocator).

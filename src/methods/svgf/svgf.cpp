@@ -178,22 +178,33 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
                                   const std::string& suffix, FrameStats& stats) {
     const SvgfSettings& s = settings_;
     const svgf::FilterParams p = svgf::filterParams(s, st.plan.indirect);
-    {
-      PassTimer t(stats, "demodulate" + suffix);
-      demodulate(frame.planes(st.plan.buffer), in.albedo, st.demod);
-    }
+    const std::vector<Plane>& radiance = frame.planes(st.plan.buffer);
     AccumulationOptions opt;
-    if (reflections_.parts().clipping) {
-      PassTimer t(stats, "clip" + suffix);  // Voorhuis Sec. 4.2.3
+    // The clip boxes are taken over the demodulated frame before the blend (Voorhuis Sec.
+    // 4.2.3), so it is demodulated first; otherwise the accumulation demodulates on the fly
+    // and stores the demodulated frame for the variance pass in the same pass.
+    const bool clipping = reflections_.parts().clipping;
+    if (clipping) {
+      {
+        PassTimer t(stats, "demodulate" + suffix);
+        demodulate(radiance, in.albedo, st.demod);
+      }
+      PassTimer t(stats, "clip" + suffix);
       reflections_.clipBoxes(st.demod, st.plan, s, opt.clipLow, opt.clipHigh);
     }
     {
-      PassTimer t(stats, "accumulate" + suffix);
+      PassTimer t(stats, clipping ? "accumulate" + suffix : "demodulate+accumulate" + suffix);
       opt.luminance = p.variance.luminance;
       opt.cumulativeMoments = s.momentsTrueAverage;
       opt.sampleMask = mask_;
       opt.alphaPlane = in.alpha;
-      st.accumulator.run(*in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
+      if (clipping) {
+        st.accumulator.run(*in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
+      } else {
+        opt.albedo = in.albedo;
+        opt.current = &st.demod;
+        st.accumulator.run(*in.reprojection, radiance, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
+      }
     }
     svgf::FilterParams fp = p;
     fp.spatialFalloff = in.falloff;  // Voorhuis Eq. 6
