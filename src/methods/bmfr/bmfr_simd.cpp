@@ -163,9 +163,11 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     grid_ = rtd::bmfr::makeBlockGrid(frame.width, frame.height, size, frameIndex_, s.blockOffsets);
     Tiling tiling;
     // Issue 12: emitter pixels weigh 0 in the fits and keep their phase I value.
-    emitterWeight_ = s.fit && excludesEmitters(frame, s.emitters) && emitterWeights(frame, s.emitters, emitterPlane_) > 0
-                         ? &emitterPlane_
-                         : nullptr;
+    emitterWeight_ = nullptr;
+    if (s.fit && excludesEmitters(frame, s.emitters)) {
+      PassTimer t(stats, "emitters");
+      if (emitterWeights(frame, s.emitters, emitterPlane_) > 0) emitterWeight_ = &emitterPlane_;
+    }
     if (s.fit) {
       selectFeatures(frame);
       tiling = makeTiling();
