@@ -9,9 +9,10 @@ namespace rtd {
 /// emitterThreshold) are left out of the spatial filter: they weigh 0 as neighbours and take
 /// no neighbour's light (SVGF: a-trous levels and spatial-variance window; BMFR: the block
 /// fits, and such a pixel's output is its own accumulated value). Their emission is separated
-/// and added back exactly anyway (core/frame_data.h separateEmission); what the filter would
-/// spread is the lamp's own reflected light, which the features cannot tell from the surface
-/// it is mounted on (a lamp 5 mm below a ceiling has the ceiling's normal and depth). Frames
+/// at import and added back exactly anyway (core/frame_data.h subtractEmissionRow); what the
+/// filter would spread is the lamp's own reflected light, which the features cannot tell from
+/// the surface it is mounted on (a lamp 5 mm below a ceiling has the ceiling's normal and
+/// depth). Frames
 /// without Buffer::Emission, or without any pixel above the threshold, are unaffected (the
 /// output is bit-identical with the setting on and off).
 struct EmitterSettings {
