@@ -185,6 +185,26 @@ TEST(VulkanBmfr, ReproducesAFeatureLinearImageWithoutRegularization) {
   }
 }
 
+// Issue 12: emitter rows weigh 0 in the fits and emitter pixels keep their phase I value. The
+// lamp (emission 2, so that max|ref| stays near the scene's) covers whole 32x32 blocks, so some
+// sub-sampled blocks see emitter rows only (which they then keep).
+TEST(VulkanBmfr, MatchesCpuWithEmitters) {
+  RTD_REQUIRE_VULKAN();
+  auto seq = frames(4, 100, 70, false);
+  for (Frame& f : seq) {
+    f[Buffer::Emission] = Image(f.width, f.height, 3, 0.0f);
+    for (int y = 5; y < 55; ++y)
+      for (int x = 20; x < 75; ++x)
+        for (int c = 0; c < 3; ++c) {
+          f[Buffer::Emission].at(x, y, c) = 2.0f;
+          f[Buffer::Color].at(x, y, c) += 2.0f;
+        }
+  }
+  runBoth(settingsFrom({}), seq, "emitters 100x70");
+  runBoth(settingsFrom({"samplesPerBlock=36"}), seq, "emitters, 36 samples");
+  runBoth(settingsFrom({"excludeEmitters=false"}), seq, "emitters filtered");
+}
+
 // The tolerance would catch real bugs: the CPU against itself with one thing wrong differs by
 // far more than kMaxRel / kMeanRel.
 TEST(VulkanBmfr, ToleranceCatchesRealBugs) {

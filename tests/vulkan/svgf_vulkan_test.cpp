@@ -62,7 +62,10 @@ TEST(VulkanSvgf, MatchesCpuSchied) {
 }
 TEST(VulkanSvgf, MatchesCpuWithSeparatedEmission) {
   RTD_REQUIRE_VULKAN();
+  // Emitter pixels filtered like any surface (the default), and out of the guide (issue 12).
   runBoth({}, false, 4, "emission", true);
+  runBoth({"excludeEmitters=true"}, false, 4, "emission, emitters excluded", true);
+  runBoth({"variant=gersthofer", "fxaa=false", "excludeEmitters=true"}, false, 4, "gersthofer, emitters excluded", true);
   runBoth({"variant=voorhuisRobustness"}, true, 4, "emission, diffuse/specular", true);
 }
 TEST(VulkanSvgf, MatchesCpuDundr) {

@@ -4,6 +4,7 @@
 // Householder QR with stochastic regularization), phase III accumulates the fit again and
 // applies TAA. See docs/methods/bmfr.md for every choice where the paper is unclear.
 #pragma once
+#include "rtd/methods/emitters.h"
 #include "rtd/methods/reprojection.h"
 #include "rtd/methods/taa.h"
 
@@ -51,6 +52,11 @@ struct BmfrSettings {
   bool fit = true;
   bool accumulateFiltered = true;
 
+  /// Emitter pixels weigh 0 in the block fits and keep their own phase I value instead of the
+  /// fit's (issue 12; docs/methods/bmfr.md, "Emitters"). On: the sky (whose radiance is its
+  /// emission) and lamps no longer enter the fits of the surfaces next to them.
+  EmitterSettings emitters;
+
   /// Phase I/III reprojection: BMFR tests only world position and shading normal per tap.
   /// The authors' position limit is an absolute 0.04 (Sponza, sqrt(0.0016)), right for one
   /// scene's scale only; the default here is scale-free, 4 pixel footprints (positionFootprints;
@@ -95,6 +101,7 @@ struct BmfrSettings {
     v("featureRoughness", featureRoughness, "fit on the roughness when the frame has it");
     v("fit", fit, "run the phase II fit (off: pass the accumulated input through)");
     v("accumulateFiltered", accumulateFiltered, "run the phase III accumulation of the fit");
+    emitters.visit(v);
     reprojection.visit(v);
     taa.visit(v);
   }

@@ -4,6 +4,7 @@
 #pragma once
 #include <string_view>
 
+#include "rtd/methods/emitters.h"
 #include "rtd/methods/reprojection.h"
 #include "rtd/methods/taa.h"
 
@@ -198,6 +199,11 @@ struct SvgfSettings {
   /// Sec. 3.5: tone map as the very last step (after FXAA); none keeps linear radiance.
   SvgfToneMap toneMap = SvgfToneMap::none;
 
+  /// Emitter pixels left out of the a-trous levels and the spatial-variance window (issue 12;
+  /// docs/methods/svgf.md, "Emitters"), here and in Gersthofer's pipeline. Off by default: on
+  /// the renderer's Cornell box it costs 0.06 dB (the ceiling next to the lamp loses the taps
+  /// on the lamp, on the bright side of its illumination), elsewhere it changes nothing.
+  EmitterSettings emitters{.excludeEmitters = false};
   ReprojectionSettings reprojection;
   TaaSettings taa;
 
@@ -383,6 +389,7 @@ struct SvgfSettings {
     v("spatialVarianceObjectId", spatialVarianceObjectId, "[variant] spatial variance also guided by object id (Gersthofer 3.4.3)");
     v("fxaa", fxaa, "[variant] FXAA (Lottes 2009) on the linear output (Gersthofer 3.5)");
     v("toneMap", toneMap, "last step: none (linear radiance) or aces (Narkowicz fit, display-referred)", {"none", "aces"});
+    emitters.visit(v);
     reprojection.visit(v);
     taa.visit(v);
   }

@@ -133,6 +133,16 @@ void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient
                depth.width, depth.height);
 }
 
+const Planes& emitterGuideNormal(Recorder& rec, const GpuFrame& frame, const EmitterSettings& s, Planes& normal) {
+  if (!s.excludeEmitters || !frame.has(Buffer::Emission)) return frame[Buffer::Normal];
+  struct PC {
+    uint32_t width, height;
+    float threshold;
+  } pc{uint32_t(frame.width), uint32_t(frame.height), s.emitterThreshold};
+  rec.dispatch("emitter_guide", {frame[Buffer::Normal], frame[Buffer::Emission], normal}, pc, frame.width, frame.height);
+  return normal;
+}
+
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& lv,
                  const Planes& in, Planes& out) {
   atrousLevel(rec, frame[Buffer::Depth], frame[Buffer::Normal], gradient, lv, in, out);

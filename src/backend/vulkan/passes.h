@@ -6,6 +6,7 @@
 
 #include "backend/vulkan/context.h"
 #include "rtd/frame.h"
+#include "rtd/methods/emitters.h"
 #include "rtd/methods/reprojection.h"
 #include "rtd/methods/taa.h"
 
@@ -107,6 +108,11 @@ struct GpuAtrousLevel {
 void atrousGuide(Recorder& rec, const GpuFrame& frame, float maxDepthSlope, Planes& gradient);
 /// The same from any depth plane and, where `depthGradient` is given, that gradient.
 void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient, float maxDepthSlope, Planes& gradient);
+/// The a-trous guide's normals (excludeEmitters, src/passes/emitters.h): where the settings
+/// exclude emitters and the frame has Buffer::Emission, the frame's normals with a zero normal
+/// at every emitter pixel, written to `normal` (3 planes of the frame's size), which is
+/// returned; otherwise the frame's own normals.
+const Planes& emitterGuideNormal(Recorder& rec, const GpuFrame& frame, const EmitterSettings& s, Planes& normal);
 /// One a-trous level: images of 5 planes (R, G, B, luminance, variance); `in` != `out`. The
 /// guide is the frame's depth and normal and `gradient` (atrousGuide).
 void atrousLevel(Recorder& rec, const GpuFrame& frame, const Planes& gradient, const GpuAtrousLevel& level,

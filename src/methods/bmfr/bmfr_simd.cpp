@@ -18,6 +18,7 @@
 #include "methods/bmfr/bmfr_common.h"
 #include "methods/bmfr/qr.h"
 #include "passes/demodulation.h"
+#include "passes/emitters.h"
 #include "passes/reprojection.h"
 #include "passes/taa.h"
 #include "passes/temporal_accumulation.h"
@@ -61,6 +62,7 @@ struct Scratch {
   std::vector<float> columns;
   std::vector<int32_t> index;
   std::vector<float> rgb;
+  std::vector<int32_t> emitterRows;  // the block's rows at emitter pixels (weighEmitterRows)
 };
 
 constexpr int kMaxBlock = 64;
@@ -145,6 +147,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     taa_.forEachPlane(visit);
     visit("block fits", reinterpret_cast<const float*>(fits_.data()), fits_.size() * sizeof(BlockFit) / sizeof(float));
     visit("noise", noise_.data(), noise_.size());
+    visitPlane(visit, "emitter weights", emitterPlane_);
     for (const Scratch& s : scratch_) {
       visit("block columns", s.columns.data(), s.columns.size());
       visit("synthesized row", s.rgb.data(), s.rgb.size());
@@ -159,6 +162,12 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     const int size = s.blockSize == BmfrBlockSize::Block64 ? 64 : 32;
     grid_ = rtd::bmfr::makeBlockGrid(frame.width, frame.height, size, frameIndex_, s.blockOffsets);
     Tiling tiling;
+    // Issue 12: emitter pixels weigh 0 in the fits and keep their phase I value.
+    emitterWeight_ = nullptr;
+    if (s.fit && excludesEmitters(frame, s.emitters)) {
+      PassTimer t(stats, "emitters");
+      if (emitterWeights(frame, s.emitters, emitterPlane_) > 0) emitterWeight_ = &emitterPlane_;
+    }
     if (s.fit) {
       selectFeatures(frame);
       tiling = makeTiling();
@@ -177,7 +186,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     const Plane3& filtered = s.accumulateFiltered ? filtered_[cur_] : s.fit ? fitted_ : noisy_.color();
     auto phaseThreeRow = [&](int y, Scratch& scratch) {
       const float* row[3] = {noisy_.color()[0].row(y), noisy_.color()[1].row(y), noisy_.color()[2].row(y)};
-      if (s.fit) synthesizeRow(frame, y, scratch, row);
+      if (s.fit) synthesizeRow(frame, y, scratch, row, noisy_.color());
       if (s.accumulateFiltered) accumulateRow(reprojection_, length, s.alphaFiltered, row, filtered_[prev], filtered_[cur_], y);
       else if (s.fit)
         for (int c = 0; c < 3; ++c) std::copy(row[c], row[c] + frame.width, fitted_[c].row(y));
@@ -390,6 +399,28 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     }
   }
 
+  // Issue 12: the rows of emitter pixels weigh 0 (every column of the row, the colour's
+  // included, becomes 0), so the block's weights are those of its other pixels; the feature
+  // ranges still cover the emitters (the synthesis does not use them there). A block whose
+  // rows are all emitters keeps them: there is nothing else to fit (its other pixels, if it is
+  // sub-sampled, would otherwise get weights 0).
+  void weighEmitterRows(int by, const Tiling& tiling, const int32_t* index, const int* columnX, float* base,
+                        Scratch& scratch) const {
+    const int size = grid_.size, y0 = grid_.y0(by);
+    const bool sampled = tiling.rows != size * size;
+    const float* weight = emitterWeight_->ptr();
+    std::vector<int32_t>& rows = scratch.emitterRows;
+    rows.clear();
+    for (int r = 0; r < tiling.rows; ++r) {
+      const size_t i = sampled ? size_t(index[r])
+                               : size_t(rtd::bmfr::mirror(y0 + r / size, grid_.height)) * grid_.width + size_t(columnX[r % size]);
+      if (weight[i] == 0.0f) rows.push_back(r);
+    }
+    if (rows.size() == size_t(tiling.rows)) return;
+    for (const int32_t r : rows)
+      for (int c = 0; c < tiling.columns; ++c) tiling.column(base, r / tiling.tileRows, c)[r % tiling.tileRows] = 0.0f;
+  }
+
   void fitBlock(const FrameData& frame, const Plane3& noisy, int bx, int by, const Tiling& tiling,
                 Scratch& scratch, BlockFit& fit) const {
     if (scratch.columns.size() < size_t(kMaxFeatures + kMaxChannels) * kMaxStride) {
@@ -480,6 +511,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
           for (int r = 0; r < rows; ++r) col[r] = (col[r] - centre) * scale;
       }
     for (int c = 0; c < 3; ++c) gatherColumn(noisy[c], bx, by, tiling, index, columnX, base, m + c);
+    if (emitterWeight_) weighEmitterRows(by, tiling, index, columnX, base, scratch);
 
     rtd::bmfr::TriangularSystem system;
     bmfr::householderQrTiled(base, tiling.rows, tiling.tileRows, tiling.tileStride, m, 3, system);
@@ -490,7 +522,8 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   // clamped >= 0, into the scratch row; `out` then points at it. Each feature is clamped to
   // the fitted range [-1, 1]: a no-op up to rounding, since the block's normalization covers
   // all of its pixels.
-  void synthesizeRow(const FrameData& frame, int y, Scratch& scratch, const float* out[3]) const {
+  // Emitter pixels (issue 12) take their own value from `noisy` (phase I) instead.
+  void synthesizeRow(const FrameData& frame, int y, Scratch& scratch, const float* out[3], const Plane3& noisy) const {
     const int w = frame.width, m = int(features_.size());
     if (scratch.rgb.size() < size_t(3 * w)) scratch.rgb.assign(size_t(3 * w), 0.0f);
     float* outRow[3] = {scratch.rgb.data(), scratch.rgb.data() + w, scratch.rgb.data() + 2 * w};
@@ -537,6 +570,12 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       }
       x0 = x1;
     }
+    if (emitterWeight_) {
+      const float* weight = emitterWeight_->row(y);
+      for (int x = 0; x < w; ++x)
+        if (weight[x] == 0.0f)
+          for (int c = 0; c < 3; ++c) outRow[c][x] = noisy[c].row(y)[x];
+    }
     for (int c = 0; c < 3; ++c) out[c] = outRow[c];
   }
 
@@ -552,6 +591,8 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   std::vector<Feature> features_;
   std::vector<BlockFit> fits_;
   std::vector<float> noise_;
+  Plane emitterPlane_;                   // 0 at emitter pixels, 1 elsewhere (issue 12)
+  const Plane* emitterWeight_ = nullptr;  // &emitterPlane_ on frames with emitters to exclude, else null
   tbb::enumerable_thread_specific<Scratch> scratch_;
 };
 

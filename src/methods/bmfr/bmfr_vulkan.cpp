@@ -124,6 +124,9 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
     packFeatures(features_, codes);
     const vk::Binding normals = frame.bindingOf(Buffer::Normal, ctx_), positions = frame.bindingOf(Buffer::Position, ctx_);
     const vk::Binding ids = frame.bindingOf(Buffer::MaterialId, ctx_), roughness = frame.bindingOf(Buffer::Roughness, ctx_);
+    // Issue 12: emitter rows weigh 0 in the fits, emitter pixels keep their phase I value.
+    const uint32_t excludeEmitters = s.emitters.excludeEmitters && frame.has(Buffer::Emission);
+    const vk::Binding emission = frame.bindingOf(Buffer::Emission, ctx_);
 
     rec.pass("fit");
     struct FitPC {
@@ -132,9 +135,12 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
       uint32_t blocksX, size, rows, features, blockBase, blockStride, frameIndex;
       float noise;
       uint32_t codes[4];
+      float emitterThreshold;
+      uint32_t excludeEmitters;
     } pc{uint32_t(frame.width), uint32_t(frame.height), grid.originX, grid.originY, uint32_t(grid.blocksX),
          uint32_t(size), uint32_t(rows), uint32_t(m), 0, 0, uint32_t(frameIndex_),
-         s.noiseAmount > 0.0f ? bmfr::noiseAmplitude(s.noiseAmount, rows) : 0.0f, {codes[0], codes[1], codes[2], codes[3]}};
+         s.noiseAmount > 0.0f ? bmfr::noiseAmplitude(s.noiseAmount, rows) : 0.0f, {codes[0], codes[1], codes[2], codes[3]},
+         s.emitters.emitterThreshold, excludeEmitters};
     static_assert(offsetof(FitPC, codes) == 48, "uvec4 codes sits at offset 48 in bmfr_fit.comp");
     const VkDeviceSize bytes = blockBytes(m + 3, rows);
     pc.blockStride = uint32_t(bytes / 4);
@@ -143,7 +149,8 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
       const int n = std::min(chunk, grid.count() - first);
       pc.blockBase = uint32_t(first);
       rec.dispatch("bmfr_fit",
-                   {noisy_.current(), normals, positions, ids, roughness, vk::Binding(scratch_.handle(), 0, VkDeviceSize(n) * bytes), fits_},
+                   {noisy_.current(), normals, positions, ids, roughness,
+                    vk::Binding(scratch_.handle(), 0, VkDeviceSize(n) * bytes), fits_, emission},
                    pc, n * int(kFitWorkgroup), 1);
     }
 
@@ -154,9 +161,13 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
       int32_t originX, originY;
       uint32_t blocksX, size, features, pad;
       uint32_t codes[4];
+      float emitterThreshold;
+      uint32_t excludeEmitters;
     } spc{uint32_t(frame.width), uint32_t(frame.height), grid.originX, grid.originY, uint32_t(grid.blocksX),
-          uint32_t(size), uint32_t(m), 0, {codes[0], codes[1], codes[2], codes[3]}};
-    rec.dispatch("bmfr_synthesize", {fits_, normals, positions, ids, roughness, fitted_}, spc, frame.width, frame.height);
+          uint32_t(size), uint32_t(m), 0, {codes[0], codes[1], codes[2], codes[3]},
+          s.emitters.emitterThreshold, excludeEmitters};
+    rec.dispatch("bmfr_synthesize", {fits_, normals, positions, ids, roughness, fitted_, emission, noisy_.current()}, spc,
+                 frame.width, frame.height);
   }
 
   vk::Planes demodulated_, reprojection_, fitted_, remodulated_;

@@ -7,6 +7,7 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "passes/demodulation.h"
+#include "passes/emitters.h"
 #include "passes/fxaa.h"
 
 namespace rtd::svgf {
@@ -98,6 +99,7 @@ void GersthoferEye::front(const FrameData& frame, const FrameData* previous, con
     PassTimer t(stats, "features");
     guide_.build(frame.plane(Buffer::Depth), frame.planes(Buffer::Normal),
                  frame.has(Buffer::DepthGradient) ? &frame.planes(Buffer::DepthGradient) : nullptr, s.maxDepthSlope);
+    excludeEmitters(frame, s.emitters, guide_);  // issue 12: emitter pixels weigh 0 as neighbours
   }
   {
     PassTimer t(stats, "demodulate");

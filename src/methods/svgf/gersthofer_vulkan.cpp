@@ -12,6 +12,7 @@ void GpuGersthoferEye::resize(vk::Context& ctx, int w, int h) {
   height_ = h;
   reprojection_.allocate(ctx, w, h, 8);
   gradient_.allocate(ctx, w, h, 2);
+  guideNormal_.allocate(ctx, w, h, 3);
   counter_.allocate(ctx, 2, 1, 1);
   boost_.allocate(ctx, w, h, 1);
   for (vk::Planes* p : {&currentComposite_, &currentIndirect_, &median_, &shared_, &output_, &fxaa_}) p->allocate(ctx, w, h, 3);
@@ -148,7 +149,9 @@ const vk::Planes& GpuGersthoferEye::back(vk::Recorder& rec, const vk::GpuFrame& 
       extras.indirectDistanceScale = &glossyScale_;
     }
   }
-  const vk::Planes& r = filter_.run(rec, frame[Buffer::Depth], frame[Buffer::Normal], gradient_, composite_,
+  // Issue 12: emitter pixels weigh 0 as neighbours (a zero guide normal).
+  const vk::Planes& normal = vk::emitterGuideNormal(rec, frame, s.emitters, guideNormal_);
+  const vk::Planes& r = filter_.run(rec, frame[Buffer::Depth], normal, gradient_, composite_,
                                      currentComposite_, nullptr, params, "", extras);
   rec.pass("remodulate");
   vk::remodulate(rec, r, albedo, output_);
@@ -183,8 +186,8 @@ std::vector<MemoryUse> GpuGersthoferEye::memory() const {
   const uint64_t history =
       composite_.bytes() + indirect_.bytes() + distance_[0].buffer.size() + distance_[1].buffer.size() + taa_.bytes();
   uint64_t intermediate = filter_.bytes();
-  for (const vk::Planes* p : {&reprojection_, &gradient_, &counter_, &currentComposite_, &currentIndirect_, &glossyCentre_, &glossyScale_,
-                              &median_, &shared_, &source_, &output_, &post_, &fxaa_, &boost_})
+  for (const vk::Planes* p : {&reprojection_, &gradient_, &guideNormal_, &counter_, &currentComposite_, &currentIndirect_,
+                              &glossyCentre_, &glossyScale_, &median_, &shared_, &source_, &output_, &post_, &fxaa_, &boost_})
     intermediate += p->buffer.size();
   return {{"history", history}, {"intermediate", intermediate}};
 }

@@ -28,7 +28,7 @@ class GpuGersthoferEye {
 
  private:
   int width_ = 0, height_ = 0;
-  vk::Planes reprojection_, gradient_, counter_, boost_;
+  vk::Planes reprojection_, gradient_, guideNormal_, counter_, boost_;
   vk::Planes currentComposite_, currentIndirect_;
   vk::GpuTemporalAccumulator composite_, indirect_;
   vk::Planes distance_[2], glossyCentre_, glossyScale_;

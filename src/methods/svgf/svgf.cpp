@@ -13,6 +13,7 @@
 #include "methods/svgf/svgf_passes.h"
 #include "methods/svgf/svgf_reflections.h"
 #include "passes/demodulation.h"
+#include "passes/emitters.h"
 #include "passes/reprojection.h"
 #include "passes/taa.h"
 #include "passes/temporal_accumulation.h"
@@ -97,6 +98,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       PassTimer t(stats, "features");
       guide_.build(frame.plane(Buffer::Depth), frame.planes(Buffer::Normal),
                    frame.has(Buffer::DepthGradient) ? &frame.planes(Buffer::DepthGradient) : nullptr, s.maxDepthSlope);
+      excludeEmitters(frame, s.emitters, guide_);  // issue 12: emitter pixels weigh 0 as neighbours
     }
     if (parts.classes) {
       PassTimer t(stats, "reflections");  // Voorhuis: classes, diamond search, reflected features

@@ -38,6 +38,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   void resizeHistory(int w, int h) override {
     reprojection_.allocate(ctx_, w, h, 8);
     gradient_.allocate(ctx_, w, h, 2);
+    guideNormal_.allocate(ctx_, w, h, 3);
     filter_.resize(ctx_, w, h);
     for (auto& s : streams_) {
       s.demod.allocate(ctx_, w, h, 3);
@@ -92,7 +93,9 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       rec.pass("reflections");  // Voorhuis: classes, diamond search, reflected features
       reflections_.prepare(rec, frame, previous, s, parts, lobes, reprojection_);
     }
-    const svgf::GpuGuide primaryGuide{&frame[Buffer::Depth], &frame[Buffer::Normal], &gradient_};
+    // Issue 12: emitter pixels weigh 0 as neighbours (a zero guide normal).
+    const vk::Planes& guideNormal = vk::emitterGuideNormal(rec, frame, s.emitters, guideNormal_);
+    const svgf::GpuGuide primaryGuide{&frame[Buffer::Depth], &guideNormal, &gradient_};
     for (int k = 0; k < nStreams; ++k) {
       GpuStream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
@@ -174,7 +177,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
                        suffix, {.spatialFalloff = in.falloff});
   }
 
-  vk::Planes reprojection_, gradient_, sum_, display_, remodulated_;
+  vk::Planes reprojection_, gradient_, guideNormal_, sum_, display_, remodulated_;
   svgf::GpuFilter filter_;
   const vk::Planes* mask_ = nullptr;     // this frame's sample mask, or null (dense)
   GpuStream streams_[kMaxStreams];

@@ -3,7 +3,8 @@
 // bmfr_common.h, bit-identical to them (integer arithmetic wraps modulo 2^32 in both).
 //
 // The including shader declares the feature planes as `normals`, `positions`, `materialIds`
-// and `roughnessPlane` (float[]; a dummy binding where the frame lacks the buffer).
+// and `roughnessPlane`, and Buffer::Emission as `emission` (float[]; a dummy binding where the
+// frame lacks the buffer).
 
 // A feature column: kind (bmfr::FeatureKind) in bits 4-7, channel in bits 0-3; four codes per
 // uint of the push constants.
@@ -36,6 +37,12 @@ float rawFeature(uint code, uint i, uint plane) {
   if (kind == BMFR_MATERIAL_ID) return materialIds[i];
   if (kind == BMFR_ROUGHNESS) return roughnessPlane[i];
   return 1.0;
+}
+
+// Issue 12: pixel i is an emitter (emitterPixel, src/passes/emitters.h): the largest channel of
+// its emission above `threshold`.
+bool emitterAt(uint i, uint plane, float threshold) {
+  return max(emission[i], max(emission[plane + i], emission[2u * plane + i])) > threshold;
 }
 
 // bmfr::mirror: -1 -> 0, n -> n - 1, clamped for blocks wider than the image.

@@ -4,6 +4,7 @@
 // `samplesPerBlock` jittered-stratified ones), normalizes every feature to [-1, 1] over the
 // block, adds the per-frame regularization noise, factors [T + N, z_R, z_G, z_B] with Householder
 // reflections keeping only R (Eqs. 4-7), and back-substitutes the three channels' weights.
+// With excludeEmitters the rows of emitter pixels weigh 0 (issue 12, weighEmitterRows).
 // Port of BmfrCpu::fitBlock and bmfr::householderQr / backSubstitute (src/methods/bmfr/).
 //
 // The block matrix lives in a device buffer (`scratch`, column-major per block: column c, row r
@@ -25,6 +26,7 @@ layout(std430, binding = 3) readonly buffer MaterialIds { float materialIds[]; }
 layout(std430, binding = 4) readonly buffer Roughness { float roughnessPlane[]; };
 layout(std430, binding = 5) buffer Scratch { float scratch[]; };
 layout(std430, binding = 6) writeonly buffer Fits { float fits[]; };
+layout(std430, binding = 7) readonly buffer Emission { float emission[]; };
 
 #include "bmfr.glsl"
 
@@ -39,6 +41,8 @@ layout(push_constant) uniform PC {
   uint frameIndex;   // frames since the last reset: the noise and the samples change every frame
   float noise;       // amplitude eps of the uniform noise (already scaled for sub-sampled blocks); 0: none
   uvec4 codes;       // feature codes (bmfr.glsl)
+  float emitterThreshold;
+  uint excludeEmitters;  // 1: emitter rows weigh 0 (the frame has Buffer::Emission)
 } pc;
 
 // Reductions: 2 x 12 values (feature minima and maxima) or 15 (dot products) per thread; the
@@ -129,8 +133,10 @@ void main() {
   //    feature outside [-1, 1]).
   float v[RED_VALUES];
   for (uint k = 0; k < M; ++k) { v[k] = kInf; v[M + k] = -kInf; }
+  float emitterRows = 0.0;
   for (uint r = t; r < rows; r += WG) {
     const uint i = pixelOfRow(r, x0, y0, block, sampled, cellsX, cellsY);
+    if (pc.excludeEmitters != 0u && emitterAt(i, plane, pc.emitterThreshold)) emitterRows += 1.0;
     for (uint k = 1; k < M; ++k) {
       const float f = rawFeature(codes[k], i, plane);
       scratch[scratchIndex(base, k, r)] = f;
@@ -181,6 +187,15 @@ void main() {
   }
   barrier();  // every thread has read the ranges before `red` is reused
 
+  // Issue 12: the rows of emitter pixels weigh 0, unless every row is one (weighEmitterRows).
+  bool weighEmitters = false;
+  if (pc.excludeEmitters != 0u) {
+    v[0] = emitterRows;
+    reduce(v, 1u, REDUCE_SUM, 0u);
+    weighEmitters = red[0] > 0.0 && red[0] < float(rows);
+    barrier();
+  }
+
   // 2. (w - c)^2 columns and their range.
   if (squares) {
     for (uint k = 0; k < M; ++k) { v[k] = kInf; v[M + k] = -kInf; }
@@ -216,8 +231,11 @@ void main() {
 
   // 3. Normalize to [-1, 1] and add the noise to T only (Eq. 7): uniform on [-eps, eps] per
   //    (row, feature), the same in every block of a frame (BmfrCpu::makeNoise).
+  //    A weighed-out emitter row becomes 0 in every column, the colour's included.
   for (uint r = t; r < rows; r += WG) {
-    scratch[scratchIndex(base, 0u, r)] = 1.0;
+    const bool drop =
+        weighEmitters && emitterAt(pixelOfRow(r, x0, y0, block, sampled, cellsX, cellsY), plane, pc.emitterThreshold);
+    scratch[scratchIndex(base, 0u, r)] = drop ? 0.0 : 1.0;
     for (uint k = 1; k < M; ++k) {
       const uint s = scratchIndex(base, k, r);
       precise float f = (scratch[s] - centre[k]) * scale[k];
@@ -225,8 +243,10 @@ void main() {
         precise float n = pc.noise * (2.0 * hashUniform(r, k, pc.frameIndex) - 1.0);
         f += n;
       }
-      scratch[s] = f;
+      scratch[s] = drop ? 0.0 : f;
     }
+    if (drop)
+      for (uint c = 0; c < 3u; ++c) scratch[scratchIndex(base, M + c, r)] = 0.0;
   }
 
   // 4. Householder QR of the C = M + 3 columns, R only. Reflection k maps rows k.. of column k

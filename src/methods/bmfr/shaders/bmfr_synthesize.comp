@@ -1,7 +1,8 @@
 #version 450
 // Pass "synthesize" of BMFR (Koskela et al. 2019 Eq. 6): every pixel takes its block's weights
 // with the noise-free features, normalized as in the fit, y = sum_k alpha_k f'_k, clamped >= 0.
-// Port of BmfrCpu::synthesize (src/methods/bmfr/bmfr.cpp).
+// With excludeEmitters, emitter pixels keep their phase I value (issue 12). Port of
+// BmfrCpu::synthesizeRow (src/methods/bmfr/bmfr_simd.cpp).
 #include "common.glsl"
 RTD_LOCAL_SIZE
 
@@ -11,6 +12,8 @@ layout(std430, binding = 2) readonly buffer Positions { float positions[]; };
 layout(std430, binding = 3) readonly buffer MaterialIds { float materialIds[]; };
 layout(std430, binding = 4) readonly buffer Roughness { float roughnessPlane[]; };
 layout(std430, binding = 5) writeonly buffer Out { float outp[]; };
+layout(std430, binding = 6) readonly buffer Emission { float emission[]; };
+layout(std430, binding = 7) readonly buffer Noisy { float noisy[]; };  // phase I colour: planes 0-2
 
 #include "bmfr.glsl"
 
@@ -21,6 +24,8 @@ layout(push_constant) uniform PC {
   uint features;
   uint pad;
   uvec4 codes;
+  float emitterThreshold;
+  uint excludeEmitters;  // 1: emitter pixels keep their phase I value (the frame has Buffer::Emission)
 } pc;
 
 void main() {
@@ -28,6 +33,10 @@ void main() {
   if (outside(p, pc.width, pc.height)) return;
   const uint plane = pc.width * pc.height, i = p.y * pc.width + p.x;
   const uint bx = uint(int(p.x) - pc.originX) / pc.size, by = uint(int(p.y) - pc.originY) / pc.size;
+  if (pc.excludeEmitters != 0u && emitterAt(i, plane, pc.emitterThreshold)) {
+    for (uint c = 0; c < 3u; ++c) outp[c * plane + i] = noisy[c * plane + i];
+    return;
+  }
   const uint fit = (by * pc.blocksX + bx) * BMFR_FIT_STRIDE;
   precise vec3 y = vec3(fits[fit], fits[fit + BMFR_MAX_FEATURES], fits[fit + 2u * BMFR_MAX_FEATURES]);
   for (uint k = 1; k < pc.features; ++k) {
