@@ -1,6 +1,5 @@
 // rtdenoise denoise: run one method over a sequence directory.
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -71,36 +70,23 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
 
   Progress progress("denoise", frames);
   Image output(reader->width(), reader->height(), 3);
+  GuideRays guideRays;  // pre-mix, the method, copy back, on the method's backend (buffers kept)
   for (int i = 0; i < frames; ++i) {
     const Frame frame = reader->read(i);
-    double premixMs = 0, resolveMs = 0;
-    if (guideSamples) {
-      using Clock = std::chrono::steady_clock;
-      const GuideRaySamples samples = reader->readGuideRaySamples(i);
-      GuideRays guideRays;
-      const auto t0 = Clock::now();
-      const Frame mixed = guideRays.premix(frame, samples);
-      premixMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-      denoiser->denoise(mixed.inputs(), output.view());
-      const auto t1 = Clock::now();
-      output = guideRays.resolve(output);
-      resolveMs = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
-    } else {
-      denoiser->denoise(frame.inputs(), output.view());
-    }
+    if (guideSamples) output = guideRays.denoise(*denoiser, frame, reader->readGuideRaySamples(i));
+    else denoiser->denoise(frame.inputs(), output.view());
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04d", frame.number);
     writeRgbExr(out / (std::string(name) + ".exr"), output, o.half ? ExrPixels::Half : ExrPixels::Float);
     if (o.preview) writeFileAtomic(out / (std::string(name) + ".png"), eval::encodePng(eval::toneMap(output, previewToneMap)));
 
     FrameStats st = denoiser->stats();
+    for (const PassTiming& p : guideRays.passes()) {  // the CPU's, outside the method's stats
+      st.passes.push_back(p);
+      st.totalMilliseconds += p.milliseconds;
+    }
     json passes = json::object();
     for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
-    if (guideSamples) {
-      passes["guideRays.premix"] = premixMs;
-      passes["guideRays.resolve"] = resolveMs;
-      st.totalMilliseconds += premixMs + resolveMs;
-    }
     log.add({{"number", frame.number}, {"passes", passes}}, st, frame.cut);
     char detail[64];
     std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
