@@ -8,12 +8,6 @@ using namespace rtd;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const fuzz::fs::path& dir = fuzz::scratchDir("blender");
-  fuzz::writeFile(dir / "frame_0001.exr", data, size);
-  try {
-    auto seq = SequenceReader::open(dir);
-    const Frame f = seq->read(0);
-    fuzz::denoiseAndCheck(f, "accumulate");
-  } catch (const Error&) {
-  }
+  if (fuzz::writeInput(fuzz::Target::BlenderSequence, dir, data, size)) fuzz::readAndDenoise(dir, "accumulate");
   return 0;
 }

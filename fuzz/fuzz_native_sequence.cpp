@@ -9,12 +9,6 @@ using namespace rtd;
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const fuzz::fs::path& dir = fuzz::scratchDir("native");
   [[maybe_unused]] static const bool manifest = (fuzz::writeNativeManifest(dir), true);
-  fuzz::writeFile(dir / "frame_0001.exr", data, size);
-  try {
-    auto seq = SequenceReader::open(dir);
-    const Frame f = seq->read(0);
-    fuzz::denoiseAndCheck(f, "svgf");
-  } catch (const Error&) {
-  }
+  if (fuzz::writeInput(fuzz::Target::NativeSequence, dir, data, size)) fuzz::readAndDenoise(dir, "svgf");
   return 0;
 }

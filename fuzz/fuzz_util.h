@@ -43,6 +43,29 @@ inline void writeNativeManifest(const fs::path& dir) {
     "frames": [{"number": 1, "file": "frame_0001.exr"}]})";
 }
 
+/// The readers the file targets feed, and how each lays its input out in its directory:
+/// fuzz_native_sequence's input is frame_0001.exr of a one-frame native sequence (the
+/// directory also needs writeNativeManifest), fuzz_blender_sequence's frame_0001.exr of a
+/// directory without sequence.json, fuzz_per_buffer's first byte picks the format (modulo
+/// kPerBufferExtensions) and the rest is color_0001.<ext>. The regression test
+/// (tests/reliability/fuzz_regression_test.cpp) lays its fixtures out the same way.
+enum class Target { NativeSequence, BlenderSequence, PerBuffer };
+inline constexpr const char* kPerBufferExtensions[] = {"exr", "pfm", "hdr", "png", "tif"};
+
+/// Writes one input into `dir` as `target` reads it; false if the input is too short to be one.
+inline bool writeInput(Target target, const fs::path& dir, const uint8_t* data, size_t size) {
+  if (target != Target::PerBuffer) {
+    writeFile(dir / "frame_0001.exr", data, size);
+    return true;
+  }
+  if (size < 1) return false;
+  // One file in the directory at a time: the previous input's file (another format) goes.
+  for (const char* ext : kPerBufferExtensions) fs::remove(dir / (std::string("color_0001.") + ext));
+  const char* ext = kPerBufferExtensions[data[0] % std::size(kPerBufferExtensions)];
+  writeFile(dir / (std::string("color_0001.") + ext), data + 1, size - 1);
+  return true;
+}
+
 /// Stops the fuzzer (a crash it records) when `ok` is false.
 inline void require(bool ok, const char* what) {
   if (!ok) {
@@ -62,6 +85,20 @@ inline void denoiseAndCheck(const Frame& f, const char* method) {
     Image out(f.width, f.height, 3);
     d->denoise(f.inputs(), out.view());
     for (float v : out.pixels) require(std::isfinite(v), "non-finite output");
+  } catch (const Error&) {
+  }
+}
+
+}  // namespace rtd::fuzz
+
+namespace rtd::fuzz {
+
+/// What each file target does with its input: open the directory's sequence, read its frame
+/// and denoise it with `method`; an rtd::Error anywhere is a correct answer to a bad input.
+inline void readAndDenoise(const fs::path& dir, const char* method) {
+  try {
+    auto seq = SequenceReader::open(dir);
+    denoiseAndCheck(seq->read(0), method);
   } catch (const Error&) {
   }
 }

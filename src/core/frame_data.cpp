@@ -62,7 +62,14 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
   for (int i = 0; i < kBufferCount; ++i)
     if (wanted(i)) importedBytes += size_t(w) * h * sizeof(float) * bufferChannelCount(Buffer(i));
   const bool stream = streamsPastCache(importedBytes);
-  for (int i = 0; i < kBufferCount; ++i) {
+  // Emission first: Color, Direct and Diffuse subtract it on their way in.
+  const bool emission = wanted(int(Buffer::Emission));
+  auto subtractsEmission = [&](Buffer b) {
+    return emission && (b == Buffer::Color || b == Buffer::Direct || b == Buffer::Diffuse);
+  };
+  for (int k = -1; k < kBufferCount; ++k) {
+    const int i = k < 0 ? int(Buffer::Emission) : k;
+    if (k >= 0 && i == int(Buffer::Emission)) continue;
     const ImageView& v = in.buffers[i];
     auto& planes = out.buffers[i];
     if (!wanted(i)) {
@@ -80,29 +87,44 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
     const size_t pixelFloats = pixelStride / 4;
     const ValueRange range = importRange(b);
     const Bounds bounds{range.lo, range.hi};
-    std::atomic<uint64_t> nonFinite{0}, outOfRange{0};
+    const bool unitVectors = isUnitVectorBuffer(b), minusEmission = subtractsEmission(b);
+    std::atomic<uint64_t> nonFinite{0}, outOfRange{0}, renormalized{0};
     parallelRows(h, [&](int y) {
       const char* src = static_cast<const char*>(v.data) + size_t(y) * rowStride;
       float* dst[4];
       for (int c = 0; c < nc; ++c) dst[c] = planes[c].row(y);
+      const float* e[3] = {nullptr, nullptr, nullptr};
+      if (minusEmission)
+        for (int c = 0; c < 3; ++c) e[c] = out.plane(Buffer::Emission, c).row(y);
       SanitizeCounts bad;
+      bool check = unitVectors;  // whether the row may hold a vector to renormalize
+      bool subtract = minusEmission;  // emission still to subtract
       if (half) {
         importHalfRow(src, pixelStride, nc, dst, w, range, bad);
       } else if (!ints) {
-        RTD_SIMD(importFloatRow)(reinterpret_cast<const float*>(src), int(pixelFloats), nc, dst, w, bounds, stream, bad);
+        RowFixes fixes;
+        fixes.emission = minusEmission ? e : nullptr;
+        fixes.unitVectors = unitVectors;
+        check = RTD_SIMD(importFloatRow)(reinterpret_cast<const float*>(src), int(pixelFloats), nc, dst, w, bounds,
+                                         stream, fixes, bad);
+        subtract = false;
       } else {
         const int32_t* ids = reinterpret_cast<const int32_t*>(src);
         for (int x = 0; x < w; ++x)
           for (int c = 0; c < nc; ++c) dst[c][x] = bounds.sanitize(float(ids[size_t(x) * pixelFloats + c]), bad);
+      }
+      if (subtract) subtractEmissionRow(dst, e, w);
+      if (check) {
+        const uint64_t n = renormalizeRow(dst[0], dst[1], dst[2], w);
+        if (n) renormalized += n;
       }
       if (bad.nonFinite) nonFinite += bad.nonFinite;
       if (bad.outOfRange) outOfRange += bad.outOfRange;
     }, 16);
     stats[size_t(i)].nonFinite = nonFinite;
     stats[size_t(i)].outOfRange = outOfRange;
+    stats[size_t(i)].renormalized = renormalized;
   }
-  sanitizeUnitVectors(out, stats);
-  separateEmission(out);
   applyHiddenArea(out);
   uint64_t total = 0;
   for (const SanitizeCounts& c : stats) total += c.total();
@@ -127,19 +149,9 @@ void applyHiddenArea(FrameData& f) {
   }
 }
 
-void separateEmission(FrameData& f) {
-  if (!f.has(Buffer::Emission)) return;
-  // The renderer counts primary-hit emission in Color, Direct and Diffuse.
-  for (Buffer b : {Buffer::Color, Buffer::Direct, Buffer::Diffuse}) {
-    if (!f.has(b)) continue;
-    parallelRows(f.height, [&](int y) {
-      for (int c = 0; c < 3; ++c) {
-        float* v = f.plane(b, c).row(y);
-        const float* e = f.plane(Buffer::Emission, c).row(y);
-        for (int x = 0; x < f.width; ++x) v[x] = std::max(0.0f, v[x] - e[x]);
-      }
-    });
-  }
+void subtractEmissionRow(float* const* v, const float* const* e, int w) {
+  for (int c = 0; c < 3; ++c)
+    for (int x = 0; x < w; ++x) v[c][x] = std::max(0.0f, flushTiny(v[c][x] - e[c][x]));
 }
 
 void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out) {

@@ -38,15 +38,17 @@ std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const s
 /// Checks the views first (checkInputViews: required buffers present, one size, formats,
 /// alignment, strides); throws rtd::Error naming the buffer otherwise. Every value is
 /// sanitized on the way (core/sanitize.h: non-finite to 0, clamped into its buffer's range),
-/// then unit vectors are renormalized (sanitizeUnitVectors), emission is separated
-/// (separateEmission) and the hidden area cleared (applyHiddenArea). Returns the number of
-/// values replaced; `counts`, if given, receives them per buffer.
+/// and in the same pass over each row unit vectors are renormalized (renormalizeRow) and
+/// emission is separated (subtractEmissionRow); then the hidden area is cleared
+/// (applyHiddenArea). Returns the number of values replaced; `counts`, if given, receives them
+/// per buffer.
 uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required, FrameData& out,
                      const std::vector<Buffer>* used = nullptr, SanitizeStats* counts = nullptr);
 
-/// Subtracts Buffer::Emission (if present) from Color, Direct and Diffuse, clamped at 0, so
-/// methods filter only the noisy part; importFrame() calls it.
-void separateEmission(FrameData& frame);
+/// One row of Color, Direct or Diffuse (three channel rows v) less Buffer::Emission's row e,
+/// clamped at 0 and flushed (core/flush.h), so methods filter only the noisy part: importFrame()
+/// applies it on the way in (the float rows' kernel does the same, RowFixes::emission).
+void subtractEmissionRow(float* const* v, const float* const* e, int w);
 
 /// Buffer::HiddenArea (if present): the pixels the lens hides carry nothing. Their radiance
 /// buffers and normals become 0, so every method treats them as background (a zero normal

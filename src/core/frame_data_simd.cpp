@@ -1,6 +1,8 @@
 // Import's and export's per-row loops for one CPU path (core/simd.h): AVX2 de-interleave and
 // interleave of 2-, 3- and 4-float pixels on the avx2 and avx512 paths; the scalar reference
 // (Bounds::sanitize) for tails and on the sse2 path.
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "core/frame_data_kernels.h"
@@ -59,9 +61,11 @@ inline void deinterleave8(const float* src, int stride, __m256 out[4]) {
 
 }  // namespace
 
-void importFloatRow(const float* src, int stride, int nc, float* const* dst, int w, Bounds b, bool stream,
-                    SanitizeCounts& bad) {
+bool importFloatRow(const float* src, int stride, int nc, float* const* dst, int w, Bounds b, bool stream,
+                    const RowFixes& fixes, SanitizeCounts& bad) {
+  const float* const* e = fixes.emission;
   int x = 0;
+  bool offUnit = false;
 #ifdef RTD_SIMD_AVX2
   for (int c = 0; c < nc; ++c) stream = stream && reinterpret_cast<uintptr_t>(dst[c]) % 32 == 0;
   auto store = [&](float* p, __m256 v) {
@@ -69,18 +73,43 @@ void importFloatRow(const float* src, int stride, int nc, float* const* dst, int
     else _mm256_storeu_ps(p, v);
   };
   if (stride >= 2 && stride <= 4) {
+    __m256 off = _mm256_setzero_ps();
     for (; x + 8 <= w; x += 8) {
       __m256 v[4];
       deinterleave8(src + size_t(x) * stride, stride, v);
-      for (int c = 0; c < nc; ++c) store(dst[c] + x, sanitize8(v[c], b, bad));
+      for (int c = 0; c < nc; ++c) {
+        v[c] = sanitize8(v[c], b, bad);
+        if (e) v[c] = _mm256_max_ps(flush8(_mm256_sub_ps(v[c], _mm256_loadu_ps(e[c] + x))), _mm256_setzero_ps());
+      }
+      if (fixes.unitVectors) {
+        const __m256 l2 = _mm256_add_ps(_mm256_add_ps(squareOrZero8(v[0]), squareOrZero8(v[1])), squareOrZero8(v[2]));
+        const __m256 dev = _mm256_and_ps(_mm256_sub_ps(l2, _mm256_set1_ps(1.0f)), _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+        const __m256 zero = _mm256_setzero_ps();
+        const __m256 some = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(v[0], zero, _CMP_NEQ_UQ), _mm256_cmp_ps(v[1], zero, _CMP_NEQ_UQ)),
+                                         _mm256_cmp_ps(v[2], zero, _CMP_NEQ_UQ));
+        off = _mm256_or_ps(off, _mm256_and_ps(some, _mm256_cmp_ps(dev, _mm256_set1_ps(kUnitCheckTolerance), _CMP_GT_OQ)));
+      }
+      for (int c = 0; c < nc; ++c) store(dst[c] + x, v[c]);
     }
-  } else if (stride == 1) {
+    offUnit = _mm256_movemask_ps(off) != 0;
+  } else if (stride == 1 && !e) {
     for (; x + 8 <= w; x += 8) store(dst[0] + x, sanitize8(_mm256_loadu_ps(src + x), b, bad));
   }
   if (stream) _mm_sfence();  // the streamed stores are weakly ordered: complete them before the row is handed on
 #endif
-  for (; x < w; ++x)
-    for (int c = 0; c < nc; ++c) dst[c][x] = b.sanitize(src[size_t(x) * stride + c], bad);
+  for (; x < w; ++x) {
+    float v[4];
+    for (int c = 0; c < nc; ++c) {
+      v[c] = b.sanitize(src[size_t(x) * stride + c], bad);
+      if (e) v[c] = std::max(0.0f, flushTiny(v[c] - e[c][x]));
+      dst[c][x] = v[c];
+    }
+    if (fixes.unitVectors) {
+      const float l2 = squareOrZero(v[0]) + squareOrZero(v[1]) + squareOrZero(v[2]);
+      offUnit |= std::abs(l2 - 1.0f) > kUnitCheckTolerance && (v[0] != 0.0f || v[1] != 0.0f || v[2] != 0.0f);
+    }
+  }
+  return offUnit;
 }
 
 

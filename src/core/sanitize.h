@@ -1,6 +1,6 @@
 // Input sanitization, the same on both backends: the range every buffer's values are clamped
 // into on import (frame_data.cpp's import loops and the Vulkan import shaders apply it) and the
-// renormalization of unit vectors that follows import (sanitizeUnitVectors; its GLSL twin is
+// renormalization of unit vectors that import applies (renormalizeRow; its GLSL twin is
 // src/backend/vulkan/shaders/sanitize_unit_vectors.comp). docs/input-validation.md has the table.
 #pragma once
 #include <algorithm>
@@ -15,8 +15,6 @@
 #include "rtd/frame.h"
 
 namespace rtd {
-
-struct FrameData;
 
 /// Per-buffer counts of what import replaced.
 using SanitizeStats = std::array<SanitizeCounts, kBufferCount>;
@@ -85,8 +83,9 @@ inline bool renormalize(float& x, float& y, float& z) {
   return true;
 }
 
-/// Renormalizes every unit-vector buffer of `frame` in place, counting changed pixels in
-/// counts[b].renormalized. importFrame() calls it once all buffers are imported.
-void sanitizeUnitVectors(FrameData& frame, SanitizeStats& counts);
+/// Renormalizes the pixels of one row of a unit-vector buffer (its x, y, z rows) in place;
+/// returns how many changed. importFrame() calls it on every row of such a buffer that may
+/// need it. Valid rows (the common case) only pay for a vectorizable test.
+uint64_t renormalizeRow(float* px, float* py, float* pz, int w);
 
 }  // namespace rtd

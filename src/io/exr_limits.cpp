@@ -73,6 +73,49 @@ struct Codec {
 constexpr Codec kCodecs[] = {{1, 1.0},  {1, 128.0},  {1, 2048.0}, {16, 2048.0}, {32, 2048.0},
                              {16, 2048.0}, {32, 16.0}, {32, 16.0},  {32, 0.0},    {256, 0.0}};
 
+// OpenEXR reads an attribute of a type it knows by that type's own layout, not by the size the
+// header gives: a box2i takes 16 bytes whatever the header claims, and the next attribute is
+// then read from the wrong place (where a mutated file makes it an opaque attribute claiming
+// gigabytes). So the fixed-size types must claim exactly their size, and the variable ones
+// (string vector, preview image) must be consistent with theirs. The list is OpenEXR 3.1's
+// known attribute types (ImfStandardAttributes / Attribute::knownType). The channel list, also
+// read by content, is checked by parseChannels.
+struct FixedType {
+  const char* name;
+  int32_t bytes;
+};
+constexpr FixedType kFixedTypes[] = {
+    {"box2i", 16},      {"box2f", 16},       {"chromaticities", 32}, {"compression", 1}, {"double", 8},
+    {"envmap", 1},      {"float", 4},        {"int", 4},             {"keycode", 28},    {"lineOrder", 1},
+    {"m33f", 36},       {"m33d", 72},        {"m44f", 64},           {"m44d", 128},      {"rational", 8},
+    {"tiledesc", 9},    {"timecode", 8},     {"v2i", 8},             {"v2f", 8},         {"v2d", 16},
+    {"v3i", 12},        {"v3f", 12},         {"v3d", 24},            {"deepImageState", 1}};
+
+void checkTypedSize(const std::string& type, int32_t bytes, const std::vector<unsigned char>& value, const std::string& what) {
+  for (const FixedType& t : kFixedTypes)
+    if (type == t.name && bytes != t.bytes)
+      HeaderStream::fail(what + " of type " + type + " claims " + std::to_string(bytes) + " bytes; that type has " +
+                         std::to_string(t.bytes));
+  if (type == "idmanifest" && bytes < 4)  // its uncompressed size, then size - 4 bytes of data
+    HeaderStream::fail(what + " of type idmanifest claims " + std::to_string(bytes) + " bytes, fewer than its 4-byte size field");
+  if (type == "stringvector") {  // strings of (int length, characters) filling the value exactly
+    size_t at = 0;
+    while (at < value.size()) {
+      if (value.size() - at < 4) HeaderStream::fail(what + ": a string vector ends inside a length");
+      const int32_t n = readInt(value, at);
+      at += 4;
+      if (n < 0 || size_t(n) > value.size() - at) HeaderStream::fail(what + ": a string of the vector claims " + std::to_string(n) + " bytes, more than the attribute has");
+      at += size_t(n);
+    }
+  } else if (type == "preview") {  // width, height, then width x height RGBA bytes
+    if (value.size() < 8) HeaderStream::fail(what + ": a preview image needs at least 8 bytes");
+    const int64_t w = uint32_t(readInt(value, 0)), h = uint32_t(readInt(value, 4));
+    if (8 + 4 * w * h != int64_t(value.size()))
+      HeaderStream::fail(what + ": a " + std::to_string(w) + "x" + std::to_string(h) + " preview image does not fit its " +
+                         std::to_string(value.size()) + " bytes");
+  }
+}
+
 struct Part {
   bool haveChannels = false, haveWindow = false, tiled = false, deep = false;
   int compression = 0;
@@ -102,6 +145,11 @@ void parseChannels(const std::vector<unsigned char>& v, Part& part) {
     if (++count > kMaxChannels)
       HeaderStream::fail("the file declares more than " + std::to_string(kMaxChannels) + " channels");
   }
+  // OpenEXR reads the list up to its terminating null, whatever size it claims: bytes after
+  // it would be read as the next attribute (a fuzz finding, tests/fixtures/fuzz/native_sequence).
+  if (at + 1 != v.size())
+    HeaderStream::fail("the channel list ends at byte " + std::to_string(at + 1) + " of the " + std::to_string(v.size()) +
+                       " it claims");
   if (count == 0) HeaderStream::fail("the file has no channels");
   part.haveChannels = true;
 }
@@ -168,7 +216,12 @@ HeaderCheck checkHeader(const fs::path& path) {
           in.bytes(t.data(), t.size(), what.c_str());
           if (t.rfind("deep", 0) == 0) throw Error("deep EXR data is not supported");
           part.tiled = t == "tiledimage";
+        } else if (type == "stringvector" || type == "preview") {
+          std::vector<unsigned char> v(static_cast<size_t>(bytes));
+          in.bytes(v.data(), v.size(), what.c_str());
+          checkTypedSize(type, bytes, v, what);
         } else {
+          checkTypedSize(type, bytes, {}, what);
           in.skip(std::uintmax_t(bytes), what.c_str());
         }
       }

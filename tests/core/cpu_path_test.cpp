@@ -6,12 +6,15 @@
 // reference on every path in svgf_test.cpp). RTD_CPU_PATH's errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <random>
 
+#include "core/flush.h"
 #include "core/frame_data.h"
 #include "core/frame_data_kernels.h"
 #include "core/sanitize.h"
@@ -139,6 +142,74 @@ TEST(CpuPath, ImportAndExportMatchTheScalarReferenceExactly) {
               ASSERT_EQ(out.at(x, y, c), want) << cpuPathName(p) << " " << x << "," << y << "," << c;
             }
       }
+  }
+}
+
+// Import's fused row fixes: normals renormalized and emission subtracted in the same pass as
+// the sanitizer, on every path, against the scalar rules applied one after the other
+// (Bounds::sanitize, then renormalize, then max(0, flushTiny(colour - emission))).
+TEST(CpuPath, ImportRenormalizesAndSeparatesEmissionAsTheScalarRulesDo) {
+  const int w = 45, h = 7;
+  std::mt19937 rng(5);
+  Frame f;
+  f.width = w;
+  f.height = h;
+  for (Buffer b : {Buffer::Color, Buffer::Normal, Buffer::Emission}) f[b] = Image(w, h, 3);
+  const float lengths[] = {1.0f, 1.0f, 1.5f, 0.2f, 1e-20f, 1e-39f, 0.0f, 1.0004f, 1.0006f};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      // Whole rows of unit normals (the fast path) and rows with every kind of pixel.
+      const float len = y % 3 == 0 ? 1.0f : lengths[rng() % (sizeof lengths / sizeof lengths[0])];
+      const float a = float(rng() % 628) * 0.01f, z = float(rng() % 200) * 0.01f - 1.0f, r = std::sqrt(1 - z * z);
+      float n[3] = {len * r * std::cos(a), len * r * std::sin(a), len * z};
+      if (rng() % 17 == 0) n[rng() % 3] = awkwardValue(rng);
+      for (int c = 0; c < 3; ++c) {
+        f[Buffer::Normal].at(x, y, c) = n[c];
+        const float e = rng() % 4 == 0 ? awkwardValue(rng) : float(rng() % 5) * 0.25f;
+        f[Buffer::Emission].at(x, y, c) = e;
+        // colour equal to, above, below the emission, or awkward
+        const int kind = int(rng() % 4);
+        f[Buffer::Color].at(x, y, c) = kind == 0 ? e : kind == 1 ? e + 0.5f : kind == 2 ? e * 0.5f : awkwardValue(rng);
+      }
+    }
+  const FrameInputs in = f.inputs();
+  // The scalar rules, one after the other.
+  SanitizeStats expect{};
+  auto sanitized = [&](Buffer b, int x, int y, int c) {
+    const ValueRange r = importRange(b);
+    return Bounds{r.lo, r.hi}.sanitize(f[b].at(x, y, c), expect[size_t(b)]);
+  };
+  Image wantNormal(w, h, 3), wantColor(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float n[3], e[3];
+      for (int c = 0; c < 3; ++c) {
+        n[c] = sanitized(Buffer::Normal, x, y, c);
+        e[c] = sanitized(Buffer::Emission, x, y, c);
+        wantColor.at(x, y, c) = std::max(0.0f, flushTiny(sanitized(Buffer::Color, x, y, c) - e[c]));
+      }
+      expect[size_t(Buffer::Normal)].renormalized += renormalize(n[0], n[1], n[2]);
+      for (int c = 0; c < 3; ++c) wantNormal.at(x, y, c) = n[c];
+    }
+  ASSERT_GT(expect[size_t(Buffer::Normal)].renormalized, 20u);  // the input exercises it
+  for (CpuPath p : supportedCpuPaths()) {
+    ScopedCpuPath force(p);
+    FrameData d;
+    SanitizeStats counts{};
+    importFrame(in, {Buffer::Color}, d, nullptr, &counts);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_EQ(std::bit_cast<uint32_t>(d.plane(Buffer::Normal, c)(x, y)), std::bit_cast<uint32_t>(wantNormal.at(x, y, c)))
+              << cpuPathName(p) << " normal " << x << "," << y << "," << c;
+          ASSERT_EQ(std::bit_cast<uint32_t>(d.plane(Buffer::Color, c)(x, y)), std::bit_cast<uint32_t>(wantColor.at(x, y, c)))
+              << cpuPathName(p) << " color " << x << "," << y << "," << c;
+        }
+    for (Buffer b : {Buffer::Color, Buffer::Normal, Buffer::Emission}) {
+      EXPECT_EQ(counts[size_t(b)].nonFinite, expect[size_t(b)].nonFinite) << cpuPathName(p) << " " << bufferName(b);
+      EXPECT_EQ(counts[size_t(b)].outOfRange, expect[size_t(b)].outOfRange) << cpuPathName(p) << " " << bufferName(b);
+      EXPECT_EQ(counts[size_t(b)].renormalized, expect[size_t(b)].renormalized) << cpuPathName(p) << " " << bufferName(b);
+    }
   }
 }
 

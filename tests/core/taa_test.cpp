@@ -3,10 +3,13 @@
 // linear and the display domain (rtd/methods/taa.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "passes/taa.h"
 #include "passes/tonemap.h"
+#include "support/cpu_paths.h"
 
 namespace rtd {
 namespace {
@@ -58,6 +61,28 @@ TEST(Taa, ConstantImageIsAFixedPoint) {
           EXPECT_NEAR(out[c].data[i], v, 1e-6f * (1 + top) * (1 + top)) << "domain " << int(d);
         }
     }
+}
+
+// The display domain's vector encode and decode (passes/taa_simd.cpp) on every CPU path: a
+// static image whose pixels span 1e-6 to 1e4 comes back within a few float roundings in the
+// encoded domain (where the blend and the YCoCg clamp work; the encoding resolves 2^-24 near 1).
+TEST(Taa, DisplayDomainIsAFixedPointOnEveryCpuPath) {
+  const Plane3 in = image([](int x, int y, int c) { return std::pow(10.0f, -6.0f + 10.0f * float((x * 3 + y * 7 + c) % 41) / 40.0f); });
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
+    Taa taa;
+    Plane3 out;
+    const Reprojection rp = shifted(0.0f);
+    for (int f = 0; f < 3; ++f) out = taa.run(rp, in, settings(0.1f, TaaDomain::display));
+    double worst = 0;
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < out[c].size(); ++i) {
+        const double e = std::sqrt(double(in[c].data[i]) / (1.0 + in[c].data[i]));
+        worst = std::max(worst, std::abs(tonemap::taaEncode(out[c].data[i]) - e) / 0x1p-24);
+      }
+    EXPECT_LE(worst, 8.0) << cpuPathName(path);  // in units of 2^-24
+    RecordProperty(std::string("worst_") + cpuPathName(path), std::to_string(worst));
+  }
 }
 
 // The transfer pair round-trips on LDR and HDR values, maps [0, inf) into [0, 1), and gives

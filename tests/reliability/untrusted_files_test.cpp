@@ -47,6 +47,20 @@ size_t attributeValue(const std::vector<char>& b, const std::string& name, const
 }
 void putInt(std::vector<char>& b, size_t at, int32_t v) { std::memcpy(&b[at], &v, 4); }
 
+// Inserts a header attribute right after the magic number and version (the offset table is
+// not moved: the files below must fail in their header).
+void insertAttribute(std::vector<char>& b, const std::string& name, const std::string& type, const std::vector<int32_t>& ints) {
+  std::vector<char> a(name.begin(), name.end());
+  a.push_back('\0');
+  a.insert(a.end(), type.begin(), type.end());
+  a.push_back('\0');
+  const int32_t size = int32_t(4 * ints.size());
+  a.resize(a.size() + 4 + size_t(size));
+  std::memcpy(&a[a.size() - 4 - size_t(size)], &size, 4);
+  if (size > 0) std::memcpy(&a[a.size() - size_t(size)], ints.data(), size_t(size));
+  b.insert(b.begin() + 8, a.begin(), a.end());
+}
+
 std::string errorOf(const std::function<void()>& fn) {
   try {
     fn();
@@ -112,6 +126,25 @@ std::vector<Crafted> craftedFiles() {
        }},
       {"a file cut inside its header", "the file ends inside",
        [](std::vector<char>& b) { b.resize(attributeValue(b, "dataWindow", "box2i") - 7); }},  // inside "box2i"
+      // OpenEXR reads a known type by its own layout, not by the claimed size: a box2i claiming
+      // 20 bytes would be read as 16 and the next attribute taken from inside it (a fuzz finding,
+      // tests/fixtures/fuzz/blender_sequence).
+      {"a box2i claiming 20 bytes", "'displayWindow' of type box2i claims 20 bytes; that type has 16",
+       [](std::vector<char>& b) { putInt(b, attributeValue(b, "displayWindow", "box2i") - 4, 20); }},
+      {"a float claiming 8 bytes", "of type float claims 8 bytes",
+       [](std::vector<char>& b) { insertAttribute(b, "exposure", "float", {0, 0}); }},
+      {"a channel list claiming more bytes than it has", "the channel list ends at byte",
+       [](std::vector<char>& b) {  // 4 more bytes claimed, taken from the next attribute's name
+         const size_t at = attributeValue(b, "channels", "chlist");
+         int32_t size;
+         std::memcpy(&size, &b[at - 4], 4);
+         putInt(b, at - 4, size + 4);
+       }},
+      // String vectors and previews are parsed by content: it must fill the claimed size.
+      {"a string vector whose string claims 1 MB", "a string of the vector claims 1000000 bytes",
+       [](std::vector<char>& b) { insertAttribute(b, "names", "stringvector", {1000000, 0x64636261}); }},
+      {"a 1000x1000 preview in 12 bytes", "preview image does not fit",
+       [](std::vector<char>& b) { insertAttribute(b, "preview", "preview", {1000, 1000, 0}); }},
       {"not an EXR", "not an EXR", [](std::vector<char>& b) { b[0] = 'P'; }},
       {"a zero-byte file", "too short", [](std::vector<char>& b) { b.clear(); }},
   };

@@ -176,7 +176,7 @@ Recorder VulkanDenoiserBase::beginRecord(VkCommandBuffer cmd, const std::vector<
          uint32_t(bufferChannelCount(im.which)), im.type, counter, range.lo, range.hi};
     rec.dispatch("import", {im.source, f.planes[int(im.which)], counter_}, pc, width_, height_);
   }
-  // Unit vectors renormalized (sanitizeUnitVectors on the CPU).
+  // Unit vectors renormalized (renormalizeRow in the CPU import).
   for (const auto& im : imports) {
     if (!isUnitVectorBuffer(im.which)) continue;
     struct PC {

@@ -2,9 +2,11 @@
 #include "io/oiio/oiio_plugin.h"
 
 #include <OpenImageIO/imageio.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/strutil.h>
 
 #include <cstdio>
+#include <memory>
 #include <string>
 
 namespace {
@@ -12,12 +14,33 @@ int fail(char* error, int size, const std::string& message) {
   std::snprintf(error, size_t(size), "%s", message.c_str());
   return -1;
 }
+// Opens `path` with the reader of the format its extension names, and only that one:
+// ImageInput::open(path) would, when that reader refuses the file, try every other format in
+// turn, OpenEXR among them, and so read an EXR named .png without the header checks rtdenoise
+// makes on EXR files (src/io/exr_limits.h; a fuzz finding). Creating the reader from the
+// extension alone does not look at the file.
+std::unique_ptr<OIIO::ImageInput> openByExtension(const char* path, std::string& error) {
+  const std::string ext = OIIO::Filesystem::extension(path, false);
+  auto in = OIIO::ImageInput::create(ext);
+  if (!in) {
+    error = "no OpenImageIO reader for '." + ext + "' files: " + OIIO::geterror();
+    return nullptr;
+  }
+  OIIO::ImageSpec spec;
+  if (!in->open(path, spec)) {
+    error = in->geterror();
+    if (error.empty()) error = "OpenImageIO's " + std::string(in->format_name()) + " reader cannot read it";
+    return nullptr;
+  }
+  return in;
+}
 }  // namespace
 
 extern "C" __attribute__((visibility("default"))) int rtd_oiio_info(const char* path, RtdOiioInfo* info, char* error,
                                                                     int errorSize) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) return fail(error, errorSize, OIIO::geterror());
+  std::string why;
+  auto in = openByExtension(path, why);
+  if (!in) return fail(error, errorSize, why);
   const OIIO::ImageSpec& spec = in->spec();
   info->width = spec.width;
   info->height = spec.height;
@@ -31,8 +54,9 @@ extern "C" __attribute__((visibility("default"))) int rtd_oiio_info(const char* 
 
 extern "C" __attribute__((visibility("default"))) int rtd_oiio_read(const char* path, const RtdOiioInfo* expected,
                                                                     float* pixels, char* error, int errorSize) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) return fail(error, errorSize, OIIO::geterror());
+  std::string why;
+  auto in = openByExtension(path, why);
+  if (!in) return fail(error, errorSize, why);
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width != expected->width || spec.height != expected->height || spec.nchannels != expected->channels ||
       spec.depth > 1)

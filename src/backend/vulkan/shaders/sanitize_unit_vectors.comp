@@ -1,6 +1,6 @@
 #version 450
 // Pass "sanitize_unit_vectors": after import, a unit-vector buffer (normal, reflectedNormal,
-// mirrorDirection) renormalized in place (sanitize.glsl; twin of sanitizeUnitVectors in
+// mirrorDirection) renormalized in place (sanitize.glsl; twin of renormalizeRow in
 // src/core/sanitize.cpp), so no normal weight max(0, n(p).n(q))^sigma_n can exceed 1.
 #include "common.glsl"
 #include "sanitize.glsl"
