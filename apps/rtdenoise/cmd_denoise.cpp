@@ -2,10 +2,12 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <tbb/info.h>
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
 #include "denoise_stereo.h"
+#include "io_pipeline.h"
 #include "rtd/guide_rays.h"
 #include "sanitize_report.h"
 
@@ -19,6 +21,13 @@ namespace {
 /// What `denoise` writes into its output directory (and --overwrite replaces).
 const std::vector<std::string> kDenoiseOutputs = {R"(frame_\d+\.(exr|png))", R"(timings\.json)"};
 
+// OpenEXR's pool (rtd::setExrThreads) gets --threads, the CPU device's oneTBB bound (0 = all
+// cores); with one thread there is no pool and files are decoded on the reading thread itself.
+void setExrThreadsFrom(const DenoiseOptions& o) {
+  const int threads = o.device.threads > 0 ? o.device.threads : tbb::info::default_concurrency();
+  setExrThreads(threads > 1 ? threads : 0);
+}
+
 void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   const auto backend = o.device.single();
   if (!o.preview && (cmd.count("--tonemap") || cmd.count("--exposure")))
@@ -31,6 +40,7 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   }
   previewToneMap.exposure = o.exposure;
   (void)methodInfo(o.method);
+  setExrThreadsFrom(o);
   if (isStereoSequence(o.input)) return runDenoiseStereo(o, previewToneMap);  // render --stereo output: both eyes
   auto reader = SequenceReader::open(o.input, o.sequence);
   const int frames = framesToUse(o.maxFrames, reader->frameCount());
@@ -68,30 +78,51 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   timing["settings"] = settings;
   if (guideSamples) timing["guideRays"] = {{"samplesPerPixel", guideSamples + 1}};
 
+  // Frame i + 1 is read and frame i - 1 written on their own threads while frame i is
+  // denoised (io_pipeline.h), unless --no-pipeline.
+  struct Input {
+    Frame frame;
+    GuideRaySamples samples;
+  };
+  ReadAhead<Input> inputs(frames, o.noPipeline ? 0 : kReadAheadFrames, [&](int i) {
+    Input in{reader->read(i), {}};
+    if (guideSamples) in.samples = reader->readGuideRaySamples(i);
+    return in;
+  });
+  WriteBehind outputs(o.noPipeline ? 0 : kWriteBehindFrames);
   Progress progress("denoise", frames);
   Image output(reader->width(), reader->height(), 3);
   GuideRays guideRays;  // pre-mix, the method, copy back, on the method's backend (buffers kept)
-  for (int i = 0; i < frames; ++i) {
-    const Frame frame = reader->read(i);
-    if (guideSamples) output = guideRays.denoise(*denoiser, frame, reader->readGuideRaySamples(i));
-    else denoiser->denoise(frame.inputs(), output.view());
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%04d", frame.number);
-    writeRgbExr(out / (std::string(name) + ".exr"), output, o.half ? ExrPixels::Half : ExrPixels::Float);
-    if (o.preview) writeFileAtomic(out / (std::string(name) + ".png"), eval::encodePng(eval::toneMap(output, previewToneMap)));
+  try {
+    for (int i = 0; i < frames; ++i) {
+      const Input in = inputs.next();
+      const Frame& frame = in.frame;
+      if (guideSamples) output = guideRays.denoise(*denoiser, frame, in.samples);
+      else denoiser->denoise(frame.inputs(), output.view());
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04d", frame.number);
+      outputs.submit([&o, &previewToneMap, path = out / name, image = output] {
+        writeRgbExr(path.string() + ".exr", image, o.half ? ExrPixels::Half : ExrPixels::Float);
+        if (o.preview) writeFileAtomic(path.string() + ".png", eval::encodePng(eval::toneMap(image, previewToneMap)));
+      });
 
-    FrameStats st = denoiser->stats();
-    for (const PassTiming& p : guideRays.passes()) {  // the CPU's, outside the method's stats
-      st.passes.push_back(p);
-      st.totalMilliseconds += p.milliseconds;
+      FrameStats st = denoiser->stats();
+      for (const PassTiming& p : guideRays.passes()) {  // the CPU's, outside the method's stats
+        st.passes.push_back(p);
+        st.totalMilliseconds += p.milliseconds;
+      }
+      json passes = json::object();
+      for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
+      log.add({{"number", frame.number}, {"passes", passes}}, st, frame.cut);
+      char detail[64];
+      std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
+      progress.update(i + 1, detail);
     }
-    json passes = json::object();
-    for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
-    log.add({{"number", frame.number}, {"passes", passes}}, st, frame.cut);
-    char detail[64];
-    std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);
-    progress.update(i + 1, detail);
+  } catch (...) {
+    outputs.finish();  // a failed write of an earlier frame is the first error
+    throw;
   }
+  outputs.finish();
   progress.finish();
   log.write(out, o.half);
   std::printf("wrote %d frames and timings.json to %s\n", frames, o.output.dir.c_str());
@@ -115,6 +146,9 @@ void addDenoise(CLI::App& app) {
                 "gaps in the frame numbering are not cuts (by default a gap resets history)");
   cmd->add_flag("--no-guide-rays", o->noGuideRays,
                 "ignore a sequence's guide-ray samples (render --guide-rays) and denoise its guide frames alone");
+  cmd->add_flag("--no-pipeline", o->noPipeline,
+                "read, denoise and write each frame in turn on one thread (by default frame N+1 is read and frame "
+                "N-1 written on threads of their own while frame N is denoised; the outputs are the same)");
   cmd->add_flag("--half", o->half, "write half-float EXRs (default 32-bit float)");
   cmd->add_flag("--preview", o->preview, "also write a tone-mapped 8-bit sRGB preview frame_NNNN.png per frame");
   cmd->add_option("--tonemap", o->toneMap, "tone map of the previews: aces, reinhard or clamp")->capture_default_str();

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
+#include "io_pipeline.h"
 #include "sanitize_report.h"
 
 namespace rtd::cli {
@@ -70,35 +71,49 @@ void runDenoiseStereo(const DenoiseOptions& o, const eval::ToneMapSettings& prev
   json settings = json::object();
   for (const auto& s : denoiser->settings()) settings[s.name] = s.value;
   timing["settings"] = settings;
+  // Both eyes of frame i + 1 are read and those of frame i - 1 written on their own threads
+  // while frame i is denoised (io_pipeline.h), unless --no-pipeline.
+  ReadAhead<std::pair<Frame, Frame>> inputs(frames, o.noPipeline ? 0 : kReadAheadFrames,
+                                            [&](int i) { return std::pair{l.read(i), r.read(i)}; });
+  WriteBehind writes(o.noPipeline ? 0 : kWriteBehindFrames);
   Progress progress("denoise", frames);
   Image outputs[2] = {Image(l.width(), l.height(), 3), Image(l.width(), l.height(), 3)};
-  for (int i = 0; i < frames; ++i) {
-    const Frame fl = l.read(i), fr = r.read(i);
-    StereoFrameInputs inputs;
-    inputs.eye[0] = fl.inputs();
-    inputs.eye[1] = fr.inputs();
-    denoiser->denoise(inputs, outputs[0].view(), outputs[1].view());
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%04d", fl.number);
-    for (int e = 0; e < 2; ++e) {
-      writeRgbExr(out / names[e] / (std::string(name) + ".exr"), outputs[e], o.half ? ExrPixels::Half : ExrPixels::Float);
-      if (o.preview)
-        writeFileAtomic(out / names[e] / (std::string(name) + ".png"), eval::encodePng(eval::toneMap(outputs[e], previewToneMap)));
+  try {
+    for (int i = 0; i < frames; ++i) {
+      const auto [fl, fr] = inputs.next();
+      StereoFrameInputs stereo;
+      stereo.eye[0] = fl.inputs();
+      stereo.eye[1] = fr.inputs();
+      denoiser->denoise(stereo, outputs[0].view(), outputs[1].view());
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04d", fl.number);
+      writes.submit([&o, &previewToneMap, &out, &names, name = std::string(name), left = outputs[0], right = outputs[1]] {
+        const Image* images[2] = {&left, &right};
+        for (int e = 0; e < 2; ++e) {
+          const fs::path path = out / names[e] / name;
+          writeRgbExr(path.string() + ".exr", *images[e], o.half ? ExrPixels::Half : ExrPixels::Float);
+          if (o.preview) writeFileAtomic(path.string() + ".png", eval::encodePng(eval::toneMap(*images[e], previewToneMap)));
+        }
+      });
+      const FrameStats& st = denoiser->stats();
+      json passes = json::object();
+      for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
+      json memory = json::object();
+      for (const auto& m : st.memory) memory[m.category] = m.bytes;
+      log.add({{"number", fl.number},
+               {"passes", passes},
+               {"eyeTotalMs", {denoiser->eyeStats(0).totalMilliseconds, denoiser->eyeStats(1).totalMilliseconds}},
+               {"memoryBytes", memory}},
+              st, fl.cut || fr.cut);
+      char detail[64];
+      std::snprintf(detail, sizeof detail, "%.1f ms/frame (both eyes)", st.totalMilliseconds);
+      progress.update(i + 1, detail);
     }
-    const FrameStats& st = denoiser->stats();
-    json passes = json::object();
-    for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
-    json memory = json::object();
-    for (const auto& m : st.memory) memory[m.category] = m.bytes;
-    log.add({{"number", fl.number},
-             {"passes", passes},
-             {"eyeTotalMs", {denoiser->eyeStats(0).totalMilliseconds, denoiser->eyeStats(1).totalMilliseconds}},
-             {"memoryBytes", memory}},
-            st, fl.cut || fr.cut);
-    char detail[64];
-    std::snprintf(detail, sizeof detail, "%.1f ms/frame (both eyes)", st.totalMilliseconds);
-    progress.update(i + 1, detail);
+  } catch (...) {
+    writes.finish();  // a failed write of an earlier frame is the first error
+    throw;
   }
+  writes.finish();
   progress.finish();
   log.write(out, o.half);
   std::printf("wrote %d frames per eye to %s/left and %s/right, and timings.json\n", frames, o.output.dir.c_str(),

@@ -22,6 +22,7 @@ struct DenoiseOptions {
   float exposure = 0.0f;
   SequenceOptions sequence;  // --cut, --continuous
   bool noGuideRays = false;  // --no-guide-rays: denoise the guide frames alone
+  bool noPipeline = false;   // --no-pipeline: read, denoise and write each frame in turn on one thread
 };
 
 /// A directory without a sequence of its own that holds the sequences `left` and `right`.

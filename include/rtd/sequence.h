@@ -137,6 +137,12 @@ void writeRgbExr(const std::filesystem::path& path, const Image& rgb, ExrPixels 
 /// Reads the R, G, B channels of an EXR (single-part, top-level channels).
 Image readRgbExr(const std::filesystem::path& path);
 
+/// Worker threads with which OpenEXR decodes and encodes the chunks of the EXR files that
+/// readers and writers here read and write (process-wide; rtd::Error outside [0, 4096]). 0, the
+/// default, works on the calling thread alone; `rtdenoise denoise` sets its --threads (all cores
+/// when 0).
+void setExrThreads(int threads);
+
 /// Writes `data` to `path` atomically (temporary file in the same directory, then rename).
 void writeFileAtomic(const std::filesystem::path& path, const std::string& data);
 

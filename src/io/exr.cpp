@@ -6,6 +6,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfThreading.h>
 #include <unistd.h>
 #include <Imath/half.h>
 
@@ -59,16 +60,26 @@ std::vector<std::vector<float>> readChannels(const fs::path& path, const std::ve
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
     if (w != checked.width || h != checked.height) throw Error(where + ": the header does not parse consistently");
     std::vector<std::vector<float>> planes(names.size(), std::vector<float>(size_t(w) * h));
+    // All channels in one frame buffer, so one pass over the file decodes each chunk once. A
+    // name asked for twice is read once and copied (a frame buffer holds one slice per name).
+    std::vector<std::pair<size_t, size_t>> repeats;  // (copy, of)
     Imf::FrameBuffer fb;
     for (size_t i = 0; i < names.size(); ++i) {
       if (!file.header().channels().findChannel(names[i]))
         throw Error(where + ": missing channel '" + names[i] + "'");
+      const size_t first = size_t(std::find(names.begin(), names.end(), names[i]) - names.begin());
+      if (first != i) {
+        repeats.emplace_back(i, first);
+        continue;
+      }
       fb.insert(names[i], Imf::Slice::Make(Imf::FLOAT, planes[i].data(), dw, sizeof(float), sizeof(float) * size_t(w)));
     }
     file.setFrameBuffer(fb);
     try {
-      // Slab by slab (whole chunks), so that a file whose decoding stalls stops at the deadline.
-      const int slab = std::max(checked.linesPerChunk, 32 / checked.linesPerChunk * checked.linesPerChunk);
+      // Slab by slab (whole chunks), so that a file whose decoding stalls stops at the deadline;
+      // a slab has a few chunks per thread of OpenEXR's pool (setExrThreads) to decode in parallel.
+      const int chunks = std::max(1, 32 / checked.linesPerChunk) * std::max(1, Imf::globalThreadCount());
+      const int slab = checked.linesPerChunk * chunks;
       for (int y = dw.min.y; y <= dw.max.y; y += slab) {
         deadline.check();
         file.readPixels(y, std::min(dw.max.y, y + slab - 1));
@@ -80,12 +91,19 @@ std::vector<std::vector<float>> readChannels(const fs::path& path, const std::ve
       for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
       throw Error(where + ": pixel data of channels " + list + " is truncated or corrupt (" + e.what() + ")");
     }
+    for (const auto& [copy, of] : repeats) planes[copy] = planes[of];
     return planes;
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
     throw Error(where + ": not a readable EXR (" + e.what() + ")");
   }
+}
+
+void setThreads(int threads) {
+  if (threads < 0 || threads > 4096)
+    throw Error("EXR threads: " + std::to_string(threads) + ", expected 0 (the calling thread) to 4096");
+  Imf::setGlobalThreadCount(threads);
 }
 
 void writeChannels(const fs::path& path, int width, int height, const std::vector<ChannelSource>& channels, bool half) {

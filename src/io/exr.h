@@ -15,11 +15,16 @@ struct Header {
 /// Reads the header; throws rtd::Error if the file is missing, not an EXR, or corrupt.
 Header readHeader(const std::filesystem::path& path);
 
-/// Reads the named channels as floats, each a width*height plane (rows from the top).
+/// Reads the named channels as floats, each a width*height plane (rows from the top), all in
+/// one pass over the file (a name may repeat).
 /// `context` prefixes error messages (e.g. "frame 3"). Missing channels and truncated pixel
 /// data throw rtd::Error naming the file and the channel.
 std::vector<std::vector<float>> readChannels(const std::filesystem::path& path, const std::vector<std::string>& names,
                                              const std::string& context);
+
+/// Worker threads of OpenEXR's process-wide pool, which decodes and encodes the chunks of every
+/// file read or written here in parallel (rtd::setExrThreads).
+void setThreads(int threads);
 
 /// One channel to write: a name and interleaved data with a stride (in floats).
 struct ChannelSource {

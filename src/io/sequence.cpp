@@ -50,11 +50,17 @@ static std::vector<std::string> nativeChannelNames(Buffer b) {
   return names;
 }
 
-static Image interleave(const std::vector<std::vector<float>>& planes, int w, int h) {
-  Image img(w, h, int(planes.size()));
-  for (size_t c = 0; c < planes.size(); ++c)
-    for (size_t i = 0; i < size_t(w) * h; ++i) img.pixels[i * planes.size() + c] = planes[c][i];
+/// Planes [first, first + count) as one interleaved image.
+static Image interleave(const std::vector<std::vector<float>>& planes, size_t first, size_t count, int w, int h) {
+  Image img(w, h, int(count));
+  for (size_t c = 0; c < count; ++c) {
+    const std::vector<float>& plane = planes[first + c];
+    for (size_t i = 0; i < size_t(w) * h; ++i) img.pixels[i * count + c] = plane[i];
+  }
   return img;
+}
+static Image interleave(const std::vector<std::vector<float>>& planes, int w, int h) {
+  return interleave(planes, 0, planes.size(), w, h);
 }
 
 static std::array<float, 16> matrixFromJson(const json& j, const std::string& where) {
@@ -279,8 +285,18 @@ class NativeReader final : public SequenceReader {
     f.height = height_;
     f.camera = e.camera;
     f.cut = cutAt(index);
+    // Every buffer in one pass over the file: its chunks hold all channels, so reading buffer
+    // by buffer would decompress the whole file once per buffer.
+    std::vector<std::string> names;
     for (Buffer b : buffers_)
-      f[b] = interleave(exr::readChannels(path, nativeChannelNames(b), context), width_, height_);
+      for (std::string& n : nativeChannelNames(b)) names.push_back(std::move(n));
+    auto planes = exr::readChannels(path, names, context);
+    size_t next = 0;
+    for (Buffer b : buffers_) {
+      const size_t count = size_t(bufferChannelCount(b));
+      f[b] = interleave(planes, next, count, width_, height_);
+      next += count;
+    }
     return f;
   }
 
@@ -515,17 +531,27 @@ class BlenderReader final : public SequenceReader {
     f.number = number;
     f.width = width_;
     f.height = height_;
-    for (const BlenderPass* p : passes_) {
-      std::vector<std::string> names;
+    // Every pass in one pass over the file (its chunks hold all channels): the buffers' passes,
+    // then the light passes (BlenderLightPasses).
+    std::vector<std::string> names;
+    for (const BlenderPass* p : passes_)
       for (size_t c = 0; p->channels[c]; ++c) names.push_back(channelName(*p, c));
-      auto planes = exr::readChannels(path, names, context);
+    const size_t lightFirst = names.size();
+    const std::vector<std::string> light = lightPasses();
+    for (const auto& p : light)
+      for (const char* c : {"R", "G", "B"}) names.push_back(layer_ + "." + p + "." + c);
+    auto planes = exr::readChannels(path, names, context);
+    size_t next = 0;
+    for (const BlenderPass* p : passes_) {
+      const size_t count = std::char_traits<char>::length(p->channels);
       if (p->buffer == Buffer::Motion) {
         // Blender: previous position = (x + Vector.X, row - Vector.Y), y up; ours is y down.
-        for (float& v : planes[1]) v = -v;
+        for (float& v : planes[next + 1]) v = -v;
       }
-      f[p->buffer] = interleave(planes, width_, height_);
+      f[p->buffer] = interleave(planes, next, count, width_, height_);
+      next += count;
     }
-    readLightPasses(path, context, f);
+    combineLightPasses(light, planes, lightFirst, f);
     auto cam = cameras_.find(number);
     if (cam != cameras_.end()) f.camera = cam->second;
     f.cut = cutAt(index);
@@ -536,22 +562,23 @@ class BlenderReader final : public SequenceReader {
   bool markedCut(int index) const override { return cutFrames_.count(files_[size_t(index)].first) > 0; }
 
  private:
-  // The lobes, their colours and the emission from the light passes (BlenderLightPasses), all
-  // channels read in one pass over the file.
-  void readLightPasses(const fs::path& path, const std::string& context, Frame& f) const {
+  // The light passes the file has (BlenderLightPasses), in the order read.
+  std::vector<std::string> lightPasses() const {
     std::vector<std::string> passes;
     if (light_.glossy) passes.insert(passes.end(), {"GlossDir", "GlossInd", "GlossCol"});
     if (light_.glossy && light_.diffuseColor) passes.push_back("DiffCol");
     if (light_.emit) passes.push_back("Emit");
     if (light_.env) passes.push_back("Env");
+    return passes;
+  }
+  // The lobes, their colours and the emission from the light passes `passes`, whose RGB planes
+  // start at planes[first].
+  void combineLightPasses(const std::vector<std::string>& passes, const std::vector<std::vector<float>>& planes,
+                          size_t first, Frame& f) const {
     if (passes.empty()) return;
-    std::vector<std::string> names;
-    for (const auto& p : passes)
-      for (const char* c : {"R", "G", "B"}) names.push_back(layer_ + "." + p + "." + c);
-    const auto planes = exr::readChannels(path, names, context);
     auto pass = [&](const std::string& name) {
-      const size_t k = size_t(std::find(passes.begin(), passes.end(), name) - passes.begin());
-      return std::vector<std::vector<float>>(planes.begin() + 3 * k, planes.begin() + 3 * k + 3);
+      const size_t k = first + 3 * size_t(std::find(passes.begin(), passes.end(), name) - passes.begin());
+      return std::vector<std::vector<float>>(planes.begin() + long(k), planes.begin() + long(k) + 3);
     };
     const size_t n = size_t(width_) * height_;
     if (light_.glossy) {
@@ -901,6 +928,8 @@ void writeRgbExr(const fs::path& path, const Image& rgb, ExrPixels pixels) {
                      {{"R", rgb.pixels.data(), s}, {"G", rgb.pixels.data() + 1, s}, {"B", rgb.pixels.data() + 2, s}},
                      pixels == ExrPixels::Half);
 }
+
+void setExrThreads(int threads) { exr::setThreads(threads); }
 
 Image readRgbExr(const fs::path& path) {
   exr::Header h = exr::readHeader(path);
