@@ -7,8 +7,11 @@
 //                  mean_p |L_t - L_{t-1}| of tone-mapped luminance, whole image and reflective;
 //   supersampling  Fig. 11: Ours at 1 spp with TAA, 1 spp without, and N spp with guide rays
 //                  (Sec. 5) without TAA, against a jittered (anti-aliased) reference;
+//   ablation       Fig. 8's scores for Ours with one part switched off at a time (and Base, the
+//                  Sec. 6 robustness set alone): which part costs or gains on a scene;
 //   motion         Figs. 12-13: the reflection motion vectors of a rendered sequence (--input)
-//                  against the 200x200 brute-force search, with and without LDSP scaling.
+//                  against the 200x200 brute-force search, with and without LDSP scaling, the
+//                  reference on the far ray's half-line and on its line.
 // Prints one JSON object per configuration and line; scripts/reflections-experiments.py makes
 // the tables of docs/methods/reflections.md from them. Not a test: no thresholds here.
 #include <algorithm>
@@ -81,26 +84,28 @@ void print(const Options& o, const Config& c, int spp) {
 
 int motion(const Options& o) {
   const auto seq = SequenceReader::open(o.input);
-  for (bool scaling : {true, false}) {
-    eval::ReflectionMotionSettings s;
-    s.ldspScaling = scaling;
-    const auto frames = eval::reflectionMotionError(*seq, s);
-    double err = 0, within = 0, taps = 0, worst = 0, best = INFINITY;
-    int n = 0;
-    for (const auto& f : frames) {
-      if (!f.pixels || !(f.meanError >= 0)) continue;
-      err += f.meanError;
-      within += f.withinOnePixel;
-      taps += f.meanTaps;
-      worst = std::max(worst, f.meanError);
-      best = std::min(best, f.meanError);
-      ++n;
+  for (bool scaling : {true, false})
+    for (bool onRay : {true, false}) {
+      eval::ReflectionMotionSettings s;
+      s.ldspScaling = scaling;
+      s.referenceOnRay = onRay;
+      const auto frames = eval::reflectionMotionError(*seq, s);
+      double err = 0, within = 0, taps = 0, worst = 0, best = INFINITY;
+      int n = 0;
+      for (const auto& f : frames) {
+        if (!f.pixels || !(f.meanError >= 0)) continue;
+        err += f.meanError;
+        within += f.withinOnePixel;
+        taps += f.meanTaps;
+        worst = std::max(worst, f.meanError);
+        best = std::min(best, f.meanError);
+        ++n;
+      }
+      std::printf("{\"experiment\": \"motion\", \"input\": \"%s\", \"ldspScaling\": %s, \"reference\": \"%s\", \"frames\": %d, "
+                  "\"meanError\": %.4f, \"minFrameError\": %.4f, \"maxFrameError\": %.4f, \"withinOnePixel\": %.4f, "
+                  "\"meanTaps\": %.2f}\n",
+                  o.input.c_str(), scaling ? "true" : "false", onRay ? "ray" : "line", n, err / n, best, worst, within / n, taps / n);
     }
-    std::printf("{\"experiment\": \"motion\", \"input\": \"%s\", \"ldspScaling\": %s, \"frames\": %d, "
-                "\"meanError\": %.4f, \"minFrameError\": %.4f, \"maxFrameError\": %.4f, \"withinOnePixel\": %.4f, "
-                "\"meanTaps\": %.2f}\n",
-                o.input.c_str(), scaling ? "true" : "false", n, err / n, best, worst, within / n, taps / n);
-  }
   return 0;
 }
 
@@ -125,16 +130,33 @@ int run(const Options& o) {
 
   auto device = Device::create();
   std::vector<Config> configs;
-  auto add = [&](const std::string& name, const char* variant, bool taa, bool ss) {
+  auto add = [&](const std::string& name, const char* variant, bool taa, bool ss,
+                 const std::vector<std::pair<const char*, const char*>>& set = {}) {
     Config c;
     c.name = name;
     c.d = device->createDenoiser("svgf");
     c.d->set("variant", variant);
     c.d->set("taa", taa ? "true" : "false");
+    for (const auto& kv : set) c.d->set(kv.first, kv.second);
     c.supersample = ss;
     configs.push_back(std::move(c));
   };
-  if (supersampling) {
+  if (o.experiment == "ablation") {
+    add("Base", "voorhuisBase", true, false);
+    add("Robustness (Sec. 6) only", "voorhuisRobustness", true, false);
+    add("Ours", "voorhuis", true, false);
+    add("Ours, no lobe split", "voorhuis", true, false, {{"preferLobes", "false"}});
+    add("Ours, primary motion", "voorhuis", true, false, {{"specularMotion", "primary"}});
+    add("Ours, no reflected features", "voorhuis", true, false, {{"reflectedFeatures", "off"}});
+    add("Ours, no Eq. 6", "voorhuis", true, false, {{"glossyBandwidth", "off"}});
+    add("Ours, no clipping", "voorhuis", true, false, {{"neighbourhoodClipping", "off"}});
+    add("Ours, no per-class blend", "voorhuis", true, false, {{"materialAlpha", "off"}});
+    add("Ours, TAA on glossy reflection motion", "voorhuis", true, false, {{"taaGlossyReflectionMotion", "true"}});
+    add("Ours, no TAA", "voorhuis", false, false);
+    add("Base, no TAA", "voorhuisBase", false, false);
+    add("NoSpecReproj", "voorhuisNoSpecReproj", true, false);
+    add("Ours, primary motion, no TAA", "voorhuis", false, false, {{"specularMotion", "primary"}});
+  } else if (supersampling) {
     add("1 spp + TAA", "voorhuis", true, false);
     add("1 spp, no TAA", "voorhuis", false, false);
     add(std::to_string(o.spp) + " spp guide rays, no TAA", "voorhuis", false, true);
@@ -169,10 +191,7 @@ int run(const Options& o) {
     for (Config& c : configs) {
       Image result;
       if (c.supersample) {
-        GuideRays gr;
-        const Frame mixed = gr.premix(frame, samples);
-        c.d->denoise(mixed.inputs(), out.view());
-        result = gr.resolve(out);
+        result = GuideRays().denoise(*c.d, frame, samples);
       } else {
         c.d->denoise(frame.inputs(), out.view());
         result = out;
@@ -231,14 +250,14 @@ int main(int argc, char** argv) {
     else if (a == "--still-frame") o.stillFrame = n;
     else {
       std::fprintf(stderr,
-                   "usage: rtd_reflections_experiment --experiment quality|stability|supersampling|motion [--scene S] [--input DIR] "
+                   "usage: rtd_reflections_experiment --experiment quality|stability|supersampling|ablation|motion [--scene S] [--input DIR] "
                    "[--width W] [--height H] [--frames N] [--eval-frames N] [--spp N] [--reference-spp N] "
                    "[--still-frame N]\n");
       return 2;
     }
   }
   if (o.experiment != "quality" && o.experiment != "stability" && o.experiment != "supersampling" &&
-      o.experiment != "motion") {
+      o.experiment != "motion" && o.experiment != "ablation") {
     std::fprintf(stderr, "rtd_reflections_experiment: unknown experiment '%s'\n", o.experiment.c_str());
     return 2;
   }

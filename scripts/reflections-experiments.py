@@ -74,7 +74,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
     ap.add_argument("--size", default="160x90")
-    ap.add_argument("--only", default="quality,stability,motion,supersampling,cost",
+    ap.add_argument("--only", default="quality,ablation,stability,motion,supersampling,cost",
                     help="comma-separated sections to run (each rewrites its own table)")
     ap.add_argument("--motion-frames", default="24", help="frames of the corridor flythroughs for Figs. 12-13")
     a = ap.parse_args()
@@ -99,15 +99,27 @@ def main():
                   ("corridorglossy", "corridorglossy")]
 
         # Fig. 8: quality on a moving camera.
-        rows = []
-        for label, scene in (scenes if "quality" in only else []):
-            for r in lines_json(run([exp, "--experiment", "quality", "--scene", scene, "--frames", "24",
-                                     "--eval-frames", "4", "--reference-spp", "256"] + size)):
-                rows.append([label, r["config"], "%.4f" % r["rmse"], "%.4f" % r["ssim"],
-                             "%.4f" % r["rmseReflective"], "%.4f" % r["ssimReflective"]])
+        def scores(experiment, which):
+            """Fig. 8's rows (RMSE, SSIM, whole and reflective) of `experiment` on the scenes `which`."""
+            rows = []
+            for label, scene in which:
+                for r in lines_json(run([exp, "--experiment", experiment, "--scene", scene, "--frames", "24",
+                                         "--eval-frames", "4", "--reference-spp", "256"] + size)):
+                    rows.append([label, r["config"], "%.4f" % r["rmse"], "%.4f" % r["ssim"],
+                                 "%.4f" % r["rmseReflective"], "%.4f" % r["ssimReflective"]])
+            return rows
+
+        rows = scores("quality", scenes if "quality" in only else [])
         if rows: sections.append(("fig8", "**Fig. 8 (quality, moving camera)**: %s, frames 0-23 of each scene's path, scored on the "
                         "last 4 against 256-spp references; RMSE of tone-mapped (ACES) images, SSIM of tone-mapped "
                         "sRGB; *reflective* = pixels of primary roughness < 0.4.\n\n" % a.size +
+                        table(["scene", "config", "RMSE", "SSIM", "RMSE refl.", "SSIM refl."], rows)))
+
+        # Ablation: Fig. 8's scores with one part of Ours off at a time, on the glossy scenes.
+        rows = scores("ablation", [s for s in scenes if s[0] != "mirrorfloor"] if "ablation" in only else [])
+        if rows: sections.append(("ablation", "**Ablation (Fig. 8's setting)**: %s, the glossy scenes, Ours with one "
+                        "part switched off at a time (`--set` after `variant=voorhuis`), and Base and NoSpecReproj "
+                        "with and without TAA.\n\n" % a.size +
                         table(["scene", "config", "RMSE", "SSIM", "RMSE refl.", "SSIM refl."], rows)))
 
         # Fig. 9: temporal error on 60 still frames.
@@ -130,13 +142,15 @@ def main():
             run([cli, "render", "--scene", scene, "--size", a.size, "--frames", a.motion_frames, "-o", out,
                  "--no-reference-cache"])
             for r in lines_json(run([exp, "--experiment", "motion", "--input", out])):
-                rows.append([scene, "on" if r["ldspScaling"] else "off", "%.3f" % r["meanError"],
+                rows.append([scene, "on" if r["ldspScaling"] else "off", r["reference"], "%.3f" % r["meanError"],
                              "%.3f - %.3f" % (r["minFrameError"], r["maxFrameError"]),
                              "%.1f %%" % (100 * r["withinOnePixel"]), "%.1f" % r["meanTaps"]])
         if rows: sections.append(("fig12", "**Figs. 12-13 (reflection motion vectors)**: %s, the first %s frames of "
                         "the corridor flythrough past a mirror orb (corridor) and a glossy orb (roughness 0.2), diamond search against the 200x200 "
-                        "brute-force search with the same subpixel step (`rtdenoise eval --reflection-motion`).\n\n"
-                        % (a.size, a.motion_frames) + table(["scene", "LDSP scaling", "mean error (px)", "per-frame range",
+                        "brute-force search with the same subpixel step (`rtdenoise eval --reflection-motion`); reference "
+                        "*ray*: its glossy distance to the far representative ray's half-line, *line*: Eq. 5 as written "
+                        "(`--line-reference`), see \"Eq. 5, ray or line\".\n\n"
+                        % (a.size, a.motion_frames) + table(["scene", "LDSP scaling", "reference", "mean error (px)", "per-frame range",
                                           "within 1 px", "taps / pixel"], rows)))
 
         # Fig. 11: supersampling with guide rays.

@@ -1,6 +1,5 @@
 // rtdenoise denoise: run one method over a sequence directory.
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <map>
 #include <tbb/info.h>
@@ -93,24 +92,13 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
   WriteBehind outputs(o.noPipeline ? 0 : kWriteBehindFrames);
   Progress progress("denoise", frames);
   Image output(reader->width(), reader->height(), 3);
+  GuideRays guideRays;  // pre-mix, the method, copy back, on the method's backend (buffers kept)
   try {
     for (int i = 0; i < frames; ++i) {
       const Input in = inputs.next();
       const Frame& frame = in.frame;
-      double premixMs = 0, resolveMs = 0;
-      if (guideSamples) {
-        using Clock = std::chrono::steady_clock;
-        GuideRays guideRays;
-        const auto t0 = Clock::now();
-        const Frame mixed = guideRays.premix(frame, in.samples);
-        premixMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-        denoiser->denoise(mixed.inputs(), output.view());
-        const auto t1 = Clock::now();
-        output = guideRays.resolve(output);
-        resolveMs = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
-      } else {
-        denoiser->denoise(frame.inputs(), output.view());
-      }
+      if (guideSamples) output = guideRays.denoise(*denoiser, frame, in.samples);
+      else denoiser->denoise(frame.inputs(), output.view());
       char name[32];
       std::snprintf(name, sizeof name, "frame_%04d", frame.number);
       outputs.submit([&o, &previewToneMap, path = out / name, image = output] {
@@ -119,13 +107,12 @@ void runDenoise(const DenoiseOptions& o, const CLI::App& cmd) {
       });
 
       FrameStats st = denoiser->stats();
+      for (const PassTiming& p : guideRays.passes()) {  // the CPU's, outside the method's stats
+        st.passes.push_back(p);
+        st.totalMilliseconds += p.milliseconds;
+      }
       json passes = json::object();
       for (const auto& p : st.passes) passes[p.name] = p.milliseconds;
-      if (guideSamples) {
-        passes["guideRays.premix"] = premixMs;
-        passes["guideRays.resolve"] = resolveMs;
-        st.totalMilliseconds += premixMs + resolveMs;
-      }
       log.add({{"number", frame.number}, {"passes", passes}}, st, frame.cut);
       char detail[64];
       std::snprintf(detail, sizeof detail, "%.1f ms/frame", st.totalMilliseconds);

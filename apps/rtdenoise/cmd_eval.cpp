@@ -16,7 +16,7 @@ struct Options {
   std::string reference, result, input, json;
   EvalOptions eval;
   // Reflections (docs/evaluation.md "Reflections"): both read the --input sequence.
-  bool reflectionMotion = false, noLdspScaling = false;
+  bool reflectionMotion = false, noLdspScaling = false, lineReference = false;
   float maskRoughness = 0;
 };
 
@@ -53,6 +53,7 @@ nlohmann::json maskedMetrics(const Options& o, const eval::EvalSettings& setting
 nlohmann::json reflectionMotion(const Options& o) {
   eval::ReflectionMotionSettings s;
   s.ldspScaling = !o.noLdspScaling;
+  s.referenceOnRay = !o.lineReference;
   auto input = SequenceReader::open(o.input);
   const auto frames = eval::reflectionMotionError(*input, s);
   nlohmann::json per = nlohmann::json::array();
@@ -69,11 +70,12 @@ nlohmann::json reflectionMotion(const Options& o) {
     within += f.withinOnePixel;
     ++n;
   }
-  std::printf("reflection motion vs brute force (%s LDSP scaling), %d frames: mean error %.3f px, %.1f%% within 1 px, "
+  std::printf("reflection motion vs brute force (%s LDSP scaling, %s reference), %d frames: mean error %.3f px, %.1f%% within 1 px, "
               "%.2f%% missed\n",
-              s.ldspScaling ? "with" : "without", n, n ? err / n : NAN, n ? 100.0 * within / n : NAN,
+              s.ldspScaling ? "with" : "without", s.referenceOnRay ? "ray" : "line", n, n ? err / n : NAN, n ? 100.0 * within / n : NAN,
               pixels ? 100.0 * double(missed) / double(pixels) : NAN);
-  return {{"ldspScaling", s.ldspScaling}, {"bruteForceWindow", 2 * s.bruteForceRadius}, {"frames", per},
+  return {{"ldspScaling", s.ldspScaling}, {"bruteForceWindow", 2 * s.bruteForceRadius},
+          {"reference", s.referenceOnRay ? "ray" : "line"}, {"frames", per},
           {"meanError", n ? err / n : NAN}, {"withinOnePixel", n ? within / n : NAN},
           {"missed", pixels ? double(missed) / double(pixels) : NAN}};
 }
@@ -117,6 +119,10 @@ void addEval(CLI::App& app) {
       ->needs(input);
   auto* motion = cmd->get_option("--reflection-motion");
   cmd->add_flag("--no-ldsp-scaling", o->noLdspScaling, "with --reflection-motion: the plain LDSP (Figs. 12-13)")->needs(motion);
+  cmd->add_flag("--line-reference", o->lineReference,
+                "with --reflection-motion: the reference measures glossy pixels by Eq. 5 as written (to the far "
+                "representative ray's whole line, as the search) instead of to its half-line")
+      ->needs(motion);
   cmd->add_option("--mask-roughness", o->maskRoughness,
                   "also PSNR / SSIM over the input's pixels of roughness below this (0.4: reflective pixels)")
       ->needs(input)

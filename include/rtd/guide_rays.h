@@ -6,8 +6,10 @@
 // takes that guide's filtered colour, and each pixel is the average of its samples (an
 // anti-aliased image without TAA). docs/methods/reflections.md, "Supersampling".
 #pragma once
+#include <memory>
 #include <vector>
 
+#include "rtd/denoiser.h"
 #include "rtd/sequence.h"
 
 namespace rtd {
@@ -31,8 +33,15 @@ struct GuideRaySettings {
   float normalWeight = 1.0f;
 };
 
+namespace detail { struct GuideRaysGpu; }
+
 class GuideRays {
  public:
+  GuideRays();
+  ~GuideRays();
+  GuideRays(GuideRays&&) noexcept;
+  GuideRays& operator=(GuideRays&&) noexcept;
+
   /// Assigns every non-guide sample to a guide and returns `guides` with each radiance buffer
   /// replaced by Eq. 7, (u(p) + sum_{q in A(p)} u(q)) / (1 + |A(p)|); the other buffers are
   /// copied. Throws rtd::Error when a sample lacks Color, Depth or Normal, its radiance buffers
@@ -43,7 +52,22 @@ class GuideRays {
   /// filtered colour of the guide it joined. premix() must have run on this frame's samples.
   Image resolve(const Image& filtered) const;
 
-  /// Index (y * width + x) of the guide sample k (1-based) of pixel `pixel` joined.
+  /// premix(), `denoiser` on the pre-mixed frame, resolve(): the whole of Sec. 5 around one
+  /// frame, on the denoiser's backend. On Vulkan the assignment, Eq. 7 and the copy back run as
+  /// compute passes (shaders guide_assign, guide_premix, guide_resolve) in the denoiser's own
+  /// submission: the guide frame and the samples are uploaded once, only the resolved image is
+  /// read back, and the denoiser's stats() hold the passes "guideRays.upload",
+  /// "guideRays.premix" and "guideRays.resolve" (GPU time). On the CPU the wall times of the
+  /// pre-mix and the copy back are in passes() instead.
+  /// Checks the samples as premix() does. Buffers GPU memory for the next frame's call.
+  Image denoise(Denoiser& denoiser, const Frame& guides, const GuideRaySamples& samples,
+                const GuideRaySettings& settings = {});
+  /// The pre-mix and copy-back times of the last denoise() that ran outside the denoiser's
+  /// stats() (the CPU; empty after a Vulkan one).
+  const std::vector<PassTiming>& passes() const { return passes_; }
+
+  /// After premix() or a CPU denoise() (not a Vulkan one, which keeps them on the GPU):
+  /// index (y * width + x) of the guide sample k (1-based) of pixel `pixel` joined.
   int assignedGuide(int k, int pixel) const { return assign_[size_t(k - 1)][size_t(pixel)]; }
   /// 1 + |A(p)| per guide pixel: how many samples its pre-mixed radiance averages.
   const std::vector<int>& mixCount() const { return count_; }
@@ -52,6 +76,8 @@ class GuideRays {
   int width_ = 0, height_ = 0;
   std::vector<std::vector<int>> assign_;
   std::vector<int> count_;
+  std::vector<PassTiming> passes_;
+  std::unique_ptr<detail::GuideRaysGpu> gpu_;  // Vulkan buffers, kept between frames
 };
 
 }  // namespace rtd

@@ -42,7 +42,8 @@ std::vector<ReflectionMotionFrame> reflectionMotionError(const SequenceReader& s
         for (int x = 0; x < w; ++x) {
           const SurfaceClass sc = SurfaceClass(cls[size_t(y) * w + x]);
           if (!((sc == SurfaceClass::Mirror && s.mirrors) || (sc == SurfaceClass::GlossyReflection && s.glossy))) continue;
-          const SearchResult bf = searchReflection(cur, prev, cls, prevCls, primary, x, y, opt, s.bruteForceRadius);
+          const SearchResult bf = searchReflection(cur, prev, cls, prevCls, primary, x, y, opt, s.bruteForceRadius,
+                                                   s.referenceOnRay);
           if (!bf.found()) continue;
           const SearchResult ds = searchReflection(cur, prev, cls, prevCls, primary, x, y, opt);
           ++c;

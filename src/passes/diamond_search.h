@@ -40,19 +40,40 @@ inline void approxHit(const RepresentativeRay& r, float out[3]) {
   for (int k = 0; k < 3; ++k) out[k] = r.o[k] + r.d[k] * r.depth;
 }
 
+namespace detail {
+/// Eq. 5's operands: v = approx_hit(r_near) - r_far.o for the ray of the smaller secondary
+/// depth (r_near; p on ties); returns r_far.
+inline const RepresentativeRay& nearHitFromFar(const RepresentativeRay& p, const RepresentativeRay& q, float v[3]) {
+  const RepresentativeRay& nearRay = p.depth <= q.depth ? p : q;
+  const RepresentativeRay& farRay = p.depth <= q.depth ? q : p;
+  float x[3];
+  approxHit(nearRay, x);
+  for (int k = 0; k < 3; ++k) v[k] = x[k] - farRay.o[k];
+  return farRay;
+}
+}  // namespace detail
+
 /// Eq. 5: the distance from approx_hit of the ray with the smaller secondary depth (r_near) to
 /// the line of the other (r_far): || r_far.d x (approx_hit(r_near) - r_far.o) ||, with r_far.d
 /// of unit length. Symmetric in p and q (ties in depth take p as near; the distance is then
 /// not symmetric only when the two depths are exactly equal and the rays differ).
 inline float glossyDistance(const RepresentativeRay& p, const RepresentativeRay& q) {
-  const RepresentativeRay& nearRay = p.depth <= q.depth ? p : q;
-  const RepresentativeRay& farRay = p.depth <= q.depth ? q : p;
-  float x[3];
-  approxHit(nearRay, x);
-  const float v[3] = {x[0] - farRay.o[0], x[1] - farRay.o[1], x[2] - farRay.o[2]};
-  const float* d = farRay.d;
+  float v[3];
+  const float* d = detail::nearHitFromFar(p, q, v).d;
   const float c[3] = {d[1] * v[2] - d[2] * v[1], d[2] * v[0] - d[0] * v[2], d[0] * v[1] - d[1] * v[0]};
   return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+}
+
+/// Eq. 5 on the half-line of r_far (the text's "distance to the other representative ray"):
+/// where approx_hit(r_near) projects behind r_far's origin, the distance to that origin. The
+/// brute-force reference uses it (rtd::eval::ReflectionMotionSettings::referenceOnRay): over a
+/// 200 x 200 window the whole line also matches points behind the far surface, which no
+/// reflection sees; the search keeps Eq. 5 as written (docs/methods/reflections.md).
+inline float glossyRayDistance(const RepresentativeRay& p, const RepresentativeRay& q) {
+  float v[3];
+  const float* d = detail::nearHitFromFar(p, q, v).d;
+  if (d[0] * v[0] + d[1] * v[1] + d[2] * v[2] < 0) return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return glossyDistance(p, q);
 }
 
 // ---- Search ----

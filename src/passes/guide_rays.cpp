@@ -3,12 +3,21 @@
 #include "rtd/guide_rays.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
 #include "core/frame_data.h"
 #include "core/parallel.h"
 #include "rtd/error.h"
+
+#if defined(RTD_HAS_VULKAN)
+#include "backend/vulkan/guide_rays_vulkan.h"
+#else
+namespace rtd::detail {
+struct GuideRaysGpu {};
+}  // namespace rtd::detail
+#endif
 
 namespace rtd {
 
@@ -21,15 +30,20 @@ void checkSize(const Image& img, int w, int h, int channels, const std::string& 
                 "x" + std::to_string(channels));
 }
 
-}  // namespace
-
-Frame GuideRays::premix(const Frame& guides, const GuideRaySamples& s, const GuideRaySettings& settings) {
+// What premix() and denoise() accept: the guides' Color, Depth and Normal, and per sample the
+// same radiance buffers, Depth, Normal and offsets, all of the guides' size.
+void validate(const Frame& guides, const GuideRaySamples& s) {
   const int w = guides.width, h = guides.height;
-  for (Buffer b : {Buffer::Color, Buffer::Depth, Buffer::Normal})
+  for (Buffer b : {Buffer::Color, Buffer::Depth, Buffer::Normal}) {
     if (!guides.has(b)) throw Error("guide rays: the guide frame has no '" + std::string(bufferName(b)) + "' buffer");
+    checkSize(guides[b], w, h, bufferChannelCount(b), "the guide frame's " + std::string(bufferName(b)));
+  }
   if (s.offsets.size() != s.samples.size())
     throw Error("guide rays: " + std::to_string(s.samples.size()) + " samples but " + std::to_string(s.offsets.size()) +
                 " offset images");
+  for (int i = 0; i < kBufferCount; ++i)
+    if (isRadianceBuffer(Buffer(i)) && guides.has(Buffer(i)))
+      checkSize(guides[Buffer(i)], w, h, 3, "the guide frame's " + std::string(bufferName(Buffer(i))));
   const size_t n = s.samples.size();
   for (size_t k = 0; k < n; ++k) {
     const std::string name = "sample " + std::to_string(k + 1);
@@ -45,12 +59,29 @@ Frame GuideRays::premix(const Frame& guides, const GuideRaySamples& s, const Gui
                     std::to_string(s.offsets[k].pixels[i]) + ", not in [-0.5, 0.5]");
     // Every radiance buffer is mixed or none: a guide whose colour were mixed but not its
     // lobes would no longer be their sum.
-    for (int i = 0; i < kBufferCount; ++i)
-      if (isRadianceBuffer(Buffer(i)) && guides.has(Buffer(i)) != s.samples[k].has(Buffer(i)))
-        throw Error("guide rays: " + (guides.has(Buffer(i)) ? name + " has no '" : "the guide frame has no '") +
-                    std::string(bufferName(Buffer(i))) + "' buffer" +
-                    (guides.has(Buffer(i)) ? ", which the guide frame has" : ", which " + name + " has"));
+    for (int i = 0; i < kBufferCount; ++i) {
+      const Buffer b = Buffer(i);
+      if (!isRadianceBuffer(b)) continue;
+      if (guides.has(b) != s.samples[k].has(b))
+        throw Error("guide rays: " + (guides.has(b) ? name + " has no '" : "the guide frame has no '") +
+                    std::string(bufferName(b)) + "' buffer" +
+                    (guides.has(b) ? ", which the guide frame has" : ", which " + name + " has"));
+      if (guides.has(b)) checkSize(s.samples[k][b], w, h, 3, name + " " + std::string(bufferName(b)));
+    }
   }
+}
+
+}  // namespace
+
+GuideRays::GuideRays() = default;
+GuideRays::~GuideRays() = default;
+GuideRays::GuideRays(GuideRays&&) noexcept = default;
+GuideRays& GuideRays::operator=(GuideRays&&) noexcept = default;
+
+Frame GuideRays::premix(const Frame& guides, const GuideRaySamples& s, const GuideRaySettings& settings) {
+  validate(guides, s);
+  const int w = guides.width, h = guides.height;
+  const size_t n = s.samples.size();
   width_ = w;
   height_ = h;
   assign_.assign(n, std::vector<int>(size_t(w) * h));
@@ -104,7 +135,6 @@ Frame GuideRays::premix(const Frame& guides, const GuideRaySamples& s, const Gui
     Image sum = guides[b];
     for (size_t k = 0; k < n; ++k) {
       const Image& src = s.samples[k][b];
-      checkSize(src, w, h, 3, "sample " + std::to_string(k + 1) + " " + std::string(bufferName(b)));
       const std::vector<int>& a = assign_[k];
       for (int i = 0; i < w * h; ++i) {
         const float* v = src.pixel(i % w, i / w);
@@ -121,6 +151,32 @@ Frame GuideRays::premix(const Frame& guides, const GuideRaySamples& s, const Gui
     });
     out[b] = std::move(sum);
   }
+  return out;
+}
+
+Image GuideRays::denoise(Denoiser& denoiser, const Frame& guides, const GuideRaySamples& samples,
+                         const GuideRaySettings& settings) {
+  passes_.clear();
+#if defined(RTD_HAS_VULKAN)
+  if (denoiser.backend() == Backend::Vulkan) {
+    validate(guides, samples);
+    width_ = height_ = 0;  // the assignment stays on the device
+    assign_.clear();
+    count_.clear();
+    if (!gpu_) gpu_ = std::make_unique<detail::GuideRaysGpu>();
+    return gpu_->denoise(denoiser, guides, samples, settings);
+  }
+#endif
+  using Clock = std::chrono::steady_clock;
+  auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  const auto t0 = Clock::now();
+  const Frame mixed = premix(guides, samples, settings);
+  const auto t1 = Clock::now();
+  Image filtered(guides.width, guides.height, 3);
+  denoiser.denoise(mixed.inputs(), filtered.view());
+  const auto t2 = Clock::now();
+  Image out = resolve(filtered);
+  passes_ = {{"guideRays.premix", ms(t1 - t0)}, {"guideRays.resolve", ms(Clock::now() - t2)}};
   return out;
 }
 

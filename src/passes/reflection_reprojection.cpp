@@ -101,7 +101,7 @@ bool hasGlossyMotionBuffers(const FrameData& f) {
 
 SearchResult searchReflection(const FrameData& cur, const FrameData& prev, const PixelVector<uint8_t>& cls,
                               const PixelVector<uint8_t>& prevCls, const Reprojection& primary, int x, int y,
-                              const DiamondSearchOptions& search, int bruteForceRadius) {
+                              const DiamondSearchOptions& search, int bruteForceRadius, bool glossyOnRay) {
   const int w = cur.width, h = cur.height;
   const size_t i = size_t(y) * w + x;
   const SurfaceClass c = SurfaceClass(cls[i]);
@@ -125,7 +125,8 @@ SearchResult searchReflection(const FrameData& cur, const FrameData& prev, const
   return run([&](int qx, int qy) {  // Eq. 5 over previous glossy pixels
     const size_t j = size_t(qy) * w + qx;
     if (SurfaceClass(prevCls[j]) != SurfaceClass::GlossyReflection) return kNoMatch;
-    return glossyDistance(rp, representativeRay(prev, j));
+    const RepresentativeRay rq = representativeRay(prev, j);
+    return glossyOnRay ? glossyRayDistance(rp, rq) : glossyDistance(rp, rq);
   });
 }
 

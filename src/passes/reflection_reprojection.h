@@ -71,10 +71,11 @@ struct ReflectionMotionStats {
 /// The reflection motion vector of current pixel (x, y): the search result of Algorithm 1 for
 /// its class (Mirror: Eq. 1 on ReflectedPosition; GlossyReflection: Eq. 5 on the
 /// representative rays), with `primary` giving the second start (coords(p) - primary MV).
-/// `bruteForceRadius` > 0 runs the brute-force reference over that window instead.
+/// `bruteForceRadius` > 0 runs the brute-force reference over that window instead;
+/// `glossyOnRay` measures glossy pixels by glossyRayDistance (the half-line) instead of Eq. 5.
 SearchResult searchReflection(const FrameData& cur, const FrameData& prev, const PixelVector<uint8_t>& cls,
                               const PixelVector<uint8_t>& prevCls, const Reprojection& primary, int x, int y,
-                              const DiamondSearchOptions& search, int bruteForceRadius = 0);
+                              const DiamondSearchOptions& search, int bruteForceRadius = 0, bool glossyOnRay = false);
 
 /// out = primary, then every specular pixel (class != Diffuse in `cls`) is redone per `mode`:
 /// Primary leaves it; None makes it None with a previous position far off-screen (so TAA keeps

@@ -250,6 +250,21 @@ TEST(GlossyDistance, Eq5Properties) {
   EXPECT_NEAR(glossyDistance(d, e), std::sqrt(perp[0] * perp[0] + perp[1] * perp[1] + perp[2] * perp[2]), 1e-5f);
 }
 
+TEST(GlossyDistance, RayDistanceIsEq5InFrontOfTheFarOriginAndTheOriginDistanceBehindIt) {
+  // The reference's distance (the text's "ray"): the far ray r_far from the origin along +x,
+  // depth 10. A near sample whose approx_hit lies in front of r_far's origin: Eq. 5 (its
+  // distance to the line). One that lies behind it at (-3, 4, 0): Eq. 5 says 4 (the line passes
+  // under it), the half-line 5 (its origin is the closest point).
+  const RepresentativeRay far = ray(0, 0, 0, 1, 0, 0, 10);
+  const RepresentativeRay front = ray(2, 4, 0, 0, -1, 0, 1);  // approx_hit (2, 3, 0)
+  EXPECT_FLOAT_EQ(glossyRayDistance(front, far), glossyDistance(front, far));
+  EXPECT_NEAR(glossyRayDistance(front, far), 3.0f, 1e-6f);
+  const RepresentativeRay behind = ray(-3, 6, 0, 0, -1, 0, 2);  // approx_hit (-3, 4, 0)
+  EXPECT_NEAR(glossyDistance(behind, far), 4.0f, 1e-6f);
+  EXPECT_NEAR(glossyRayDistance(behind, far), 5.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(glossyRayDistance(far, behind), glossyRayDistance(behind, far));  // symmetric
+}
+
 TEST(GlossyDistance, EscapedSamplesCompareByDirection) {
   // Both samples escaped (kMissDepth): the distance grows with the angle between the rays.
   const RepresentativeRay a = ray(0, 0, 0, 0, 0, -1, kMissDepth);

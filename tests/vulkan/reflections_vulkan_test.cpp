@@ -1,6 +1,6 @@
 // SVGF's Voorhuis mode on Vulkan against the CPU: the surface classes, the specular
 // reprojection (diamond search), the clipping box, and the whole method over a rendered
-// sequence with mirrors and glossy metals, plain and with guide-ray supersampling.
+// sequence with mirrors and glossy metals (with guide-ray supersampling: guide_rays_vulkan_test.cpp).
 #if __has_include("rtd/methods/svgf.h") && defined(HAVE_RTDENOISE_RENDER)
 #include <bit>
 
@@ -9,7 +9,6 @@
 #include "core/frame_data.h"
 #include "methods/svgf/svgf_reflections_vulkan.h"
 #include "passes/neighbourhood_clipping.h"
-#include "rtd/guide_rays.h"
 #include "rtd/render/render.h"
 #include "vulkan_test_util.h"
 
@@ -210,39 +209,6 @@ TEST(VulkanReflections, VoorhuisMatchesCpuOnARenderedSequence) {
         EXPECT_LE(e.meanAbs[c], 2e-5 * e.maxRef) << variant << " frame " << i << ": " << describe(e);
         EXPECT_LE(e.maxAbs[c], 2e-2 * e.maxRef) << variant << " frame " << i << ": " << describe(e);
       }
-    }
-  }
-}
-
-TEST(VulkanReflections, GuideRaySupersamplingAroundVulkanMatchesCpu) {
-  // Sec. 5 around either backend: the same pre-mixed frames through SVGF (Ours, TAA off) on
-  // the CPU and on Vulkan, copied back to the samples, agree as the plain frames do.
-  RTD_REQUIRE_VULKAN();
-  render::RenderSettings rs;
-  rs.width = kWidth;
-  rs.height = kHeight;
-  rs.spp = 4;
-  rs.guideRays = true;
-  render::Renderer r(render::Scene::load("glossy"), rs);
-  auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
-  auto cpu = cpuDevice->createDenoiser("svgf");
-  auto gpu = vulkanDevice()->createDenoiser("svgf");
-  for (Denoiser* d : {cpu.get(), gpu.get()}) {
-    d->set("variant", "voorhuis");
-    d->set("taa", "false");
-  }
-  for (int i = 0; i < 4; ++i) {
-    GuideRaySamples samples;
-    const Frame g = r.render(20 + i, render::Eye::Center, samples);
-    GuideRays gr;
-    const Frame mixed = gr.premix(g, samples);
-    Image a(g.width, g.height, 3), b(g.width, g.height, 3);
-    cpu->denoise(mixed.inputs(), a.view());
-    gpu->denoise(mixed.inputs(), b.view());
-    const ErrorStats e = compare(gr.resolve(b), gr.resolve(a));
-    for (int c = 0; c < 3; ++c) {
-      EXPECT_LE(e.meanAbs[c], 2e-5 * e.maxRef) << "frame " << i << ": " << describe(e);
-      EXPECT_LE(e.maxAbs[c], 2e-2 * e.maxRef) << "frame " << i << ": " << describe(e);
     }
   }
 }

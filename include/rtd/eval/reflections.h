@@ -16,6 +16,10 @@ struct ReflectionMotionSettings {
   int searchIterations = 64;    ///< as SvgfSettings::searchIterations
   bool subpixel = true;         ///< Eqs. 2-3, for both searches
   int bruteForceRadius = 100;   ///< the reference's window: (2 radius)^2 = the paper's 200 x 200
+  /// The reference's glossy distance: to r_far's half-line (the text's "ray", the default: over
+  /// the window the whole line also matches points behind the far surface, which no reflection
+  /// sees), or false: Eq. 5 as written, to its line, as the search (docs/methods/reflections.md).
+  bool referenceOnRay = true;
   bool mirrors = true, glossy = true;
   float pureSpecularRoughness = 0.02f, reflectionRoughness = 0.4f, diffuseRoughness = 0.9f;
 };

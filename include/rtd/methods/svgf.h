@@ -145,6 +145,10 @@ struct SvgfSettings {
   SvgfPart materialAlpha = SvgfPart::off;
   /// Colour blend floor of specular pixels (Voorhuis 0.1).
   float alphaSpecular = 0.1f;
+  /// TAA follows the reflection motion on glossy pixels below reflectionRoughness too, not only
+  /// on mirrors (the paper does not say; off: their motion comes from the noisy sampled depth,
+  /// and TAA shows each pixel's history unfiltered, see docs/methods/reflections.md).
+  bool taaGlossyReflectionMotion = false;
   /// Roughness below which a (metallic) primary hit is a pure mirror (the renderer's 0.02).
   float pureSpecularRoughness = 0.02f;
   /// Roughness below which glossy pixels get reflection motion and Eq. 6 (Voorhuis 0.4, Beckmann).
@@ -371,6 +375,8 @@ struct SvgfSettings {
     v("materialAlpha", materialAlpha, "[variant] blend floor alphaSpecular on specular, alphaColor on diffuse pixels (Voorhuis)",
       {"off", "on", "auto"});
     v("alphaSpecular", alphaSpecular, "colour blend floor of specular pixels (Voorhuis 0.1)", Range{0.001, 1});
+    v("taaGlossyReflectionMotion", taaGlossyReflectionMotion,
+      "TAA follows the reflection motion on glossy pixels below reflectionRoughness too (off: on mirrors only)");
     v("pureSpecularRoughness", pureSpecularRoughness, "roughness below which a hit is a mirror (renderer 0.02)", Range{0, 1});
     v("reflectionRoughness", reflectionRoughness, "roughness below which glossy pixels get reflection motion (Voorhuis 0.4)", Range{0, 1});
     v("diffuseRoughness", diffuseRoughness, "roughness from which a hit is diffuse (Voorhuis 0.9)", Range{0, 1.01});

@@ -155,6 +155,7 @@ Recorder VulkanDenoiserBase::beginRecord(VkCommandBuffer cmd, const std::vector<
     vkCmdUpdateBuffer(cmd, p.camera.handle(), 0, sizeof matrices, matrices);
   }
   rec.barrier();
+  if (before_) (*before_)(rec);
 
   rec.pass("import");
   for (const auto& im : imports) {
@@ -251,6 +252,7 @@ void VulkanDenoiserBase::endRecord(Recorder& rec, const Planes& result, const Ex
     rec.dispatch("export", {result, out.target, addEmission ? f.planes[int(Buffer::Emission)] : result}, pc, width_,
                  height_);
   }
+  if (after_) (*after_)(rec);
   rec.endPasses();
 
   // Our writes are visible to whatever comes next: the host read-back or the application.
@@ -456,6 +458,18 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanBuf
 
 void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanImageView& output, VkCommandBuffer cmd) {
   guarded("denoiseVulkan", [&] { denoiseIntoImage(in, output, cmd); });
+}
+
+void VulkanDenoiserBase::denoiseGpuAround(const VulkanFrameInputs& in, const VulkanBufferView& output,
+                                          const std::function<void(Recorder&)>& before,
+                                          const std::function<void(Recorder&)>& after) {
+  struct Reset {
+    VulkanDenoiserBase& d;
+    ~Reset() { d.before_ = d.after_ = nullptr; }
+  } reset{*this};
+  before_ = &before;
+  after_ = &after;
+  denoiseGpu(in, output, VK_NULL_HANDLE);
 }
 
 void VulkanDenoiserBase::denoiseIntoBuffer(const VulkanFrameInputs& in, const VulkanBufferView& output,

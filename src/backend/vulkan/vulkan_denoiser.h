@@ -34,6 +34,14 @@ class VulkanDenoiserBase : public Denoiser {
   /// rtd::denoiseVulkan (rtd/vulkan.h): into a VkBuffer range or a storage image.
   void denoiseGpu(const VulkanFrameInputs& frame, const VulkanBufferView& output, VkCommandBuffer cmd);
   void denoiseGpu(const VulkanFrameInputs& frame, const VulkanImageView& output, VkCommandBuffer cmd);
+  /// A wrapper's passes around the method, in one submission on the denoiser's own command
+  /// buffer, waited for: `before` is recorded after the opening barrier and before the import
+  /// (it may write the buffers `frame` views), `after` after the export (it may read `output`).
+  /// Each starts its passes with rec.pass(), so stats() are this frame's and hold them
+  /// (guide-ray supersampling, backend/vulkan/guide_rays_vulkan.cpp).
+  void denoiseGpuAround(const VulkanFrameInputs& frame, const VulkanBufferView& output,
+                        const std::function<void(Recorder&)>& before, const std::function<void(Recorder&)>& after);
+  Context& context() const { return ctx_; }
 
   /// Two views (the eyes of a two-view method, rtd/stereo.h), one denoiser each, recorded into
   /// one command buffer from host memory: a's and b's processFront(), then `exchange` (through
@@ -138,6 +146,9 @@ class VulkanDenoiserBase : public Denoiser {
   std::vector<std::string> recordedPasses_;
   uint32_t recordedQueries_ = 0;
   FrameStats stats_;
+  // denoiseGpuAround()'s passes while it records, else null.
+  const std::function<void(Recorder&)>* before_ = nullptr;
+  const std::function<void(Recorder&)>* after_ = nullptr;
 };
 
 /// A Vulkan denoiser of method S: settings by name and by type, as on the CPU.

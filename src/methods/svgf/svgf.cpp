@@ -145,7 +145,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     if (!s.taa.taa) return *shown;
     PassTimer t(stats, "taa");
-    return taa_.run(reflections_.taaMotion(frame, reprojection_), *shown, s.taa);
+    return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion), *shown, s.taa);
   }
 
  private:

@@ -183,20 +183,24 @@ void Reflections::clipBoxes(const Plane3& demod, const StreamPlan& plan, const S
   high = &clipHigh_;
 }
 
-const Reprojection& Reflections::taaMotion(const FrameData& f, const Reprojection& primary) {
+const Reprojection& Reflections::taaMotion(const FrameData& f, const Reprojection& primary, bool glossy) {
   if (!parts_.classes || parts_.motion == SpecularMotion::Primary) return primary;
-  if (!lobes_) return specular_;
+  // NoSpecReproj: no TAA on any specular pixel (specular_ has no history there).
+  const bool none = parts_.motion == SpecularMotion::None;
+  if (!lobes_ && (glossy || none)) return specular_;
   if (!f.has(Buffer::Roughness)) return primary;
   const int w = f.width, h = f.height;
   taa_.width = w;
   taa_.height = h;
   taa_.prevX.resize(w, h);
   taa_.prevY.resize(w, h);
-  const float* metal = f.has(Buffer::Metalness) ? f.plane(Buffer::Metalness).ptr() : nullptr;
+  const float* metal = lobes_ && f.has(Buffer::Metalness) ? f.plane(Buffer::Metalness).ptr() : nullptr;
   parallelRows(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
-      const bool follow = isSpecular(SurfaceClass(cls_[i])) && (!metal || metal[i] >= 0.5f);
+      const SurfaceClass c = SurfaceClass(cls_[i]);
+      const bool takes = none ? isSpecular(c) : c == SurfaceClass::Mirror || (glossy && c == SurfaceClass::GlossyReflection);
+      const bool follow = takes && (!metal || metal[i] >= 0.5f);
       const Reprojection& r = follow ? specular_ : primary;
       taa_.prevX.data[i] = r.prevX.data[i];
       taa_.prevY.data[i] = r.prevY.data[i];

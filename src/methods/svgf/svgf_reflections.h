@@ -120,10 +120,11 @@ class Reflections {
   /// Neighbourhood-clipping box of a stream's demodulated sample (null when the stream is not clipped).
   void clipBoxes(const Plane3& demod, const StreamPlan& plan, const SvgfSettings& s, const Plane3*& low,
                  const Plane3*& high);
-  /// The reprojection TAA follows: specular pixels take the specular one where the specular
-  /// light dominates them (every specular pixel of a single stream; metallic ones of a lobe
-  /// split). Only prevX / prevY of the result are meaningful.
-  const Reprojection& taaMotion(const FrameData& frame, const Reprojection& primary);
+  /// The reprojection TAA follows: mirror pixels (and GlossyReflection ones with
+  /// `glossy`, SvgfSettings::taaGlossyReflectionMotion) take the specular one where the
+  /// specular light dominates them (every such pixel of a single stream; metallic ones of a
+  /// lobe split). Only prevX / prevY of the result are meaningful.
+  const Reprojection& taaMotion(const FrameData& frame, const Reprojection& primary, bool glossy);
 
   /// Every float plane it owns (PlaneVisitor).
   void forEachPlane(const PlaneVisitor& visit) const;

@@ -166,6 +166,56 @@ TEST(VoorhuisReprojection, GlossyAccumulatesAcrossANormalChangeWhereDiffuseReset
   }
 }
 
+TEST(VoorhuisTaa, FollowsTheReflectionMotionOnMirrorsAndNoHistoryForNoSpecReproj) {
+  // A roughness sweep (mirrors 0.00-0.01, glossy 0.02-0.39, then glossy 0.4-0.89 and diffuse)
+  // whose reflections moved 3 px: the previous frame's pixel x + 3 has the reflection features
+  // (reflected position, representative ray) of the current pixel x; the primary motion is 0.
+  // TAA takes the reflection motion on mirror pixels, the primary one elsewhere unless
+  // taaGlossyReflectionMotion; NoSpecReproj gives TAA no history on any specular pixel.
+  const int w = 101, h = 2, shift = 3;
+  TestFrame prev(w, h), cur(w, h);
+  for (TestFrame* t : {&prev, &cur})
+    for (Buffer b : {Buffer::Roughness, Buffer::Metalness, Buffer::MirrorDirection, Buffer::SecondaryDistance,
+                     Buffer::ReflectedPosition, Buffer::ReflectedNormal, Buffer::ReflectedAlbedo})
+      t->set(b, 1.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      auto features = [&](TestFrame& t, int px, int from) {
+        t.p(Buffer::Roughness)(px, y) = float(from) / 100.0f;
+        t.p(Buffer::ReflectedPosition, 0)(px, y) = 0.1f * from;
+        t.p(Buffer::Position, 0)(px, y) = 0.01f * from;  // representative rays: parallel lines
+        for (int c = 0; c < 2; ++c) t.p(Buffer::MirrorDirection, c)(px, y) = 0.0f;
+        for (int c = 0; c < 2; ++c) t.p(Buffer::ReflectedNormal, c)(px, y) = 0.0f;
+      };
+      features(cur, x, x);
+      features(prev, x, x - shift);
+    }
+  for (const char* variant : {"voorhuis", "voorhuisNoSpecReproj"})
+    for (bool glossy : {false, true}) {
+      SvgfSettings s = SvgfSettings::forVariant(variant == std::string("voorhuis") ? SvgfVariant::voorhuis
+                                                                                  : SvgfVariant::voorhuisNoSpecReproj);
+      s.preferLobes = false;
+      const auto parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return cur.f.has(b); }, false);
+      svgf::Reflections r;
+      r.resize(w, h, 0);
+      const Reprojection first = noHistory(prev.f), primary = identity(cur.f, prev.f);
+      r.prepare(prev.f, nullptr, s, parts, false, first);
+      r.prepare(cur.f, &prev.f, s, parts, false, primary);
+      const Reprojection& taa = r.taaMotion(cur.f, primary, glossy);
+      for (int x = shift; x < w - shift; ++x) {
+        const float rough = float(x) / 100.0f, px = taa.prevX(x, 0);
+        if (variant != std::string("voorhuis")) {
+          if (rough < 0.9f) EXPECT_LT(px, -1e5f) << "NoSpecReproj: TAA history at " << rough;
+          else EXPECT_FLOAT_EQ(px, primary.prevX(x, 0)) << rough;
+        } else if (rough < 0.02f || (glossy && rough < 0.4f)) {
+          EXPECT_NEAR(px, x + shift + 0.5f, 0.01f) << "not the reflection motion at " << rough;
+        } else {
+          EXPECT_FLOAT_EQ(px, primary.prevX(x, 0)) << "not the primary motion at " << rough;
+        }
+      }
+    }
+}
+
 // ---------------------------------------------------------------- item 16: neighbourhood clipping
 
 TEST(VoorhuisClipping, InjectedHistoryIsClippedOnNonDiffusePixelsOnly) {

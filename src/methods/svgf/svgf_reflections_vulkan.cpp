@@ -146,13 +146,15 @@ const vk::Planes* GpuReflections::clipBox(vk::Recorder& rec, const vk::Planes& d
   return &clip_;
 }
 
-const vk::Planes& GpuReflections::taaMotion(vk::Recorder& rec, const vk::GpuFrame& f, const vk::Planes& primary) {
+const vk::Planes& GpuReflections::taaMotion(vk::Recorder& rec, const vk::GpuFrame& f, const vk::Planes& primary,
+                                            bool glossy) {
   if (!parts_.classes || parts_.motion == SpecularMotion::Primary) return primary;
-  if (!lobes_) return specular_;
+  const bool none = parts_.motion == SpecularMotion::None;  // NoSpecReproj: no TAA on specular pixels
+  if (!lobes_ && (glossy || none)) return specular_;
   if (!f.has(Buffer::Roughness)) return primary;
   struct PC {
-    uint32_t width, height, hasMetal;
-  } pc{uint32_t(f.width), uint32_t(f.height), f.has(Buffer::Metalness)};
+    uint32_t width, height, hasMetal, mode;
+  } pc{uint32_t(f.width), uint32_t(f.height), lobes_ && f.has(Buffer::Metalness), none ? 2u : glossy ? 1u : 0u};
   rec.dispatch("voorhuis_taa_motion",
                {cls_[cur_], f.bindingOf(Buffer::Metalness, rec.context()), primary, specular_, taa_}, pc, f.width,
                f.height);

@@ -141,7 +141,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     notes_ = std::move(parts.notes);
     rec.pass("taa");
     if (!s.taa.taa) return remodulated_;
-    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_), remodulated_, s.taa);
+    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_, s.taaGlossyReflectionMotion), remodulated_, s.taa);
   }
 
  private:
