@@ -12,9 +12,8 @@ namespace rtd {
 /// at import and added back exactly anyway (core/frame_data.h subtractEmissionRow); what the
 /// filter would spread is the lamp's own reflected light, which the features cannot tell from
 /// the surface it is mounted on (a lamp 5 mm below a ceiling has the ceiling's normal and
-/// depth). Frames
-/// without Buffer::Emission, or without any pixel above the threshold, are unaffected (the
-/// output is bit-identical with the setting on and off).
+/// depth). Frames without Buffer::Emission, or without any pixel above the threshold, are
+/// unaffected (the output is bit-identical with the setting on and off).
 struct EmitterSettings {
   /// On in BMFR, off in SVGF (each method's settings say why).
   bool excludeEmitters = true;
