@@ -67,9 +67,10 @@ uint64_t importFrame(const FrameInputs& in, const std::vector<Buffer>& required,
   auto subtractsEmission = [&](Buffer b) {
     return emission && (b == Buffer::Color || b == Buffer::Direct || b == Buffer::Diffuse);
   };
-  for (int k = -1; k < kBufferCount; ++k) {
-    const int i = k < 0 ? int(Buffer::Emission) : k;
-    if (k >= 0 && i == int(Buffer::Emission)) continue;
+  std::vector<int> order{int(Buffer::Emission)};
+  for (int i = 0; i < kBufferCount; ++i)
+    if (i != int(Buffer::Emission)) order.push_back(i);
+  for (int i : order) {
     const ImageView& v = in.buffers[i];
     auto& planes = out.buffers[i];
     if (!wanted(i)) {
