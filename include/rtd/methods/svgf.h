@@ -322,7 +322,7 @@ struct SvgfSettings {
       "(Ours), voorhuisBase / voorhuisNoSpecReproj = its baselines, voorhuisRobustness = its Sec. 6 changes only",
       {"schied", "dundr", "gersthofer", "voorhuis", "voorhuisBase", "voorhuisNoSpecReproj", "voorhuisRobustness"});
     v("components", components, "[variant] radiance streams filtered separately and summed; composite (Gersthofer): "
-      "indirectDiffuse and the rest of color accumulated apart, added, filtered as one; diffuse (Dundr): the diffuse "
+      "indirectDiffuse and the rest of color accumulated apart, added, filtered as one; diffuse: the diffuse "
       "lobe filtered, the specular one added unfiltered (color where the frame lacks them)",
       {"auto", "color", "directIndirect", "diffuseSpecular", "composite", "diffuse"});
     v("alphaColor", alphaColor, "[variant] colour blend floor w = max(1/n, alpha) (Schied 0.2, Dundr 0.1)", Range{0.001, 1});
