@@ -10,20 +10,12 @@ namespace rtd::RTD_SIMD_NS {
 
 /// The bilinear taps of eight consecutive pixels in registers, for passes that gather history
 /// eight pixels at a time. Where the eight footprints are consecutive (a locally uniform
-/// integer motion) the taps are plain vector loads; where they lie within 16 elements of one
-/// row (a smoothly varying motion whose floor steps by 0 or 2 somewhere in the eight) two
-/// loads and a lane permutation; otherwise gathers. All three give the same values.
+/// integer motion, the common case) the taps are plain vector loads, otherwise gathers.
 struct Bilinear8 {
-  enum Mode : uint8_t { kConsecutive, kWindow, kGather };
   __m256i base;
   __m256 weight[4];
   int width;
-  Mode mode;
-  int first;          // kConsecutive: base of lane 0; kWindow: the window's first element (min base)
-  __m256i offset;     // kWindow: base - first, in [0, 16)
-#ifndef RTD_SIMD_AVX512
-  __m256 upper;       // kWindow (AVX2): lanes whose offset is in the window's second half
-#endif
+  bool consecutive;
 
   /// Pixels i..i+7 if all are Bilinear; false otherwise (the caller takes them one by one).
   bool load(const Reprojection& rp, size_t i) {
@@ -32,7 +24,7 @@ struct Bilinear8 {
     if (kinds != 0x0101010101010101ull) return false;
     width = rp.width;
     base = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rp.base.data() + i));
-    classify(rp.width, rp.height);
+    consecutive = isConsecutive();
     // {w0, w1, w2, w3} per pixel to one register per tap: an 8x4 transpose.
     const float* wp = rp.weights[i].data();
     const __m256 r0 = _mm256_loadu_ps(wp), r1 = _mm256_loadu_ps(wp + 8), r2 = _mm256_loadu_ps(wp + 16), r3 = _mm256_loadu_ps(wp + 24);
@@ -68,47 +60,20 @@ struct Bilinear8 {
     weight[3] = _mm256_mul_ps(ax, ay);
     width = w;
     base = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(fly), _mm256_set1_epi32(w)), _mm256_cvttps_epi32(flx));
-    classify(w, h);
+    consecutive = isConsecutive();
     return true;
   }
 
-  /// The mode of the eight bases (top-left taps) of a w x h frame. A window's 16 elements of
-  /// tap 3 (the bottom right, the farthest) must lie inside the plane: first + w + 1 + 15 < w h.
-  void classify(int w, int h) {
-    first = _mm256_extract_epi32(base, 0);
-    const __m256i ramp = _mm256_add_epi32(_mm256_set1_epi32(first), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-    if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(base, ramp)) == -1) {
-      mode = kConsecutive;
-      return;
-    }
-    // The smallest base (a horizontal minimum), the window's start.
-    __m256i m = _mm256_min_epi32(base, _mm256_permute2x128_si256(base, base, 1));
-    m = _mm256_min_epi32(m, _mm256_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
-    m = _mm256_min_epi32(m, _mm256_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1)));
-    first = _mm256_cvtsi256_si32(m);
-    offset = _mm256_sub_epi32(base, _mm256_set1_epi32(first));
-    const bool near = _mm256_movemask_epi8(_mm256_cmpgt_epi32(offset, _mm256_set1_epi32(15))) == 0;
-    mode = near && size_t(first) + size_t(w) + 17 <= size_t(w) * size_t(h) ? kWindow : kGather;
-#ifndef RTD_SIMD_AVX512
-    upper = _mm256_castsi256_ps(_mm256_cmpgt_epi32(offset, _mm256_set1_epi32(7)));
-#endif
+  bool isConsecutive() const {
+    const __m256i first = _mm256_set1_epi32(_mm256_extract_epi32(base, 0));
+    return _mm256_movemask_epi8(_mm256_cmpeq_epi32(base, _mm256_add_epi32(first, _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)))) == -1;
   }
 
   /// Tap t (0: top left, 1: top right, 2: bottom left, 3: bottom right) of the eight pixels in
-  /// plane h: one vector load where the footprints are consecutive, two loads and a
-  /// permutation where they lie in a 16-element window, a gather otherwise.
+  /// plane h: one vector load where the footprints are consecutive, a gather otherwise.
   __m256 tap(const float* h, int t) const {
     const float* p = h + (t & 1) + (t >> 1) * width;
-    if (mode == kConsecutive) return _mm256_loadu_ps(p + first);
-    if (mode == kWindow) {
-      const __m256 lo = _mm256_loadu_ps(p + first), hi = _mm256_loadu_ps(p + first + 8);
-#ifdef RTD_SIMD_AVX512
-      return _mm256_permutex2var_ps(lo, offset, hi);  // offset bit 3 picks hi
-#else
-      return _mm256_blendv_ps(_mm256_permutevar8x32_ps(lo, offset), _mm256_permutevar8x32_ps(hi, offset), upper);
-#endif
-    }
-    return _mm256_i32gather_ps(p, base, 4);
+    return consecutive ? _mm256_loadu_ps(p + _mm256_extract_epi32(base, 0)) : _mm256_i32gather_ps(p, base, 4);
   }
 
   /// The bilinear history of the eight pixels in plane h (the sum in Reprojection::gatherBilinear's order).

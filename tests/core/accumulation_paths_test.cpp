@@ -244,9 +244,9 @@ TEST(SharedPassPaths, OnTheFlyDemodulationEqualsTheDemodulatePass) {
 }
 
 // Bilinear8 reads a group of eight pixels' taps with one load where the eight footprints are
-// consecutive, with two loads and a lane permutation where they lie within 16 elements, and
-// with a gather otherwise. Three motion fields, each making one of the three the common case
-// (checked on the bases, classified as Bilinear8 does), on every CPU path: the reprojection's
+// consecutive and with a gather otherwise. Three motion fields, making consecutive groups,
+// groups within 16 elements of one row (which a windowed read, tried in session 7, would
+// take) and scattered groups the common case (checked on the bases), on every CPU path: the reprojection's
 // tap tests (a previous normal plane that rejects about a third of the taps, so a tap read
 // from the wrong pixel changes the weights) equal the sse2 path's, and the accumulation and
 // BMFR's phase III equal the scalar definition (random history) to float rounding.
