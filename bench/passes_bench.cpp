@@ -11,6 +11,7 @@
 #include "passes/reprojection.h"
 #include "passes/taa.h"
 #include "passes/temporal_accumulation.h"
+#include "rtd/methods/bmfr.h"
 #include "rtd/rtd.h"
 #include "synthetic/synthetic.h"
 
@@ -39,6 +40,29 @@ const Inputs& inputs() {
   return in;
 }
 
+// The same frames with a jittered motion field (2.3 +- 0.8, -0.6 +- 0.4 pixels, a hash per
+// pixel): the eight footprints of a group are rarely consecutive but lie in one row within 16
+// elements, as with per-pixel jittered or noisy motion vectors: Bilinear8 gathers.
+const Inputs& jitteredInputs() {
+  static const Inputs in = [] {
+    Inputs j;
+    rtd::Plane mx(kW, kH), my(kW, kH);
+    uint32_t state = 2024;
+    auto next = [&] {
+      state = state * 1664525u + 1013904223u;
+      return float(state >> 8) / 16777216.0f;
+    };
+    for (size_t i = 0; i < mx.data.size(); ++i) {
+      mx.data[i] = 2.3f + 1.6f * next() - 0.8f;
+      my.data[i] = -0.6f + 0.8f * next() - 0.4f;
+    }
+    j.current.buffers[int(rtd::Buffer::Motion)] = {mx, my};
+    rtd::reproject(j.current, &j.previous, {}, j.reprojection);
+    return j;
+  }();
+  return in;
+}
+
 // Runs `body` once per iteration on CPU path state.range(0) in a one-thread arena.
 template <class Body> void onPath(benchmark::State& state, Body&& body) {
   const int path = int(state.range(0));
@@ -62,6 +86,38 @@ void BM_Reproject(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_Reproject)->DenseRange(0, 2)->ArgName("path")->Unit(benchmark::kMillisecond);
+
+// BMFR's reprojection settings (position test of 4 footprints and normal test, no depth,
+// no object id, no 3x3 fallback), on the scene's frames.
+void BM_ReprojectBmfr(benchmark::State& state) {
+  const Inputs& in = inputs();
+  rtd::Reprojection out;
+  const rtd::ReprojectionSettings s = rtd::BmfrSettings{}.reprojection;
+  onPath(state, [&] {
+    rtd::reproject(in.current, &in.previous, s, out);
+    benchmark::DoNotOptimize(&out);
+  });
+}
+BENCHMARK(BM_ReprojectBmfr)->DenseRange(1, 2)->ArgName("path")->Unit(benchmark::kMillisecond);
+
+// The same passes on the jittered motion field (jitteredInputs).
+void BM_ReprojectJittered(benchmark::State& state) {
+  const Inputs& in = jitteredInputs();
+  rtd::Reprojection out;
+  onPath(state, [&] {
+    rtd::reproject(in.current, &in.previous, {}, out);
+    benchmark::DoNotOptimize(&out);
+  });
+}
+BENCHMARK(BM_ReprojectJittered)->DenseRange(1, 2)->ArgName("path")->Unit(benchmark::kMillisecond);
+void BM_TemporalAccumulationJittered(benchmark::State& state) {
+  const Inputs& in = jitteredInputs();
+  rtd::TemporalAccumulator acc;
+  acc.resize(kW, kH);
+  acc.run(in.reprojection, in.color, 0.2f, 0.2f, 32);
+  onPath(state, [&] { acc.run(in.reprojection, in.color, 0.2f, 0.2f, 32); });
+}
+BENCHMARK(BM_TemporalAccumulationJittered)->DenseRange(1, 2)->ArgName("path")->Unit(benchmark::kMillisecond);
 
 // Colour and both luminance moments (SVGF's accumulation, alpha 0.2 / 0.2). The history is
 // carried from iteration to iteration, as from frame to frame.

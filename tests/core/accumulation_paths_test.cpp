@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <set>
@@ -238,6 +239,111 @@ TEST(SharedPassPaths, OnTheFlyDemodulationEqualsTheDemodulatePass) {
       EXPECT_EQ(fused.moment1().data, separate.moment1().data);
       EXPECT_EQ(fused.moment2().data, separate.moment2().data);
       EXPECT_EQ(fused.historyLength().data, separate.historyLength().data);
+    }
+  }
+}
+
+// Bilinear8 reads a group of eight pixels' taps with one load where the eight footprints are
+// consecutive and with a gather otherwise. Three motion fields, making consecutive groups,
+// groups within 16 elements of one row (which a windowed read, tried in session 7, would
+// take) and scattered groups the common case (checked on the bases), on every CPU path: the reprojection's
+// tap tests (a previous normal plane that rejects about a third of the taps, so a tap read
+// from the wrong pixel changes the weights) equal the sse2 path's, and the accumulation and
+// BMFR's phase III equal the scalar definition (random history) to float rounding.
+TEST(SharedPassPaths, WindowedAndGatheredTapsEqualTheScalarDefinition) {
+  const int w = 93, h = 29;
+  enum Field { Uniform, Jittered, Scattered };
+  for (const Field field : {Uniform, Jittered, Scattered}) {
+    Lcg rnd;
+    FrameData prev = frameWithMotion(w, h, rnd, false), cur = frameWithMotion(w, h, rnd, true);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const float mx = field == Uniform ? 2.3f : field == Jittered ? 2.3f + 1.6f * rnd() - 0.8f : 16.0f * rnd() - 8.0f;
+        const float my = field == Uniform ? -0.6f : field == Jittered ? -0.6f + 0.8f * rnd() - 0.4f : 16.0f * rnd() - 8.0f;
+        cur.plane(Buffer::Motion, 0)(x, y) = mx;
+        cur.plane(Buffer::Motion, 1)(x, y) = my;
+        if (rnd() < 0.3f) prev.plane(Buffer::Normal, 2)(x, y) = -1.0f;  // a tap here fails the normal test
+      }
+    ReprojectionSettings s;
+    Reprojection ref, none;
+    {
+      const test::ScopedCpuPath scalar(CpuPath::Sse2);
+      reproject(cur, &prev, s, ref);
+    }
+    reproject(prev, nullptr, s, none);
+    // How the groups of eight the accumulation reads (x = 0, 8, ...) classify.
+    size_t groups[3] = {};
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x + 8 <= w; x += 8) {
+        const size_t i = size_t(y) * w + x;
+        bool all = true, consecutive = true;
+        int lo = INT32_MAX, hi = INT32_MIN;
+        for (int k = 0; k < 8; ++k) {
+          all = all && ref.kind[i + k] == Reprojection::Bilinear;
+          consecutive = consecutive && ref.base[i + k] == ref.base[i] + k;
+          lo = std::min(lo, ref.base[i + k]);
+          hi = std::max(hi, ref.base[i + k]);
+        }
+        if (all) ++groups[consecutive ? 0 : hi - lo < 16 ? 1 : 2];
+      }
+    SCOPED_TRACE("motion field " + std::to_string(int(field)));
+    const size_t total = groups[0] + groups[1] + groups[2];
+    ASSERT_GT(groups[int(field)], total / 2) << groups[0] << " " << groups[1] << " " << groups[2];
+    const auto counts = ref.counts();
+    ASSERT_GT(counts[Reprojection::Bilinear], size_t(w * h) / 2);
+    // Some taps are rejected (the plain bilinear weights of these fractional motions are all
+    // positive, so a zero weight is a failed test or the border's slide).
+    size_t rejected = 0;
+    for (size_t i = 0; i < size_t(w) * h; ++i)
+      if (ref.kind[i] == Reprojection::Bilinear &&
+          std::find(ref.weights[i].begin(), ref.weights[i].end(), 0.0f) != ref.weights[i].end())
+        ++rejected;
+    ASSERT_GT(rejected, counts[Reprojection::Bilinear] / 5);
+
+    for (const CpuPath path : test::supportedCpuPaths()) {
+      const test::ScopedCpuPath scoped(path);
+      SCOPED_TRACE(cpuPathName(path));
+      Reprojection rp;
+      reproject(cur, &prev, s, rp);
+      for (size_t i = 0; i < size_t(w) * h; ++i) {
+        ASSERT_EQ(rp.kind[i], ref.kind[i]) << i;
+        if (rp.kind[i] == Reprojection::None) continue;
+        ASSERT_EQ(rp.base[i], ref.base[i]) << i;
+        for (int t = 0; t < 4; ++t) ASSERT_NEAR(rp.weights[i][t], ref.weights[i][t], 1e-6f) << i;
+      }
+      auto image = [&] {
+        Plane3 p;
+        resize(p, w, h);
+        for (auto& c : p)
+          for (float& v : c.data) v = rnd();
+        return p;
+      };
+      const Plane3 first = image(), second = image(), history = image();
+      TemporalAccumulator acc;
+      acc.resize(w, h);
+      for (int k = 0; k < 3; ++k) acc.run(none, first, 0.2f, 0.2f, 255);
+      const Plane3 hColor = acc.color();
+      const Plane hLength = acc.historyLength(), hM1 = acc.moment1(), hM2 = acc.moment2();
+      acc.run(ref, second, 0.2f, 0.1f, 255);
+      Plane3 out;
+      resize(out, w, h);
+      for (int y = 0; y < h; ++y) {
+        const float* row[3] = {second[0].row(y), second[1].row(y), second[2].row(y)};
+        accumulateRow(ref, acc.historyLength(), 0.1f, row, history, out, y);
+      }
+      for (size_t i = 0; i < size_t(w) * h; ++i) {
+        if (ref.kind[i] == Reprojection::None) continue;
+        const float n = std::min(std::round(ref.gather(hLength, i)) + 1.0f, 255.0f);
+        ASSERT_EQ(acc.historyLength().data[i], n) << i;
+        const float a = std::max(1.0f / n, 0.2f), am = std::max(1.0f / n, 0.1f), a3 = std::max(1.0f / n, 0.1f);
+        const float l = luminance(second[0].data[i], second[1].data[i], second[2].data[i]);
+        for (int c = 0; c < 3; ++c) {
+          ASSERT_NEAR(acc.color()[c].data[i], a * second[c].data[i] + (1 - a) * ref.gather(hColor[c], i), 1e-6f) << i;
+          ASSERT_NEAR(out[c].data[i], a3 * second[c].data[i] + (1 - a3) * ref.gather(history[c], i), 1e-6f) << i;
+        }
+        ASSERT_NEAR(acc.moment1().data[i], am * l + (1 - am) * ref.gather(hM1, i), 1e-6f) << i;
+        ASSERT_NEAR(acc.moment2().data[i], am * l * l + (1 - am) * ref.gather(hM2, i), 1e-6f) << i;
+      }
     }
   }
 }
