@@ -4,7 +4,7 @@ rendered with Cycles for the emitter-halo measurements of issue 12 (tests/fixtur
 Run (Blender 3.4, Debian package `blender`):
 
     blender -b --factory-startup -P tools/blender/make_lamp_fixture.py -- \
-        --output tests/fixtures/blender_lamp --reference-samples 1024
+        --output tests/fixtures/blender_lamp --reference-samples 2048
 
 The scene, as a user models it in the UI: a room of planes (4 m wide, 4 m deep, 2.8 m high;
 diffuse white, red and green walls), the lamp a mesh plane (Add > Mesh > Plane, 1 x 1 m)
@@ -14,9 +14,12 @@ the Object Index pass does not tell the lamp from the ceiling); a 0.7 m box on t
 slides 1.5 cm per frame; a still camera. Nothing else lights the room (black world).
 
 The render set-up is tools/blender/rtdenoise_setup.py's (`configure` with `emission=True`: the
-Emit and Environment passes, which rtdenoise reads as its emission buffer), with Blender's
-default pixel filter (Blackman-Harris, 1.5 px), as a user renders: 1 sample, animated seed,
-half-float multilayer EXR, ZIP. Writes <output>/frame_NNNN.exr, cameras.json and, with
+Emit and Environment passes, which rtdenoise reads as its emission buffer): 1 sample, animated
+seed, half-float multilayer EXR, ZIP. The pixel filter is 0.01 px wide (`--filter-width`): the
+1-sample frames are centre-sampled with any filter (nearly the same with Blender's default
+1.5 px), but a many-sample reference is anti-aliased by it, and the lamp's anti-aliased edge
+would count as every denoiser's error (tests/fixtures/blender_lamp/README.md). Writes
+<output>/frame_NNNN.exr (96x54, frames 1-12 by default), cameras.json and, with
 --reference-samples, reference/frame_NNNN.exr and render.json. `--no-emission` leaves the Emit
 and Environment passes out (a user who did not enable them).
 """
