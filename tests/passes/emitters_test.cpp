@@ -25,7 +25,9 @@ bool lamp(int x, int y) { return x >= 22 && x < 38 && y >= 8 && y < 18; }
 
 // A still view of the synthetic scene with a lamp of emission 8 whose reflected light is
 // `lampLight` times the scene's noisy radiance there, the rest scaled by `restScale`.
-std::vector<Frame> stillFramesWithLamp(int count, float lampLight, float restScale, bool emissionBuffer = true) {
+// `lampAlbedo` > 0: the lamp's albedo (Cycles writes an emissive surface's emission there).
+std::vector<Frame> stillFramesWithLamp(int count, float lampLight, float restScale, bool emissionBuffer = true,
+                                       float lampAlbedo = 0.0f) {
   synthetic::Scene scene;
   scene.width = kW;
   scene.height = kH;
@@ -48,6 +50,7 @@ std::vector<Frame> stillFramesWithLamp(int count, float lampLight, float restSca
           }
           f[Buffer::Emission].at(x, y, c) = 8.0f;
           v = 8.0f + lampLight * v;
+          if (lampAlbedo > 0.0f) f[Buffer::Albedo].at(x, y, c) = lampAlbedo;
         }
     frames.push_back(std::move(f));
   }
@@ -113,6 +116,31 @@ TEST(EmitterExclusion, NeighboursIgnoreTheEmitterAndTheEmitterItsNeighbours) {
     EXPECT_GT(differing(b, run(c.method, off, brightLamp), false), 40) << what << ", off";
     EXPECT_GT(differing(b, run(c.method, off, brightRest), true), 40) << what << ", off";
   }
+}
+
+// With excludeEmitters off (SVGF's default), an emitter whose albedo is no reflectance (above 1:
+// Cycles writes an emissive surface's emission as its Denoising Albedo, tests/fixtures/
+// blender_lamp) still leaves the a-trous guide, as the sky does: the output off the lamp does not
+// depend on the lamp's light, bit for bit. A lamp with a reflectance (albedo 1, as the
+// renderer's) stays in the filter, and so does the reflectanceless one when its emission is not
+// above the threshold. BMFR's fits follow excludeEmitters alone.
+TEST(EmitterExclusion, SvgfLeavesEmittersWithoutAReflectanceOut) {
+  const std::vector<std::string> off = {"variancePrefilter=off", "taa=false"};  // excludeEmitters: default (off)
+  for (const char* variant : {"schied", "dundr"}) {
+    std::vector<std::string> s = {std::string("variant=") + variant};  // first: a preset resets the others
+    s.insert(s.end(), off.begin(), off.end());
+    const Image a = run("svgf", s, stillFramesWithLamp(6, 0.1f, 1.0f, true, 8.0f));
+    EXPECT_EQ(differing(a, run("svgf", s, stillFramesWithLamp(6, 3.0f, 1.0f, true, 8.0f)), false), 0) << variant;
+    const Image b = run("svgf", s, stillFramesWithLamp(6, 0.1f, 1.0f, true, 1.0f));
+    EXPECT_GT(differing(b, run("svgf", s, stillFramesWithLamp(6, 3.0f, 1.0f, true, 1.0f)), false), 40) << variant;
+    std::vector<std::string> high = s;
+    high.push_back("emitterThreshold=8");
+    const Image c = run("svgf", high, stillFramesWithLamp(6, 0.1f, 1.0f, true, 8.0f));
+    EXPECT_GT(differing(c, run("svgf", high, stillFramesWithLamp(6, 3.0f, 1.0f, true, 8.0f)), false), 40) << variant;
+  }
+  const Image a = run("bmfr", {"excludeEmitters=false", "taa=false"}, stillFramesWithLamp(6, 0.1f, 1.0f, true, 8.0f));
+  const Image b = run("bmfr", {"excludeEmitters=false", "taa=false"}, stillFramesWithLamp(6, 3.0f, 1.0f, true, 8.0f));
+  EXPECT_GT(differing(a, b, false), 40) << "bmfr";
 }
 
 // Without emitters the setting changes nothing, bit for bit: frames without Buffer::Emission,

@@ -20,7 +20,7 @@ constexpr double kMaxRel = 1e-4, kMeanRel = 2e-6;
 constexpr double kFlippedShare = 0.01;
 
 void runBoth(const std::vector<std::string>& settings, bool split, int frames, const std::string& what,
-             bool emission = false, bool decisions = false) {
+             bool emission = false, bool decisions = false, bool reflectanceless = false) {
   auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto cpu = cpuDevice->createDenoiser("svgf");
   auto gpu = vulkanDevice()->createDenoiser("svgf");
@@ -46,6 +46,10 @@ void runBoth(const std::vector<std::string>& settings, bool split, int frames, c
             f[Buffer::Emission].at(x, y, c) = 20.0f;
             f[Buffer::Color].at(x, y, c) += 20.0f;
             if (split) f[Buffer::Diffuse].at(x, y, c) += 20.0f;
+            // Half the lamp as Cycles writes a surface without a BSDF: its emission as the
+            // albedo (out of the guide with excludeEmitters off too), the other half a lamp
+            // with a reflectance (in it).
+            if (reflectanceless && x < 35) f[Buffer::Albedo].at(x, y, c) = 20.0f;
           }
     }
     Image a(f.width, f.height, 3), b(f.width, f.height, 3);
@@ -67,6 +71,8 @@ TEST(VulkanSvgf, MatchesCpuWithSeparatedEmission) {
   runBoth({"excludeEmitters=true"}, false, 4, "emission, emitters excluded", true);
   runBoth({"variant=gersthofer", "fxaa=false", "excludeEmitters=true"}, false, 4, "gersthofer, emitters excluded", true);
   runBoth({"variant=voorhuisRobustness"}, true, 4, "emission, diffuse/specular", true);
+  runBoth({}, false, 4, "emission, emitters without a reflectance", true, false, true);
+  runBoth({"variant=gersthofer", "fxaa=false"}, false, 4, "gersthofer, emitters without a reflectance", true, false, true);
 }
 TEST(VulkanSvgf, MatchesCpuDundr) {
   RTD_REQUIRE_VULKAN();

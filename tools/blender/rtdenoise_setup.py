@@ -12,6 +12,9 @@ renders/my_scene/frame_NNNN.exr (multilayer EXR), which `rtdenoise denoise`, `co
   --frames A-B            frame range (default: the scene's)
   --light-passes          also Cycles' light passes (diffuse / glossy / transmission direct,
                           indirect, colour; emission; environment): SVGF's lobes
+  --emission              also Cycles' Emission and Environment passes (included in
+                          --light-passes): visible lamps and the sky, which rtdenoise
+                          separates and keeps out of the filters (docs/blender.md)
   --half                  16-bit half float EXR instead of 32-bit
   --samples N             samples per pixel of the noisy frames (default 1)
   --reference-samples N   also render <output>/reference/frame_NNNN.exr with N samples (RGB EXR,
@@ -50,8 +53,10 @@ def _set(obj, attr, value, changes, label):
 
 
 def configure(scene, output, light_passes=False, half=False, samples=1, filter_width=None,
-              view_layer=None, frame_start=None, frame_end=None):
-    """Sets `scene` up for rtdenoise (module docstring); returns the changes made, as text."""
+              view_layer=None, frame_start=None, frame_end=None, emission=False):
+    """Sets `scene` up for rtdenoise (module docstring); returns the changes made, as text.
+    `emission` enables only the Emit and Environment passes (which `light_passes` includes):
+    rtdenoise's emission buffer, which keeps visible lamps and the sky out of the filters."""
     changes = []
     _set(scene.render, "engine", "CYCLES", changes, "render engine")
     _set(scene.cycles, "device", "CPU", changes, "Cycles device")
@@ -81,6 +86,7 @@ def configure(scene, output, light_passes=False, half=False, samples=1, filter_w
     if light_passes:
         passes += ["%s_%s" % (lobe, part) for lobe in ("diffuse", "glossy", "transmission")
                    for part in ("direct", "indirect", "color")]
+    if light_passes or emission:
         passes += ["emit", "environment"]
     for p in passes:
         _set(vl, "use_pass_" + p, True, changes, "pass " + p)
@@ -164,6 +170,7 @@ def parse_args(argv):
     p.add_argument("--output", required=True)
     p.add_argument("--frames", default=None, help="A-B")
     p.add_argument("--light-passes", action="store_true")
+    p.add_argument("--emission", action="store_true")
     p.add_argument("--half", action="store_true")
     p.add_argument("--samples", type=int, default=1)
     p.add_argument("--reference-samples", type=int, default=0)
@@ -191,7 +198,8 @@ def main():
     output = os.path.abspath(a.output)
     os.makedirs(output, exist_ok=True)
     start, end = (int(v) for v in a.frames.split("-")) if a.frames else (None, None)
-    changes = configure(scene, output, a.light_passes, a.half, a.samples, a.filter_width, a.view_layer, start, end)
+    changes = configure(scene, output, a.light_passes, a.half, a.samples, a.filter_width, a.view_layer, start, end,
+                        emission=a.emission)
     print("rtdenoise_setup: %d setting(s) changed%s" % (len(changes), "".join("\n  " + c for c in changes)))
     print("rtdenoise_setup: wrote", write_cameras(scene, cam, output))
     if a.save:

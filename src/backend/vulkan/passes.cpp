@@ -134,12 +134,18 @@ void atrousGuide(Recorder& rec, const Planes& depth, const Planes* depthGradient
 }
 
 const Planes& emitterGuideNormal(Recorder& rec, const GpuFrame& frame, const EmitterSettings& s, Planes& normal) {
-  if (!s.excludeEmitters || !frame.has(Buffer::Emission)) return frame[Buffer::Normal];
+  // As excludeEmitters (src/passes/emitters.cpp): with the setting off, only the emitters whose
+  // albedo is no reflectance (above 1).
+  const bool all = s.excludeEmitters;
+  if (!frame.has(Buffer::Emission) || (!all && !frame.has(Buffer::Albedo))) return frame[Buffer::Normal];
   struct PC {
     uint32_t width, height;
     float threshold;
-  } pc{uint32_t(frame.width), uint32_t(frame.height), s.emitterThreshold};
-  rec.dispatch("emitter_guide", {frame[Buffer::Normal], frame[Buffer::Emission], normal}, pc, frame.width, frame.height);
+    uint32_t albedoTest;
+  } pc{uint32_t(frame.width), uint32_t(frame.height), s.emitterThreshold, all ? 0u : 1u};
+  const Binding albedo = all ? Binding(rec.context().dummy()) : Binding(frame[Buffer::Albedo]);
+  rec.dispatch("emitter_guide", {frame[Buffer::Normal], frame[Buffer::Emission], albedo, normal}, pc, frame.width,
+               frame.height);
   return normal;
 }
 
