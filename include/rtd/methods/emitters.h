@@ -14,6 +14,9 @@ namespace rtd {
 /// the surface it is mounted on (a lamp 5 mm below a ceiling has the ceiling's normal and
 /// depth). Frames without Buffer::Emission, or without any pixel above the threshold, are
 /// unaffected (the output is bit-identical with the setting on and off).
+/// SVGF with the setting off still leaves out the emitter pixels whose albedo exceeds 1 in a
+/// channel (Blender's Denoising Albedo of an emissive surface is its emission): such a pixel
+/// reflects nothing, so like a sky pixel it has nothing to filter (docs/methods/svgf.md).
 struct EmitterSettings {
   /// On in BMFR, off in SVGF (each method's settings say why).
   bool excludeEmitters = true;
@@ -25,7 +28,8 @@ struct EmitterSettings {
     v("excludeEmitters", excludeEmitters,
       "emitter pixels (emission > emitterThreshold) weigh 0 as neighbours and take none in the spatial filter "
       "(SVGF a-trous and variance window, BMFR fits: output = own accumulated value); their reflected light "
-      "otherwise bleeds into the surface around a lamp (issue 12)");
+      "otherwise bleeds into the surface around a lamp (issue 12); SVGF with it off still leaves out emitters of "
+      "albedo > 1 (no reflectance, as Blender writes them)");
     v("emitterThreshold", emitterThreshold, "emission (largest channel, radiance) above which a pixel is an emitter; 0 = any",
       Range{0, 1e9});
   }
