@@ -69,58 +69,22 @@ void AtrousImage::resize(int w, int h, int pad) {
   for (PaddedPlane* p : {&color[0], &color[1], &color[2], &lum, &var}) p->resize(w, h, pad);
 }
 
-namespace {
-
-// The taps of a level (all but the centre) and the centre's kernel weight; the list is
-// point-symmetric, as atrousRows pairs tap k with tap n-1-k.
-float levelTaps(const AtrousLevel& lv, ptrdiff_t stride, std::vector<AtrousTap>& taps) {
+void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out) {
   const int r = kernelRadius(lv.kernel);
-  taps.reserve(24);  // at most 24: small, and the allocator reuses the block
+  const PaddedPlane& z = g.depth;
+  std::vector<AtrousTap> taps;  // at most 24: small, and the allocator reuses the block
+  taps.reserve(24);
   for (int dy = -r; dy <= r; ++dy)
     for (int dx = -r; dx <= r; ++dx) {
       if (!dx && !dy) continue;
       const int ox = dx * lv.step, oy = dy * lv.step;
-      taps.push_back({ptrdiff_t(oy) * stride + ox, float(ox), float(oy),
+      taps.push_back({ptrdiff_t(oy) * z.stride + ox, float(ox), float(oy),
                       kernelWeight1D(lv.kernel, dx) * kernelWeight1D(lv.kernel, dy), float(dx * dx + dy * dy)});
     }
+  // atrousRows pairs tap k with tap n-1-k: the list above is point-symmetric.
   for (size_t k = 0; k < taps.size(); ++k) assert(taps[k].offset == -taps[taps.size() - 1 - k].offset);
-  return kernelWeight1D(lv.kernel, 0) * kernelWeight1D(lv.kernel, 0);
-}
-
-}  // namespace
-
-bool AtrousLevel::sharesGeometry(const AtrousLevel& o) const {
-  const auto plain = [](const AtrousLevel& l) {
-    return !l.validIn && !l.validOut && !l.indirectDistance && !l.indirectDistanceScale && !l.centreScale &&
-           !l.spatialFalloff;
-  };
-  return plain(*this) && plain(o) && kernel == o.kernel && step == o.step && sigmaDepth == o.sigmaDepth &&
-         depthEpsilon == o.depthEpsilon && depthEpsilonRelative == o.depthEpsilonRelative &&
-         normalExponent == o.normalExponent && propagateVariance == o.propagateVariance;
-}
-
-void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out) {
-  std::vector<AtrousTap> taps;
-  const float h0 = levelTaps(lv, g.depth.stride, taps);
-  const AtrousLevel* lvs[1] = {&lv};
-  const AtrousImage* ins[1] = {&in};
-  AtrousImage* outs[1] = {&out};
-  RTD_SIMD(atrousRows)(g, lvs, ins, outs, 1, taps.data(), int(taps.size()), h0);
-}
-
-void atrousLevels(const AtrousGuide& g, const AtrousLevel& la, const AtrousImage& ina, AtrousImage& outa,
-                  const AtrousLevel& lb, const AtrousImage& inb, AtrousImage& outb) {
-  if (!la.sharesGeometry(lb)) {
-    atrousLevel(g, la, ina, outa);
-    atrousLevel(g, lb, inb, outb);
-    return;
-  }
-  std::vector<AtrousTap> taps;
-  const float h0 = levelTaps(la, g.depth.stride, taps);
-  const AtrousLevel* lvs[2] = {&la, &lb};
-  const AtrousImage* ins[2] = {&ina, &inb};
-  AtrousImage* outs[2] = {&outa, &outb};
-  RTD_SIMD(atrousRows)(g, lvs, ins, outs, 2, taps.data(), int(taps.size()), h0);
+  const float h0 = kernelWeight1D(lv.kernel, 0) * kernelWeight1D(lv.kernel, 0);
+  RTD_SIMD(atrousRows)(g, lv, in, out, taps.data(), int(taps.size()), h0);
 }
 
 void spatialVariance(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,

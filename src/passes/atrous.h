@@ -142,12 +142,6 @@ struct AtrousLevel {
   /// multiplied by exp(-c(p) |k|^2), k the tap's offset in kernel units (-2..2 per axis, not
   /// pixels). glossySpatialFalloff() turns Eq. 6's sigma_spatial into c. Null: off.
   const PaddedPlane* spatialFalloff = nullptr;
-
-  /// Whether a level with `o`'s parameters can run in one pass with this one (atrousLevels):
-  /// the same kernel, step, depth and normal weights and variance propagation, and neither uses
-  /// a per-pixel switch (sparse input, glossy weights, centre scale, falloff). The luminance
-  /// weight's parameters and sigmaScale may differ.
-  bool sharesGeometry(const AtrousLevel& o) const;
 };
 
 /// Gersthofer's glossy weight w_r = 0.01 + sqrt(roughness(p)) (Sec. 3.4.3).
@@ -173,13 +167,6 @@ inline float glossySpatialSigma(float footprint, float omega) { return std::exp(
 /// One level of the filter: out(p) = sum_q h(q) w(p,q) in(q) / sum_q h(q) w(p,q), with
 /// w = w_z w_n w_l; the centre tap always has w = 1. `in` and `out` must differ.
 void atrousLevel(const AtrousGuide& guide, const AtrousLevel& level, const AtrousImage& in, AtrousImage& out);
-/// Two streams' levels over one guide (SVGF's Direct and Indirect): the same results, bit for
-/// bit, as atrousLevel(a) then atrousLevel(b). Where the levels share the geometry
-/// (AtrousLevel::sharesGeometry) it runs as one pass in which each tap's guide loads, normal
-/// weight and depth term serve both streams; otherwise as the two levels. The four images must
-/// be distinct.
-void atrousLevels(const AtrousGuide& guide, const AtrousLevel& a, const AtrousImage& inA, AtrousImage& outA,
-                  const AtrousLevel& b, const AtrousImage& inB, AtrousImage& outB);
 
 /// Spatial variance estimate (Schied Sec. 4.2): for each pixel whose historyLength is below
 /// `shortHistory`, var = E_w[b] - E_w[a]^2 over the (2 radius + 1)^2 window with weights

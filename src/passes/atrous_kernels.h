@@ -17,11 +17,9 @@ struct AtrousTap {
 }  // namespace rtd
 
 RTD_SIMD_DECLARE(
-/// atrousLevel's rows for `streams` (1 or 2) levels over one guide (atrousLevels: two only when
-/// they share the geometry and use no per-pixel switch): `taps` point-symmetric (tap k opposite
-/// tap count - 1 - k), h0 the centre's kernel weight.
-void atrousRows(const AtrousGuide& guide, const AtrousLevel* const* levels, const AtrousImage* const* in,
-                AtrousImage* const* out, int streams, const AtrousTap* taps, int tapCount, float h0);
+/// atrousLevel's rows: `taps` point-symmetric (tap k opposite tap count - 1 - k), h0 the centre's kernel weight.
+void atrousRows(const AtrousGuide& guide, const AtrousLevel& level, const AtrousImage& in, AtrousImage& out,
+                const AtrousTap* taps, int tapCount, float h0);
 /// spatialVariance's rows, radius R <= a.pad, normal exponent e >= 1.
 void spatialVarianceRows(const AtrousGuide& guide, const PaddedPlane& a, const PaddedPlane& b, const Plane& length,
                          float shortHistory, int R, float sigmaDepth, float depthEpsilon, float depthEpsilonRelative, int e,

@@ -63,9 +63,9 @@ inline vf exp2Shifted(vf v, float cut = exp2Cut(1.0f)) {
 inline vf oneMinusDot(vf ax, vf ay, vf az, vf bx, vf by, vf bz) {
   return vfnmadd(az, bz, vfnmadd(ay, by, vfnmadd(ax, bx, splat(1.0f))));
 }
-// sigma_n log2(e) (1 + x/2 + x^2/3) in Horner's form, c_i = sigma_n log2(e) / i: -log2 w_n is
-// x times it (the series of atrousRowsT), which the caller subtracts with one vfnmadd.
-inline vf normalSeriesFactor(vf x, float c1, float c2, float c3) { return c1 + x * (c2 + x * c3); }
+// v - sigma_n log2(e) (x + x^2/2 + x^3/3) in Horner's form, c_i = sigma_n log2(e) / i: the
+// series of -log2 w_n (see atrousRowsT), three fused operations.
+inline vf normalSeries(vf v, vf x, float c1, float c2, float c3) { return vfnmadd(x, c1 + x * (c2 + x * c3), v); }
 
 // d^e by repeated squaring; kSquarings >= 0: e = 2^kSquarings, unrolled (sigma_n = 128 is
 // seven squarings, 64 six).
@@ -102,18 +102,9 @@ template <class Fn> void stridedRows(int height, int step, Fn&& fn) {
   });
 }
 
-// One level for kN streams (1 or 2) that share the guide and every geometric parameter of the
-// level (kernel, step, depth and normal weights: AtrousLevel::sharesGeometry): per tap, the
-// guide's loads, w_n's series and the depth term of the exponent are computed once and serve
-// every stream, which adds its own luminance term and takes its own exp2. The operations of
-// each stream are those of a one-stream level in the same order, so the two-stream level
-// gives bit for bit the results of two one-stream levels. The per-pixel switches (sparse input,
-// falloff, glossy weights, centre scale) are one-stream only.
-template <int kN, bool kPropagate, bool kLogNormal, bool kMasked, bool kFalloff, bool kGlossy>
-void atrousRowsT(const AtrousGuide& g, const AtrousLevel* const* lvs, const AtrousImage* const* ins,
-                 AtrousImage* const* outs, const AtrousTap* taps, int tapCount, float h0) {
-  static_assert(kN == 1 || !(kMasked || kFalloff || kGlossy));
-  const AtrousLevel& lv = *lvs[0];  // the shared geometry, and the one-stream switches
+template <bool kPropagate, bool kLogNormal, bool kMasked, bool kFalloff, bool kGlossy>
+void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
+                const AtrousTap* taps, int tapCount, float h0) {
   const PaddedPlane& z = g.depth;
   const int w = z.width;
   const float sigmaZ = lv.sigmaDepth, epsZ = lv.depthEpsilon, epsRelZ = lv.depthEpsilonRelative;
@@ -123,31 +114,21 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel* const* lvs, const Atro
   const float* pz = z.data.data();
   const float *pnx = g.normal[0].data.data(), *pny = g.normal[1].data.data(), *pnz = g.normal[2].data.data();
   const float *pgx = g.gradX.data.data(), *pgy = g.gradY.data.data();
+  const float *pr = in.color[0].data.data(), *pg = in.color[1].data.data(), *pb = in.color[2].data.data();
+  const float *pl = in.lum.data.data(), *pv = in.var.data.data();
+  const float* pscale = lv.sigmaScale ? lv.sigmaScale->data.data() : nullptr;
   const ptrdiff_t S = z.stride;
-  // Each stream's signal and luminance-weight parameters.
-  struct Stream {
-    const float *pr, *pg, *pb, *pl, *pv, *pscale;
-    float *qr, *qg, *qb, *ql, *qv;
-    float sigmaL, epsL;
-    bool prefilter, useVar, cie;
-    MomentLuminance luminance;
-  } st[kN];
-  for (int s = 0; s < kN; ++s) {
-    const AtrousLevel& l = *lvs[s];
-    const AtrousImage& in = *ins[s];
-    AtrousImage& out = *outs[s];
-    st[s] = {in.color[0].data.data(), in.color[1].data.data(), in.color[2].data.data(), in.lum.data.data(),
-             in.var.data.data(), l.sigmaScale ? l.sigmaScale->data.data() : nullptr, out.color[0].data.data(),
-             out.color[1].data.data(), out.color[2].data.data(), out.lum.data.data(), out.var.data.data(),
-             l.sigmaLuminance, l.luminanceEpsilon, l.prefilterVariance, l.varianceScale,
-             l.luminance == MomentLuminance::CieLightness, l.luminance};
-  }
+  const float sigmaL = lv.sigmaLuminance, epsL = lv.luminanceEpsilon;
+  const bool prefilter = lv.prefilterVariance, useVar = lv.varianceScale;
+  float *qr = out.color[0].data.data(), *qg = out.color[1].data.data(), *qb = out.color[2].data.data();
+  float *ql = out.lum.data.data(), *qv = out.var.data.data();
+  const bool cie = lv.luminance == MomentLuminance::CieLightness;
   const float* pvalid = kMasked ? lv.validIn->data.data() : nullptr;
   float* qvalid = kMasked ? lv.validOut->data.data() : nullptr;
   const float* pfall = kFalloff ? lv.spatialFalloff->data.data() : nullptr;
   const float* pzi = kGlossy ? lv.indirectDistance->data.data() : nullptr;
   const float* pziScale = kGlossy ? lv.indirectDistanceScale->data.data() : nullptr;
-  const float* pcentre = kN == 1 && lv.centreScale ? lv.centreScale->data.data() : nullptr;
+  const float* pcentre = lv.centreScale ? lv.centreScale->data.data() : nullptr;
   // Each tap's starting exponent and cut (exp2Shifted), and its bound on h w_n w_z w_l.
   float start[32], cut[32], minWeight[32];
   assert(tapCount == 24 || tapCount == 8);
@@ -167,121 +148,97 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel* const* lvs, const Atro
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ2, gy = load(pgy + c) * sigmaZ2;
       const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
-      vf lc[kN], inv[kN], ziInv, zic;
-      for (int s = 0; s < kN; ++s) {
-        const Stream& t = st[s];
-        lc[s] = load(t.pl + c);
+      const vf lc = load(pl + c);
+      vf inv, ziInv, zic;
+      {
         // w_l bandwidth from the (3x3-Gaussian-prefiltered) variance at the centre.
-        const float* pv = t.pv;
         vf v = load(pv + c);
-        if (t.prefilter)
+        if (prefilter)
           v = 0.25f * v + 0.125f * (load(pv + c - 1) + load(pv + c + 1) + load(pv + c - S) + load(pv + c + S)) +
               0.0625f * (load(pv + c - S - 1) + load(pv + c - S + 1) + load(pv + c + S - 1) + load(pv + c + S + 1));
         v = vmax(v, splat(0.0f));
-        const vf sd = t.useVar ? v : vsqrt(v);
-        const vf k = t.pscale ? load(t.pscale + c) : splat(1.0f);
-        inv[s] = k > 0.0f ? kLog2e / (t.sigmaL * k * sd + t.epsL) : splat(0.0f);
+        const vf sd = useVar ? v : vsqrt(v);
+        const vf k = pscale ? load(pscale + c) : splat(1.0f);
+        inv = k > 0.0f ? kLog2e / (sigmaL * k * sd + epsL) : splat(0.0f);
         if constexpr (kGlossy) {
           // Gersthofer Eq. 3.2: (1 - roughness(p)) / (sqrt(g3x3(Var)) + eps), folded into one factor.
-          ziInv = load(pziScale + c) * kLog2e / ((t.useVar ? vsqrt(v) : sd) + t.epsL);
+          ziInv = load(pziScale + c) * kLog2e / ((useVar ? vsqrt(v) : sd) + epsL);
           zic = load(pzi + c);
         }
       }
       const vf fall = kFalloff ? load(pfall + c) * kLog2e : splat(0.0f);
       vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
       if (pcentre) w0 *= load(pcentre + c);  // w_r on every neighbour = 1/w_r on the centre
-      vf sw[kN], sr[kN], sg[kN], sb[kN], sv[kN];
-      for (int s = 0; s < kN; ++s) {
-        sw[s] = w0, sr[s] = w0 * load(st[s].pr + c), sg[s] = w0 * load(st[s].pg + c), sb[s] = w0 * load(st[s].pb + c);
-        sv[s] = kPropagate ? w0 * w0 * load(st[s].pv + c) : splat(0.0f);
-      }
+      vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
+      vf sv = kPropagate ? w0 * w0 * load(pv + c) : splat(0.0f);
       // One tap: v = start - log2(e) (x_z + x_l [+ falloff] [+ x_zi] + x_n), then h w = 2^(v + 1/2).
       auto tap = [&](int k, vf depthScale) {
         const AtrousTap& t = taps[k];
         const size_t q = c + t.offset;
-        const vf vz = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(start[k]));  // fused: exp2Shifted
-        // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
-        // series is exact to 1e-5 relative where w_n matters (d > 0.9 for sigma_n = 64) and
-        // makes w_n ~ 0 where d <= 0, so it joins the one exp. Otherwise the exact power: d
-        // below 2^(kMinWeightExp2 / e) gives w_n < 2^kMinWeightExp2: 0, so the powers stay
-        // normal; the product w_n w_z w_l is cut at the same bound.
-        vf x, series, wn;
+        vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(start[k]));  // fused: exp2Shifted
+        v = vfnmadd(vabs(lc - load(pl + q)), inv, v);
+        if constexpr (kFalloff) v = vfnmadd(fall, splat(t.k2), v);
+        if constexpr (kGlossy) v = vfnmadd(vabs(zic - load(pzi + q)), ziInv, v);
+        vf wt;
         if constexpr (kLogNormal) {
-          x = oneMinusDot(nx, ny, nz, load(pnx + q), load(pny + q), load(pnz + q));
-          series = normalSeriesFactor(x, cn1, cn2, cn3);
+          // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
+          // series is exact to 1e-5 relative where w_n matters (d > 0.9 for sigma_n = 64) and
+          // makes w_n ~ 0 where d <= 0, so it joins the one exp.
+          const vf x = oneMinusDot(nx, ny, nz, load(pnx + q), load(pny + q), load(pnz + q));
+          wt = exp2Shifted(normalSeries(v, x, cn1, cn2, cn3), cut[k]);
         } else {
+          // d below 2^(kMinWeightExp2 / e) gives w_n < 2^kMinWeightExp2: 0, so the powers
+          // stay normal; the product w_n w_z w_l is cut at the same bound.
           const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-          wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e);
+          const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v, cut[k]);
+          wt = wn >= minWeight[k] ? wn : splat(0.0f);
         }
-        for (int s = 0; s < kN; ++s) {
-          vf v = vfnmadd(vabs(lc[s] - load(st[s].pl + q)), inv[s], vz);
-          if constexpr (kFalloff) v = vfnmadd(fall, splat(t.k2), v);
-          if constexpr (kGlossy) v = vfnmadd(vabs(zic - load(pzi + q)), ziInv, v);
-          vf wt;
-          if constexpr (kLogNormal) {
-            wt = exp2Shifted(vfnmadd(x, series, v), cut[k]);
-          } else {
-            const vf wnzl = wn * exp2Shifted(v, cut[k]);
-            wt = wnzl >= minWeight[k] ? wnzl : splat(0.0f);
-          }
-          if constexpr (kMasked) wt *= load(pvalid + q);
-          sw[s] += wt;
-          sr[s] += wt * load(st[s].pr + q);
-          sg[s] += wt * load(st[s].pg + q);
-          sb[s] += wt * load(st[s].pb + q);
-          if constexpr (kPropagate) sv[s] += wt * wt * load(st[s].pv + q);
-        }
+        if constexpr (kMasked) wt *= load(pvalid + q);
+        sw += wt;
+        sr += wt * load(pr + q);
+        sg += wt * load(pg + q);
+        sb += wt * load(pb + q);
+        if constexpr (kPropagate) sv += wt * wt * load(pv + q);
       };
       // Taps come in opposite pairs (q, 2p - q) whose w_z denominators sigma_z |grad z . (p - q)|
       // + eps are equal: one reciprocal serves both (atrousLevel orders the list that way).
       // The 3x3 and 5x5 kernels' 8 and 24 taps as compile-time counts: fully unrolled.
-      auto pair = [&](int k, int n) {
-        const AtrousTap& a = taps[k];
-        const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(maxDen2)) + epsZc2);
-        tap(k, depthScale);
-        tap(n - 1 - k, depthScale);
-      };
       auto pairs = [&](auto count) {
         constexpr int n = decltype(count)::value;
-        if constexpr (kN == 1) {
 #pragma GCC unroll 12
-          for (int k = 0; k < n / 2; ++k) pair(k, n);
-        } else {
-          // Two streams: fully unrolled the body outgrows the op cache and the registers.
-#pragma GCC unroll 1
-          for (int k = 0; k < n / 2; ++k) pair(k, n);
+        for (int k = 0; k < n / 2; ++k) {
+          const AtrousTap& a = taps[k];
+          const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(maxDen2)) + epsZc2);
+          tap(k, depthScale);
+          tap(n - 1 - k, depthScale);
         }
       };
       if (tapCount == 24) pairs(std::integral_constant<int, 24>{});
       else pairs(std::integral_constant<int, 8>{});
-      for (int s = 0; s < kN; ++s) {
-        const Stream& t = st[s];
-        vf rcp;
-        if constexpr (kMasked) {
-          // Any weight that is not 0 is >= 2^-32 (core/flush.h).
-          const vi any = sw[s] > 0.0f;
-          const vf safe = any ? sw[s] : splat(1.0f);
-          rcp = any ? 1.0f / safe : splat(0.0f);
-          store(qvalid + c, any ? splat(1.0f) : splat(0.0f));
-        } else {
-          rcp = 1.0f / sw[s];
-        }
-        const vf r = vflush(sr[s] * rcp), gg = vflush(sg[s] * rcp), b = vflush(sb[s] * rcp);
-        store(t.qr + c, r);
-        store(t.qg + c, gg);
-        store(t.qb + c, b);
-        if constexpr (kPropagate) store(t.qv + c, vflush(sv[s] * rcp * rcp));
-        if (!t.cie) {
-          store(t.ql + c, vflush(lumVector(t.luminance, r, gg, b)));
-        } else {
-          float lr[kLanes], lgg[kLanes], lb[kLanes], lo[kLanes];
-          store(lr, r);
-          store(lgg, gg);
-          store(lb, b);
-          for (int k = 0; k < kLanes; ++k)
-            lo[k] = flushTiny(momentLuminance(MomentLuminance::CieLightness, lr[k], lgg[k], lb[k]));
-          std::memcpy(t.ql + c, lo, sizeof lo);
-        }
+      vf rcp;
+      if constexpr (kMasked) {
+        // Any weight that is not 0 is >= 2^-32 (core/flush.h).
+        const vi any = sw > 0.0f;
+        const vf safe = any ? sw : splat(1.0f);
+        rcp = any ? 1.0f / safe : splat(0.0f);
+        store(qvalid + c, any ? splat(1.0f) : splat(0.0f));
+      } else {
+        rcp = 1.0f / sw;
+      }
+      const vf r = vflush(sr * rcp), gg = vflush(sg * rcp), b = vflush(sb * rcp);
+      store(qr + c, r);
+      store(qg + c, gg);
+      store(qb + c, b);
+      if constexpr (kPropagate) store(qv + c, vflush(sv * rcp * rcp));
+      if (!cie) {
+        store(ql + c, vflush(lumVector(lv.luminance, r, gg, b)));
+      } else {
+        float lr[kLanes], lgg[kLanes], lb[kLanes], lo[kLanes];
+        store(lr, r);
+        store(lgg, gg);
+        store(lb, b);
+        for (int k = 0; k < kLanes; ++k) lo[k] = flushTiny(momentLuminance(MomentLuminance::CieLightness, lr[k], lgg[k], lb[k]));
+        std::memcpy(ql + c, lo, sizeof lo);
       }
     }
   });
@@ -324,7 +281,7 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
         vf wt;
         if constexpr (kLogNormal) {
           const vf xx = oneMinusDot(nx, ny, nz, load(pnx + q), load(pny + q), load(pnz + q));
-          wt = exp2Shifted(vfnmadd(xx, normalSeriesFactor(xx, cn1, cn2, cn3), v));
+          wt = exp2Shifted(normalSeries(v, xx, cn1, cn2, cn3));
         } else {
           const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
           const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v);
@@ -361,35 +318,22 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
 }
 }  // namespace
 
-void atrousRows(const AtrousGuide& g, const AtrousLevel* const* lvs, const AtrousImage* const* ins,
-                AtrousImage* const* outs, int streams, const AtrousTap* taps, int tapCount, float h0) {
-  const AtrousLevel& lv = *lvs[0];
+void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
+                const AtrousTap* taps, int tapCount, float h0) {
   // The series form of w_n is accurate for large exponents (the papers' 64 and 128); small
   // ones use the exact power.
   const bool series = lv.normalExponent >= 16;
   const bool p = lv.propagateVariance, masked = lv.validIn && lv.validOut, falloff = lv.spatialFalloff;
   const bool glossy = lv.indirectDistance && lv.indirectDistanceScale;
   // One instantiation per combination of the switches (Gersthofer's glossy weights only dense:
-  // his masked pixels are black samples, not holes); two streams only without the per-pixel
-  // switches (atrousLevels checks).
+  // his masked pixels are black samples, not holes).
   assert(!(glossy && masked));
-  assert(streams == 1 || (streams == 2 && !masked && !falloff && !glossy && !lv.centreScale &&
-                          lvs[1]->propagateVariance == p));
+  auto run = [&](auto prop, auto logNormal, auto mask, auto fall, auto gl) {
+    atrousRowsT<decltype(prop)::value, decltype(logNormal)::value, decltype(mask)::value, decltype(fall)::value,
+                decltype(gl)::value>(g, lv, in, out, taps, tapCount, h0);
+  };
   using T = std::true_type;
   using F = std::false_type;
-  if (streams == 2) {
-    auto run2 = [&](auto prop, auto logNormal) {
-      atrousRowsT<2, decltype(prop)::value, decltype(logNormal)::value, false, false, false>(g, lvs, ins, outs, taps,
-                                                                                          tapCount, h0);
-    };
-    auto withSeries2 = [&](auto prop) { series ? run2(prop, T{}) : run2(prop, F{}); };
-    p ? withSeries2(T{}) : withSeries2(F{});
-    return;
-  }
-  auto run = [&](auto prop, auto logNormal, auto mask, auto fall, auto gl) {
-    atrousRowsT<1, decltype(prop)::value, decltype(logNormal)::value, decltype(mask)::value, decltype(fall)::value,
-                decltype(gl)::value>(g, lvs, ins, outs, taps, tapCount, h0);
-  };
   auto withFalloff = [&](auto prop, auto logNormal, auto mask, auto gl) {
     falloff ? run(prop, logNormal, mask, T{}, gl) : run(prop, logNormal, mask, F{}, gl);
   };

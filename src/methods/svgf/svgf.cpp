@@ -63,7 +63,6 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     reprojection_.forEachPlane(visit);
     guide_.forEachPlane(visit);
     filter_.forEachPlane(visit);
-    filter2_.forEachPlane(visit);
     reflections_.forEachPlane(visit);
     for (const auto& st : streams_) {
       visitPlanes(visit, "demodulated", st.demod);
@@ -105,40 +104,17 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       PassTimer t(stats, "reflections");  // Voorhuis: classes, diamond search, reflected features
       reflections_.prepare(frame, previous, s, parts, lobes, reprojection_);
     }
-    auto suffixOf = [&](int k) { return nStreams > 1 ? std::string(".") + streams_[k].plan.name : std::string(); };
-    svgf::Reflections::StreamInputs ins[kMaxStreams] = {};
-    for (int k = 0; k < nStreams; ++k)
-      if (streams_[k].plan.filtered) ins[k] = reflections_.stream(frame, streams_[k].plan, reprojection_, guide_, k);
-    // Two dense streams over one guide (Direct and Indirect, or the lobes without Voorhuis'
-    // reflected features): each a-trous level filters both in one pass (svgf::Filter::runPair,
-    // the same results bit for bit as one stream after the other).
-    const AtrousImage* results[kMaxStreams] = {};
-    if (nStreams == 2 && streams_[0].plan.filtered && streams_[1].plan.filtered && !mask_ &&
-        ins[0].guide == ins[1].guide && !ins[0].falloff && !ins[1].falloff) {
-      svgf::FilterParams fp[2];
-      for (int k = 0; k < 2; ++k) fp[k] = accumulateStream(frame, streams_[k], ins[k], suffixOf(k), stats);
-      if (!filter2_.fits(frame.width, frame.height, filter_.pad())) filter2_.resize(frame.width, frame.height, filter_.pad());
-      const auto r = svgf::Filter::runPair(
-          filter_, filter2_, *ins[0].guide, {&streams_[0].accumulator, &streams_[0].demod, &fp[0], suffixOf(0)},
-          {&streams_[1].accumulator, &streams_[1].demod, &fp[1], suffixOf(1)}, stats);
-      results[0] = r.first;
-      results[1] = r.second;
-    }
     for (int k = 0; k < nStreams; ++k) {
       Stream& st = streams_[k];
-      const std::string suffix = suffixOf(k);
+      const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
       if (!st.plan.filtered) {  // components = diffuse: the specular lobe as it comes
         PassTimer t(stats, "sum" + suffix);
         const std::vector<Plane>& raw = frame.planes(st.plan.buffer);
         addStream([&](int c, int y) { return raw[c].row(y); }, k == 0, nullptr, albedo);
         continue;
       }
-      const svgf::Reflections::StreamInputs& in = ins[k];
-      if (!results[k]) {
-        const svgf::FilterParams fp = accumulateStream(frame, st, in, suffix, stats);
-        results[k] = &filter_.run(*in.guide, st.accumulator, st.demod, mask_, fp, stats, suffix);
-      }
-      const AtrousImage& result = *results[k];
+      const svgf::Reflections::StreamInputs in = reflections_.stream(frame, st.plan, reprojection_, guide_, k);
+      const AtrousImage& result = filterStream(frame, st, in, suffix, stats);
       if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse) {
         // With the lobes split, the median takes the diffuse lobe only, everywhere: it holds
         // no specular highlights (Voorhuis Sec. 6: "only ... pixels that have a diffuse
@@ -197,12 +173,11 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     return n;
   }
 
-  // Demodulate and accumulate one stream; returns the parameters of the shared SVGF filter
-  // (variance, a-trous levels, feedback) that filters it next. `in`: the stream's
-  // reprojection, guide and demodulation colour, and the Voorhuis per-pixel inputs
-  // (svgf::Reflections::stream).
-  svgf::FilterParams accumulateStream(const FrameData& frame, Stream& st, const svgf::Reflections::StreamInputs& in,
-                                      const std::string& suffix, FrameStats& stats) {
+  // Demodulate and accumulate one stream, then the shared SVGF filter (variance, a-trous
+  // levels, feedback); returns the filtered image. `in`: the stream's reprojection, guide and
+  // demodulation colour, and the Voorhuis per-pixel inputs (svgf::Reflections::stream).
+  const AtrousImage& filterStream(const FrameData& frame, Stream& st, const svgf::Reflections::StreamInputs& in,
+                                  const std::string& suffix, FrameStats& stats) {
     const SvgfSettings& s = settings_;
     const svgf::FilterParams p = svgf::filterParams(s, st.plan.indirect);
     const std::vector<Plane>& radiance = frame.planes(st.plan.buffer);
@@ -235,7 +210,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     svgf::FilterParams fp = p;
     fp.spatialFalloff = in.falloff;  // Voorhuis Eq. 6
-    return fp;
+    return filter_.run(*in.guide, st.accumulator, st.demod, mask_, fp, stats, suffix);
   }
 
   // sum_ (+)= this stream's filtered illumination, remodulated by the stream's own colour
@@ -273,7 +248,6 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   AtrousGuide guide_;
   svgf::Reflections reflections_;
   svgf::Filter filter_;
-  svgf::Filter filter2_;  // the second stream's, when both are filtered in one pass (allocated then)
   const Plane* mask_ = nullptr;
   Stream streams_[kMaxStreams];
   Plane3 sum_, display_, lobeMedian_;

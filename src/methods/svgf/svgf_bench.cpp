@@ -61,9 +61,7 @@ BENCHMARK_CAPTURE(BM_SvgfAfterReset, schied_1thread, "schied")->Unit(benchmark::
 
 // One a-trous level (with variance propagation) on flat-ish features and noisy colour; args:
 // the step, and the CPU path (0 sse2, 1 avx2, 2 avx512; -1 the current one, RTD_CPU_PATH).
-// streams: 1 (one level), 2 (two streams' levels in one pass, atrousLevels) or -2 (the same
-// two levels one after the other).
-void atrousLevelBench(benchmark::State& state, rtd::AtrousKernel kernel, int threads, int streams) {
+void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threads) {
   const int step = int(state.range(0));
   const int path = int(state.range(1));
   if (path >= 0 && !rtd::cpuPathSupported(rtd::CpuPath(path))) {
@@ -72,22 +70,21 @@ void atrousLevelBench(benchmark::State& state, rtd::AtrousKernel kernel, int thr
   }
   const rtd::CpuPath previous = path >= 0 ? rtd::setCpuPath(rtd::CpuPath(path)) : rtd::cpuPath();
   rtd::AtrousGuide g;
-  rtd::AtrousImage a, b, a2, b2;
+  rtd::AtrousImage a, b;
   rtd::PaddedPlane inv;
   g.resize(kW, kH, 32);
-  for (rtd::AtrousImage* im : {&a, &b, &a2, &b2}) im->resize(kW, kH, 32);
+  a.resize(kW, kH, 32);
+  b.resize(kW, kH, 32);
   inv.resize(kW, kH, 32);
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       g.depth.at(x, y) = 5.0f + 0.001f * y;
       g.gradY.at(x, y) = 0.001f;
       g.normal[2].at(x, y) = 1.0f;
-      const float v = float((x * 7919 + y * 104729) % 97) / 97.0f, v2 = float((x * 104729 + y * 7919) % 89) / 89.0f;
+      const float v = float((x * 7919 + y * 104729) % 97) / 97.0f;
       for (auto& c : a.color) c.at(x, y) = v;
-      for (auto& c : a2.color) c.at(x, y) = v2;
       a.lum.at(x, y) = v;
-      a2.lum.at(x, y) = v2;
-      a.var.at(x, y) = a2.var.at(x, y) = 0.1f;
+      a.var.at(x, y) = 0.1f;
       inv.at(x, y) = 1.0f;  // sigma_l multiplier
     }
   rtd::AtrousLevel lv;
@@ -96,30 +93,12 @@ void atrousLevelBench(benchmark::State& state, rtd::AtrousKernel kernel, int thr
   lv.sigmaScale = &inv;
   tbb::task_arena arena(threads);
   for (auto _ : state) {
-    arena.execute([&] {
-      if (streams == 2) {
-        rtd::atrousLevels(g, lv, a, b, lv, a2, b2);
-      } else {
-        rtd::atrousLevel(g, lv, a, b);
-        if (streams == -2) rtd::atrousLevel(g, lv, a2, b2);
-      }
-    });
+    arena.execute([&] { rtd::atrousLevel(g, lv, a, b); });
     benchmark::DoNotOptimize(b.color[0].data.data());
   }
   rtd::setCpuPath(previous);
   state.SetItemsProcessed(state.iterations() * int64_t(kW) * kH);
 }
-void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threads) {
-  atrousLevelBench(state, kernel, threads, 1);
-}
-// Direct and Indirect: two streams' levels over one guide, in one pass or one after the other.
-void BM_AtrousTwoStreams(benchmark::State& state, rtd::AtrousKernel kernel, bool onePass) {
-  atrousLevelBench(state, kernel, 1, onePass ? 2 : -2);
-}
-BENCHMARK_CAPTURE(BM_AtrousTwoStreams, b3spline5x5_onePass, rtd::AtrousKernel::B3Spline5x5, true)
-    ->ArgsProduct({{1}, {0, 1, 2}})->ArgNames({"step", "path"})->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_AtrousTwoStreams, b3spline5x5_apart, rtd::AtrousKernel::B3Spline5x5, false)
-    ->ArgsProduct({{1}, {0, 1, 2}})->ArgNames({"step", "path"})->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_AtrousLevel, b3spline5x5_1thread, rtd::AtrousKernel::B3Spline5x5, 1)
     ->ArgsProduct({{1, 16}, {0, 1, 2}})->ArgNames({"step", "path"})->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_AtrousLevel, binomial3x3_1thread, rtd::AtrousKernel::Binomial3x3, 1)

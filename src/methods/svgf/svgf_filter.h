@@ -5,7 +5,6 @@
 // The Vulkan twin is GpuFilter (svgf_filter_vulkan.h).
 #pragma once
 #include <string>
-#include <utility>
 
 #include "core/timer.h"
 #include "methods/svgf/svgf_passes.h"
@@ -79,25 +78,6 @@ class Filter {
                          const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix = {},
                          const FilterExtras& extras = {});
 
-  /// One stream of runPair: what run() takes, without mask and extras.
-  struct PairStream {
-    TemporalAccumulator* accumulator;
-    const Plane3* current;
-    const FilterParams* params;
-    std::string suffix;
-  };
-  /// Two streams over one guide (SVGF's Direct and Indirect), `a` filtering the first and `b`
-  /// the second: the results of a.run(first) and b.run(second), bit for bit, but each pair of
-  /// a-trous levels runs as one pass where the levels share their geometry (atrousLevels; with
-  /// the same settings they do unless only one stream propagates the variance), timed
-  /// "atrous<i>" + both suffixes (".direct+indirect"). Dense streams only (no sample mask, no
-  /// FilterExtras, no falloff).
-  static std::pair<const AtrousImage*, const AtrousImage*> runPair(Filter& a, Filter& b, const AtrousGuide& guide,
-                                                                  const PairStream& first, const PairStream& second,
-                                                                  FrameStats& stats);
-  /// Whether resize(w, h, pad) was the last resize.
-  bool fits(int w, int h, int pad) const { return pad_ == pad && levels_[0].lum.width == w && levels_[0].lum.height == h; }
-
   /// Every plane the filter keeps (CPU denoisers' PlaneInspection).
   void forEachPlane(const PlaneVisitor& visit) const {
     for (const auto& im : levels_) im.forEachPlane(visit);
@@ -107,15 +87,6 @@ class Filter {
   }
 
  private:
-  // run()'s steps: the variance estimate (level 0), level i's parameters, the swap to its
-  // output (and the feedback after p.feedbackLevel), the result.
-  void variance(const AtrousGuide& guide, TemporalAccumulator& acc, const Plane3& current, const Plane* mask,
-                const FilterParams& p, FrameStats& stats, const std::string& suffix, const FilterExtras& extras);
-  AtrousLevel level(int i, const FilterParams& p, const Plane* mask, const FilterExtras& extras);
-  void advance(int i, const AtrousLevel& lv, TemporalAccumulator& acc, const Plane* mask, const FilterParams& p);
-  const AtrousImage& finish(const FilterParams& p, const Plane3& input);
-
-  int cur_ = 0;  // levels_[cur_]: the current level's input
   AtrousImage levels_[3];
   PaddedPlane sigmaScale_;
   PaddedPlane valid_[2], scratch_[2];

@@ -2,13 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <random>
 
-#include "core/frame_data.h"
-#include "methods/svgf/svgf_filter.h"
 #include "methods/svgf/svgf_passes.h"
-#include "passes/reprojection.h"
 #include "passes/atrous.h"
 #include "rtd/rtd.h"
 #include "support/cpu_paths.h"
@@ -313,148 +309,6 @@ TEST(Atrous, SparseInputSkipsMissingTapsAndFillsHoles) {
   EXPECT_EQ(validOut.at(31, 5), 1.0f);
   EXPECT_EQ(s.b.color[0].at(40, 5), 0.0f);            // nothing within reach: stays missing
   EXPECT_EQ(validOut.at(40, 5), 0.0f);
-}
-
-bool samePlanes(const AtrousImage& a, const AtrousImage& b) {
-  bool same = true;
-  auto cmp = [&](const PaddedPlane& p, const PaddedPlane& q) {
-    same = same && p.data.size() == q.data.size() &&
-           std::memcmp(p.data.data(), q.data.data(), p.data.size() * sizeof(float)) == 0;
-  };
-  for (int c = 0; c < 3; ++c) cmp(a.color[c], b.color[c]);
-  cmp(a.lum, b.lum);
-  cmp(a.var, b.var);
-  return same;
-}
-
-// Two streams' levels in one pass (Direct and Indirect over one guide) against the same two
-// levels one after the other: bit for bit, every plane (border included), on every CPU path,
-// with Schied's (5x5, sigma_n 128, sqrt of the prefiltered variance) and Dundr's (3x3,
-// sigma_n 64, the variance itself) settings, the exact power, and luminance parameters that
-// differ between the streams.
-TEST(Atrous, TwoStreamLevelEqualsTwoLevelsBitForBit) {
-  for (CpuPath path : test::supportedCpuPaths()) {
-    test::ScopedCpuPath force(path);
-    for (AtrousKernel k : {AtrousKernel::B3Spline5x5, AtrousKernel::Binomial3x3})
-      for (int exponent : {128, 64, 5})
-        for (bool propagate : {true, false}) {
-          Scene s(37, 21, 8), t(37, 21, 8);  // t: the second stream's signal (its guide unused)
-          randomScene(s, 11 + exponent);
-          randomScene(t, 23 + exponent);
-          AtrousLevel la = level(k, 2, &s.inv), lb = level(k, 2, &t.inv);
-          la.normalExponent = lb.normalExponent = exponent;
-          la.propagateVariance = lb.propagateVariance = propagate;
-          la.depthEpsilonRelative = lb.depthEpsilonRelative = 1e-3f;
-          const bool dundr = k == AtrousKernel::Binomial3x3;
-          la.varianceScale = dundr;
-          la.prefilterVariance = !dundr;
-          la.luminance = dundr ? MomentLuminance::Rec601 : MomentLuminance::Rec709;
-          lb.sigmaLuminance = 6.0f;  // the second stream's own w_l
-          lb.luminanceEpsilon = 0.05f;
-          lb.varianceScale = !dundr;
-          lb.luminance = MomentLuminance::CieLightness;
-          ASSERT_TRUE(la.sharesGeometry(lb));
-          AtrousImage refA, refB, outA, outB;
-          for (AtrousImage* im : {&refA, &refB, &outA, &outB}) im->resize(37, 21, 8);
-          for (AtrousImage* im : {&refA, &refB, &outA, &outB}) im->var = s.a.var;  // untouched without propagation
-          atrousLevel(s.guide, la, s.a, refA);
-          atrousLevel(s.guide, lb, t.a, refB);
-          atrousLevels(s.guide, la, s.a, outA, lb, t.a, outB);
-          EXPECT_TRUE(samePlanes(refA, outA)) << cpuPathName(path) << " exponent " << exponent;
-          EXPECT_TRUE(samePlanes(refB, outB)) << cpuPathName(path) << " exponent " << exponent;
-          EXPECT_FALSE(samePlanes(outA, outB));  // the streams were really filtered apart
-        }
-  }
-}
-
-TEST(Atrous, LevelsShareTheGeometryOnlyWithoutPerPixelSwitches) {
-  PaddedPlane plane;
-  const AtrousLevel a;
-  AtrousLevel b;
-  b.sigmaLuminance = 9.0f, b.luminanceEpsilon = 0.5f, b.varianceScale = true, b.sigmaScale = &plane;
-  EXPECT_TRUE(a.sharesGeometry(b));
-  auto differs = [&](auto change) {
-    AtrousLevel c = a;
-    change(c);
-    return !a.sharesGeometry(c) && !c.sharesGeometry(a);
-  };
-  EXPECT_TRUE(differs([](AtrousLevel& c) { c.step = 2; }));
-  EXPECT_TRUE(differs([](AtrousLevel& c) { c.kernel = AtrousKernel::Binomial3x3; }));
-  EXPECT_TRUE(differs([](AtrousLevel& c) { c.sigmaDepth = 2.0f; }));
-  EXPECT_TRUE(differs([](AtrousLevel& c) { c.depthEpsilonRelative = 1e-3f; }));
-  EXPECT_TRUE(differs([](AtrousLevel& c) { c.normalExponent = 64; }));
-  EXPECT_TRUE(differs([](AtrousLevel& c) { c.propagateVariance = false; }));
-  EXPECT_TRUE(differs([&](AtrousLevel& c) { c.spatialFalloff = &plane; }));
-  EXPECT_TRUE(differs([&](AtrousLevel& c) { c.centreScale = &plane; }));
-  EXPECT_TRUE(differs([&](AtrousLevel& c) { c.validIn = &plane, c.validOut = &plane; }));
-  EXPECT_TRUE(differs([&](AtrousLevel& c) { c.indirectDistance = &plane, c.indirectDistanceScale = &plane; }));
-}
-
-// svgf::Filter::runPair (both streams' levels in one pass) against Filter::run once per stream
-// (one filter shared, as the separate path runs them), three frames of the synthetic scene
-// with two different streams: the filtered images and the fed-back colour histories agree bit
-// for bit on every CPU path, for Schied's and Dundr's settings, and with the indirect stream
-// not propagating its variance (Voorhuis: the levels then differ, so they run apart).
-TEST(SvgfFilter, PairOfStreamsEqualsOneStreamAfterTheOther) {
-  constexpr int kW = 70, kH = 42;
-  synthetic::Scene scene;
-  scene.width = kW;
-  scene.height = kH;
-  FrameData frames[3];
-  for (int i = 0; i < 3; ++i) importFrame(synthetic::makeFrame(scene, i).inputs(), {Buffer::Color}, frames[i]);
-  for (CpuPath path : test::supportedCpuPaths()) {
-    test::ScopedCpuPath force(path);
-    for (int variant = 0; variant < 3; ++variant) {
-      SvgfSettings st;
-      if (variant == 1) st.applyVariant(SvgfVariant::dundr);
-      if (variant == 2) st.indirectVarianceFiltering = false;
-      const svgf::FilterParams pd = svgf::filterParams(st, false), pi = svgf::filterParams(st, true);
-      const int pad = pd.requiredPad();
-      AtrousGuide guide;
-      guide.resize(kW, kH, pad);
-      svgf::Filter pairA, pairB, single;
-      pairA.resize(kW, kH, pad);
-      pairB.resize(kW, kH, pad);
-      single.resize(kW, kH, pad);
-      TemporalAccumulator acc[4];  // 0, 1: the pair's streams; 2, 3: the same, filtered apart
-      for (auto& a : acc) a.resize(kW, kH);
-      Reprojection rp;
-      for (int f = 0; f < 3; ++f) {
-        const FrameData& fd = frames[f];
-        reproject(fd, f ? &frames[f - 1] : nullptr, st.reprojection, rp);
-        guide.build(fd.plane(Buffer::Depth), fd.planes(Buffer::Normal), nullptr, st.maxDepthSlope);
-        // Two streams: the colour, and a second signal with another luminance pattern.
-        Plane3 streams[2];
-        for (int k = 0; k < 2; ++k) resize(streams[k], kW, kH);
-        for (int c = 0; c < 3; ++c)
-          for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
-              const float v = fd.plane(Buffer::Color, c).row(y)[x];
-              streams[0][c].row(y)[x] = v;
-              streams[1][c].row(y)[x] = v * (0.2f + 0.6f * float((x * 7 + y * 13 + c) % 5) / 4.0f);
-            }
-        for (int k = 0; k < 4; ++k) acc[k].run(rp, streams[k % 2], st.alphaColor, st.alphaMoments, st.maxHistoryLength);
-        FrameStats stats;
-        const auto r = svgf::Filter::runPair(pairA, pairB, guide, {&acc[0], &streams[0], &pd, ".direct"},
-                                             {&acc[1], &streams[1], &pi, ".indirect"}, stats);
-        AtrousImage firstAlone;
-        firstAlone.resize(kW, kH, pad);
-        const AtrousImage& first = single.run(guide, acc[2], streams[0], nullptr, pd, stats, ".direct");
-        firstAlone = first;  // the shared filter's planes are reused by the second stream
-        const AtrousImage& second = single.run(guide, acc[3], streams[1], nullptr, pi, stats, ".indirect");
-        EXPECT_TRUE(samePlanes(*r.first, firstAlone)) << cpuPathName(path) << " variant " << variant << " frame " << f;
-        EXPECT_TRUE(samePlanes(*r.second, second)) << cpuPathName(path) << " variant " << variant << " frame " << f;
-        for (int k = 0; k < 2; ++k)
-          for (int c = 0; c < 3; ++c)
-            EXPECT_EQ(acc[k].color()[c].data, acc[k + 2].color()[c].data) << "fed-back history, stream " << k;
-        EXPECT_FALSE(samePlanes(*r.first, *r.second));
-        // Which levels ran in one pass: all five with the same settings, none otherwise.
-        bool joint = false;
-        for (const auto& t : stats.passes) joint = joint || t.name == "atrous1.direct+indirect";
-        EXPECT_EQ(joint, variant != 2) << cpuPathName(path);
-      }
-    }
-  }
 }
 
 TEST(SvgfProgressive, UnsampledPixelsKeepTheirHistory) {
@@ -778,9 +632,7 @@ TEST(SvgfEndToEnd, SplitStreamWithZeroIndirectEqualsColorStream) {
     for (const auto& p : b->stats().passes) n.push_back(p.name);
     return n;
   }();
-  // Both streams filtered, in one pass per level (they share the guide: svgf::Filter::runPair).
-  EXPECT_NE(std::find(names.begin(), names.end(), "atrous1.direct+indirect"), names.end());
-  EXPECT_NE(std::find(names.begin(), names.end(), "variance.indirect"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "atrous1.indirect"), names.end());
 }
 
 // Issue 12 item 4: each preset filters the streams its paper describes, and a components
