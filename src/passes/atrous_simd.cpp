@@ -23,7 +23,8 @@ namespace {
 // core/flush.h). With v = n + g, n an integer: 2^(v + 1/2) = 2^n 2^(g + 1/2), the last factor by
 // a degree-4 polynomial fitted to it (relative minimax, Remez exchange in double precision) and
 // evaluated in Horner's form (four fused multiply-adds; relative error <= 2.7e-6 in float, the
-// Taylor degree-5 form before had 5e-6 and cost six operations). On AVX-512, g = v - floor(v)
+// Taylor degree-5 form before had 5e-6 and cost six operations; SSE2, without FMA, uses
+// Estrin's form, whose chain is shorter). On AVX-512, g = v - floor(v)
 // in [0, 1) comes from one vreduceps and a zero-masked vscalefps applies 2^floor(v) and the
 // cut in one instruction (n is never formed); the other paths take n = round(v), |g| <= 1/2,
 // from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n. As |v| >= 1/2, g is 0
@@ -52,7 +53,13 @@ inline vf exp2Shifted(vf v, float cut = exp2Cut(1.0f)) {
   const vf t = v + kMagic;
   const vf n = t - kMagic;
   const vf g = v - n;
+#ifdef RTD_SIMD_AVX2
   const vf p = c0 + g * (c1 + g * (c2 + g * (c3 + g * c4)));
+#else
+  // Without FMA, Estrin's form: a shorter chain of separate multiplies and adds than Horner's.
+  const vf g2 = g * g;
+  const vf p = (c0 + g * c1) + g2 * ((c2 + g * c3) + g2 * c4);
+#endif
   // The low bits of t hold n + 2^22 (t's exponent is that of kMagic): 2^n's exponent bits.
   return p * asFloat(((asInt(t) + (127 - int(0x4b400000))) << 23) & keep);
 #endif
