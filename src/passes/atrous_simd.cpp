@@ -20,13 +20,17 @@ namespace {
 // log2(e) (x_z + x_n + x_l) with fused multiply-adds (vfnmadd, core/simd.h) onto exp2Start(h),
 // the exponents' coefficients scaled by log2(e) once per pixel or per tap pair, so no product is
 // ever rounded on its own and none can underflow, however small (on the FMA paths;
-// core/flush.h). With v = n + g, n = round(v), |g| <= 1/2: 2^(v + 1/2) = 2^n sqrt(2) e^(g ln 2),
-// the last two by their degree-5 Taylor polynomial in Estrin's form (relative error <= 5e-6).
-// As |v| >= 1/2, g is 0 or at least 2^-25 in magnitude, so the polynomial's powers of g do not
-// underflow either. Where v is below `cut` the result is exactly 0 (v = -inf and NaN too). n
-// comes from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n; on AVX-512 a
-// zero-masked vscalefps applies 2^n and the cut in one instruction. The pass is bound by the FP
-// ports' throughput (about 35 vector operations per tap), so every operation counts.
+// core/flush.h). With v = n + g, n an integer: 2^(v + 1/2) = 2^n 2^(g + 1/2), the last factor by
+// a degree-4 polynomial fitted to it (relative minimax, Remez exchange in double precision) and
+// evaluated in Horner's form (four fused multiply-adds; relative error <= 2.7e-6 in float, the
+// Taylor degree-5 form before had 5e-6 and cost six operations; SSE2, without FMA, uses
+// Estrin's form, whose chain is shorter). On AVX-512, g = v - floor(v)
+// in [0, 1) comes from one vreduceps and a zero-masked vscalefps applies 2^floor(v) and the
+// cut in one instruction (n is never formed); the other paths take n = round(v), |g| <= 1/2,
+// from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n. As |v| >= 1/2, g is 0
+// or at least 2^-25 in magnitude, so Horner's products do not underflow either. Where v is below
+// `cut` the result is exactly 0 (v = -inf and NaN too). The pass is bound by the FP ports'
+// throughput (about 28 vector operations per tap on AVX-512), so every operation counts.
 constexpr float kLog2e = 1.44269504088896341f, kLn2 = 0.693147180559945f;
 /// v's starting value for a tap of kernel weight h: the -1/2 shift plus log2 h.
 inline float exp2Start(float h) { return -0.5f + std::log2(h); }
@@ -34,25 +38,41 @@ inline float exp2Start(float h) { return -0.5f + std::log2(h); }
 /// 2^kMinWeightExp2 (the scalar weights' bound, atrous.h).
 inline float exp2Cut(float h) { return float(kMinWeightExp2) - 0.5f + std::log2(h); }
 inline vf exp2Shifted(vf v, float cut = exp2Cut(1.0f)) {
+#ifdef RTD_SIMD_AVX512
+  // 2^(g + 1/2) on [0, 1).
+  constexpr float c0 = 1.41421723f, c1 = 0.980055392f, c2 = 0.341451615f, c3 = 0.0735553131f, c4 = 0.0191402044f;
+  const vf g = _mm512_reduce_ps(v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const vf p = c0 + g * (c1 + g * (c2 + g * (c3 + g * c4)));
+  return _mm512_maskz_scalef_ps(_mm512_cmp_ps_mask(v, splat(cut), _CMP_GE_OQ), p, v);
+#else
+  // 2^(g + 1/2) on [-1/2, 1/2].
+  constexpr float c0 = 1.41421247f, c1 = 0.980222285f, c2 = 0.339761198f, c3 = 0.0790797994f, c4 = 0.0135341678f;
   constexpr float kMagic = 12582912.0f;  // 1.5 * 2^23: v + kMagic rounds v to an integer
-#ifndef RTD_SIMD_AVX512
   v = vmax(v, splat(cut - 1.0f));  // NaN: the bound
   const vi keep = v >= cut;
-#endif
   const vf t = v + kMagic;
   const vf n = t - kMagic;
   const vf g = v - n;
-  constexpr float r2 = 1.41421356237309505f, l1 = kLn2, l2 = l1 * l1 / 2, l3 = l2 * l1 / 3, l4 = l3 * l1 / 4,
-                  l5 = l4 * l1 / 5;
-  const vf g2 = g * g;
-  const vf p = (r2 + g * (r2 * l1)) + g2 * ((r2 * l2 + g * (r2 * l3)) + g2 * (r2 * l4 + g * (r2 * l5)));
-#ifdef RTD_SIMD_AVX512
-  return _mm512_maskz_scalef_ps(_mm512_cmp_ps_mask(v, splat(cut), _CMP_GE_OQ), p, n);
+#ifdef RTD_SIMD_AVX2
+  const vf p = c0 + g * (c1 + g * (c2 + g * (c3 + g * c4)));
 #else
+  // Without FMA, Estrin's form: a shorter chain of separate multiplies and adds than Horner's.
+  const vf g2 = g * g;
+  const vf p = (c0 + g * c1) + g2 * ((c2 + g * c3) + g2 * c4);
+#endif
   // The low bits of t hold n + 2^22 (t's exponent is that of kMagic): 2^n's exponent bits.
   return p * asFloat(((asInt(t) + (127 - int(0x4b400000))) << 23) & keep);
 #endif
 }
+
+// x = 1 - n(p) . n(q) with fused multiply-adds (one rounding per step, no product alone): the
+// normal weight's series variable (w_n = (1 - x)^sigma_n).
+inline vf oneMinusDot(vf ax, vf ay, vf az, vf bx, vf by, vf bz) {
+  return vfnmadd(az, bz, vfnmadd(ay, by, vfnmadd(ax, bx, splat(1.0f))));
+}
+// v - sigma_n log2(e) (x + x^2/2 + x^3/3) in Horner's form, c_i = sigma_n log2(e) / i: the
+// series of -log2 w_n (see atrousRowsT), three fused operations.
+inline vf normalSeries(vf v, vf x, float c1, float c2, float c3) { return vfnmadd(x, c1 + x * (c2 + x * c3), v); }
 
 // d^e by repeated squaring; kSquarings >= 0: e = 2^kSquarings, unrolled (sigma_n = 128 is
 // seven squarings, 64 six).
@@ -162,7 +182,6 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       auto tap = [&](int k, vf depthScale) {
         const AtrousTap& t = taps[k];
         const size_t q = c + t.offset;
-        const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
         vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(start[k]));  // fused: exp2Shifted
         v = vfnmadd(vabs(lc - load(pl + q)), inv, v);
         if constexpr (kFalloff) v = vfnmadd(fall, splat(t.k2), v);
@@ -172,13 +191,12 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
           // series is exact to 1e-5 relative where w_n matters (d > 0.9 for sigma_n = 64) and
           // makes w_n ~ 0 where d <= 0, so it joins the one exp.
-          // Evaluated as v - c1 x - x^2 (c2 + c3 x), c_i = sigma_n log2(e) / i: three steps deep.
-          const vf x = 1.0f - d;
-          v = (v - cn1 * x) - (x * x) * (cn2 + x * cn3);
-          wt = exp2Shifted(v, cut[k]);
+          const vf x = oneMinusDot(nx, ny, nz, load(pnx + q), load(pny + q), load(pnz + q));
+          wt = exp2Shifted(normalSeries(v, x, cn1, cn2, cn3), cut[k]);
         } else {
           // d below 2^(kMinWeightExp2 / e) gives w_n < 2^kMinWeightExp2: 0, so the powers
           // stay normal; the product w_n w_z w_l is cut at the same bound.
+          const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
           const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v, cut[k]);
           wt = wn >= minWeight[k] ? wn : splat(0.0f);
         }
@@ -266,14 +284,13 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
       const vf idc = pid ? load(pid + c) : splat(0.0f);
       auto tap = [&](int dx, int dy, vf depthScale) {
         const size_t q = c + ptrdiff_t(dy) * S + dx;
-        const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
         vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(-0.5f));
         vf wt;
         if constexpr (kLogNormal) {
-          const vf xx = 1.0f - d;
-          v = (v - cn1 * xx) - (xx * xx) * (cn2 + xx * cn3);
-          wt = exp2Shifted(v);
+          const vf xx = oneMinusDot(nx, ny, nz, load(pnx + q), load(pny + q), load(pnz + q));
+          wt = exp2Shifted(normalSeries(v, xx, cn1, cn2, cn3));
         } else {
+          const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
           const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v);
           wt = wn >= kMinWeight ? wn : splat(0.0f);
         }
