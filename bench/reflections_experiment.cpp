@@ -201,7 +201,9 @@ int run(const Options& o) {
     add("Ours, primary motion", "voorhuis", true, false, {{"specularMotion", "primary"}});
     add("Ours, no reflected features", "voorhuis", true, false, {{"reflectedFeatures", "off"}});
     add("Ours, no Eq. 6", "voorhuis", true, false, {{"glossyBandwidth", "off"}});
+    add("Ours, Eq. 6 in world units (the paper's omega)", "voorhuis", true, false, {{"bandwidthPerLobe", "false"}});
     add("Ours, no clipping", "voorhuis", true, false, {{"neighbourhoodClipping", "off"}});
+    add("Ours, clipping over the whole window", "voorhuis", true, false, {{"clipOwnSurface", "false"}});
     add("Ours, no per-class blend", "voorhuis", true, false, {{"materialAlpha", "off"}});
     add("Ours, TAA on glossy reflection motion", "voorhuis", true, false, {{"taaGlossyReflectionMotion", "true"}});
     add("Ours, no TAA", "voorhuis", false, false);
