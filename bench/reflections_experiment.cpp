@@ -17,7 +17,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cctype>
+#include <cstdint>
 #include <cstdlib>
+#include <stdexcept>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +37,10 @@ using namespace rtd;
 
 struct Options {
   std::string experiment = "quality", scene = "mirrorfloor", input;
+  /// --config "label|variant|k=v,k=v" (repeatable): these configurations instead of the
+  /// experiment's own (the settings after the variant preset; taa=false among them to switch it off).
+  std::vector<std::string> configs;
+  std::string dump;  ///< --dump DIR: the scored frames as .npy (outputs, reference, mask, SSIM maps)
   int width = 160, height = 90, frames = 24, evalFrames = 4, spp = 4, referenceSpp = 256, stillFrame = 24;
 };
 
@@ -68,6 +75,31 @@ std::pair<double, double> meanAbsDiff(const Image& a, const Image& b, const Imag
     if (mask.pixels[i] > 0.5f) masked += d, ++n;
   }
   return {all / double(a.pixels.size()), n ? masked / double(n) : NAN};
+}
+
+// A float32 .npy file of an image (height x width x channels), for scripts that look at where
+// a configuration loses (numpy.load).
+void writeNpy(const std::string& path, const Image& im) {
+  char header[128];
+  int n = std::snprintf(header, sizeof header, "{'descr': '<f4', 'fortran_order': False, 'shape': (%d, %d, %d), }",
+                        im.height, im.width, im.channels);
+  std::string h(header, size_t(n));
+  while ((10 + h.size() + 1) % 64) h += ' ';
+  h += '\n';
+  FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throw std::runtime_error("cannot write " + path);
+  const uint16_t len = uint16_t(h.size());
+  std::fwrite("\x93NUMPY\x01\x00", 1, 8, f);
+  std::fwrite(&len, 2, 1, f);
+  std::fwrite(h.data(), 1, h.size(), f);
+  std::fwrite(im.pixels.data(), sizeof(float), im.pixels.size(), f);
+  std::fclose(f);
+}
+
+std::string fileName(std::string s) {
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return s;
 }
 
 void print(const Options& o, const Config& c, int spp) {
@@ -141,7 +173,27 @@ int run(const Options& o) {
     c.supersample = ss;
     configs.push_back(std::move(c));
   };
-  if (o.experiment == "ablation") {
+  if (!o.configs.empty()) {
+    for (const std::string& spec : o.configs) {
+      const size_t a = spec.find('|'), b = a == std::string::npos ? a : spec.find('|', a + 1);
+      if (a == std::string::npos) throw Error("--config '" + spec + "': label|variant[|k=v,...]");
+      Config c;
+      c.name = spec.substr(0, a);
+      c.d = device->createDenoiser("svgf");
+      c.d->set("variant", spec.substr(a + 1, b == std::string::npos ? std::string::npos : b - a - 1));
+      std::string rest = b == std::string::npos ? std::string() : spec.substr(b + 1);
+      while (!rest.empty()) {
+        const size_t comma = rest.find(',');
+        const std::string kv = rest.substr(0, comma);
+        const size_t eq = kv.find('=');
+        if (eq == std::string::npos) throw Error("--config '" + spec + "': setting '" + kv + "' is not k=v");
+        c.d->set(kv.substr(0, eq), kv.substr(eq + 1));
+        rest = comma == std::string::npos ? std::string() : rest.substr(comma + 1);
+      }
+      c.supersample = false;
+      configs.push_back(std::move(c));
+    }
+  } else if (o.experiment == "ablation") {
     add("Base", "voorhuisBase", true, false);
     add("Robustness (Sec. 6) only", "voorhuisRobustness", true, false);
     add("Ours", "voorhuis", true, false);
@@ -149,7 +201,9 @@ int run(const Options& o) {
     add("Ours, primary motion", "voorhuis", true, false, {{"specularMotion", "primary"}});
     add("Ours, no reflected features", "voorhuis", true, false, {{"reflectedFeatures", "off"}});
     add("Ours, no Eq. 6", "voorhuis", true, false, {{"glossyBandwidth", "off"}});
+    add("Ours, Eq. 6 in world units (the paper's omega)", "voorhuis", true, false, {{"bandwidthPerLobe", "false"}});
     add("Ours, no clipping", "voorhuis", true, false, {{"neighbourhoodClipping", "off"}});
+    add("Ours, clipping over the whole window", "voorhuis", true, false, {{"clipOwnSurface", "false"}});
     add("Ours, no per-class blend", "voorhuis", true, false, {{"materialAlpha", "off"}});
     add("Ours, TAA on glossy reflection motion", "voorhuis", true, false, {{"taaGlossyReflectionMotion", "true"}});
     add("Ours, no TAA", "voorhuis", false, false);
@@ -188,6 +242,16 @@ int run(const Options& o) {
     const bool scored = !still && f >= o.frames - o.evalFrames;
     Image ref;
     if (scored) ref = eval::toneMap(cache.fetchOrRender(refRenderer, *scene, f, o.referenceSpp, 0, render::Eye::Center), tm);
+    const std::string dumpAt = o.dump.empty() ? std::string() : o.dump + "/" + fileName(o.scene) + "_f" + std::to_string(f);
+    if (scored && !dumpAt.empty()) {
+      writeNpy(dumpAt + "_reference.npy", ref);
+      writeNpy(dumpAt + "_mask.npy", mask);
+      writeNpy(dumpAt + "_input.npy", eval::toneMap(frame[Buffer::Color], tm));
+      if (frame.has(Buffer::Roughness)) {
+        const Image& r = frame[Buffer::Roughness];
+        writeNpy(dumpAt + "_roughness.npy", r);
+      }
+    }
     for (Config& c : configs) {
       Image result;
       if (c.supersample) {
@@ -209,6 +273,12 @@ int run(const Options& o) {
         c.previousLuma = luma;
       }
       if (!scored) continue;
+      if (!dumpAt.empty()) {
+        Image map;
+        eval::ssim(shown, ref, 1.0, &map);
+        writeNpy(dumpAt + "_" + fileName(c.name) + ".npy", shown);
+        writeNpy(dumpAt + "_" + fileName(c.name) + "_ssim.npy", map);
+      }
       c.rmse += eval::rmse(shown, ref);
       c.ssim += eval::ssim(shown, ref);
       c.maskedRmse += maskedRmse(shown, ref, mask);
@@ -248,11 +318,13 @@ int main(int argc, char** argv) {
     else if (a == "--spp") o.spp = n;
     else if (a == "--reference-spp") o.referenceSpp = n;
     else if (a == "--still-frame") o.stillFrame = n;
+    else if (a == "--dump") o.dump = v;
+    else if (a == "--config") o.configs.push_back(v);
     else {
       std::fprintf(stderr,
                    "usage: rtd_reflections_experiment --experiment quality|stability|supersampling|ablation|motion [--scene S] [--input DIR] "
                    "[--width W] [--height H] [--frames N] [--eval-frames N] [--spp N] [--reference-spp N] "
-                   "[--still-frame N]\n");
+                   "[--still-frame N] [--dump DIR] [--config 'label|variant|k=v,...']...\n");
       return 2;
     }
   }

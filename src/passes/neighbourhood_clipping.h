@@ -22,8 +22,16 @@ struct ClipBoxOptions {
 /// separable (2 gaussianRadius + 1)^2 Gaussian (weights normalized; both clamp to the image
 /// edge). Where `clip` is given and 0 (diffuse pixels), low = -inf and high = +inf: the
 /// history passes unclipped. `scratch` holds the prefiltered image (any size; resized).
+///
+/// With `surface` (one key per pixel; needs `clip`), the neighbourhood of a pixel is its own
+/// surface only: the prefilter at q weighs only taps with q's key (renormalized; the taps still
+/// clamp to the image edge) and the window at p takes only pixels with p's key. Neighbours of
+/// another surface are not samples of what p may show now, and mixing them in moves the box
+/// off p's colours at every silhouette (a specular orb against a background whose specular
+/// lobe is black gets its box's top pulled down and its history darkened). Pixels of one key
+/// must be all clipped or all not; the box is computed at clipped pixels only.
 void clipBox(const Plane3& current, const PixelVector<uint8_t>* clip, const ClipBoxOptions& opt, Plane3& low,
-             Plane3& high, Plane3& scratch);
+             Plane3& high, Plane3& scratch, const PixelVector<uint32_t>* surface = nullptr);
 
 /// The normalized 1D weights of the prefilter (2 radius + 1 of them), shared with the GPU pass.
 void clipGaussianWeights(int radius, float sigma, float* out);

@@ -94,6 +94,20 @@ void classifySurfaces(const FrameData& f, const SurfaceClassThresholds& t, bool 
   });
 }
 
+void surfaceKeys(const FrameData& f, const PixelVector<uint8_t>& cls, PixelVector<uint32_t>& out) {
+  const int w = f.width, h = f.height;
+  out.resize(size_t(w) * h);
+  const float* id = f.has(Buffer::ObjectId) ? f.plane(Buffer::ObjectId).ptr() : nullptr;
+  parallelRows(h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      // Through int64: ids are integer-valued floats (validated on import), any sign.
+      const uint32_t object = id ? uint32_t(int64_t(id[i])) : 0u;
+      out[i] = object * 4u + cls[i];
+    }
+  });
+}
+
 bool hasMirrorMotionBuffers(const FrameData& f) { return f.has(Buffer::ReflectedPosition); }
 bool hasGlossyMotionBuffers(const FrameData& f) {
   return f.has(Buffer::Position) && f.has(Buffer::MirrorDirection) && f.has(Buffer::SecondaryDistance);

@@ -38,6 +38,11 @@ struct SurfaceClassThresholds {
 /// normal) are Diffuse.
 void classifySurfaces(const FrameData& f, const SurfaceClassThresholds& t, bool specularLobe, PixelVector<uint8_t>& out);
 
+/// One key per pixel that tells surfaces apart: its class and, where the frame has ObjectId,
+/// its object id (key = id * 4 + class, wrapping; ids are integer-valued). The clipping
+/// neighbourhood of a pixel is the pixels of its key (ClipBoxOptions, clipBox's `surface`).
+void surfaceKeys(const FrameData& f, const PixelVector<uint8_t>& cls, PixelVector<uint32_t>& out);
+
 /// The buffers the reflection motion vectors read, per class: mirrors the reflected position;
 /// glossy pixels the primary position, the mirror direction and the secondary distance.
 bool hasMirrorMotionBuffers(const FrameData& f);

@@ -150,14 +150,21 @@ TEST(VulkanReflections, ClipBoxMatchesCpu) {
   classifySurfaces(f, {}, false, cls);
   PixelVector<uint8_t> mask(n);
   for (size_t i = 0; i < n; ++i) mask[i] = cls[i] != 0;
+  PixelVector<uint32_t> key;
+  surfaceKeys(f, cls, key);
+  // Both neighbourhoods: every pixel of the window, and the pixel's own surface (class and
+  // object id; clipOwnSurface, the default).
+  for (bool own : {false, true}) {
+  SCOPED_TRACE(own ? "own surface" : "whole window");
   Plane3 lo, hi, scratch;
-  clipBox(color, &mask, ClipBoxOptions{}, lo, hi, scratch);
+  clipBox(color, &mask, ClipBoxOptions{}, lo, hi, scratch, own ? &key : nullptr);
 
   vk::GpuFrame g;
   upload(ctx, f, g);
   svgf::GpuReflections refl;
   refl.resize(ctx, w, h);
   SvgfSettings s = SvgfSettings::forVariant(SvgfVariant::voorhuis);
+  s.clipOwnSurface = own;
   const auto parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return f.has(b); }, false);
   vk::Planes rp;
   rp.allocate(ctx, w, h, 8);
@@ -184,6 +191,7 @@ TEST(VulkanReflections, ClipBoxMatchesCpu) {
     }
   EXPECT_GT(open, 0u);
   EXPECT_LE(maxErr, 1e-6 * maxRef) << "max " << maxErr << " of " << maxRef;  // same sums, same order
+  }
 }
 
 // The whole method: Ours (lobes, reflection motion, reflected features, Eq. 6, clipping, per-

@@ -133,14 +133,25 @@ struct SvgfSettings {
   /// Eq. 6 spatial bandwidth from the reflected ray footprint for glossy pixels below
   /// reflectionRoughness (Sec. 4.2.2). [variant]
   SvgfPart glossyBandwidth = SvgfPart::off;
-  /// omega of Eq. 6, world units (Voorhuis 0.5).
+  /// omega of Eq. 6 (Voorhuis 0.5): world units, or with bandwidthPerLobe in widths of the
+  /// pixel's reflected lobe at its hit.
   float bandwidthOmega = 0.5f;
+  /// Eq. 6's omega is bandwidthOmega x the width of the pixel's reflected lobe where it lands,
+  /// 2 alpha t (alpha = roughness^2, GGX; t = |reflectedPosition - position|), not a length in
+  /// world units: the footprint is then compared with the blur of the reflection itself, so the
+  /// bandwidth does not depend on the scene's unit or ignore the roughness. Off: the paper's
+  /// world-unit omega. See docs/methods/reflections.md, "Eq. 6 in lobe widths".
+  bool bandwidthPerLobe = true;
   /// Neighbourhood clipping of the history of non-diffuse pixels (Sec. 4.2.3). [variant]
   SvgfPart neighbourhoodClipping = SvgfPart::off;
   /// sigma of the separable 7x7 Gaussian prefilter of the clipping neighbourhood, pixels (not given).
   float clipSigma = 1.5f;
   /// Radius of the clipping window: 2 = 5x5 (Voorhuis).
   int clipWindowRadius = 2;
+  /// The clipping prefilter and window take only pixels of the pixel's own surface (its class
+  /// and, where the frame has it, its object id); off: every pixel in the window (the paper does
+  /// not say). See docs/methods/reflections.md, "Neighbourhood clipping at silhouettes".
+  bool clipOwnSurface = true;
   /// Blend floor alphaSpecular on specular pixels, alphaColor on diffuse ones (Sec. 7). [variant]
   SvgfPart materialAlpha = SvgfPart::off;
   /// Colour blend floor of specular pixels (Voorhuis 0.1).
@@ -367,11 +378,18 @@ struct SvgfSettings {
       {"off", "on", "auto"});
     v("glossyBandwidth", glossyBandwidth, "[variant] Eq. 6 spatial bandwidth from the reflected footprint, glossy < reflectionRoughness",
       {"off", "on", "auto"});
-    v("bandwidthOmega", bandwidthOmega, "omega of Eq. 6, world units (Voorhuis 0.5)", Range{1e-6, 1e9});
+    v("bandwidthOmega", bandwidthOmega,
+      "omega of Eq. 6 (Voorhuis 0.5): in widths of the reflected lobe at its hit (bandwidthPerLobe), else world units",
+      Range{1e-6, 1e9});
+    v("bandwidthPerLobe", bandwidthPerLobe,
+      "Eq. 6's omega = bandwidthOmega x the reflected lobe's width at its hit, 2 roughness^2 |reflectedPosition - "
+      "position|; false: world units (the paper)");
     v("neighbourhoodClipping", neighbourhoodClipping, "[variant] clip the history of non-diffuse pixels (Voorhuis Sec. 4.2.3)",
       {"off", "on", "auto"});
     v("clipSigma", clipSigma, "sigma of the 7x7 Gaussian prefilter of the clipping neighbourhood, pixels", Range{0.1, 100});
     v("clipWindowRadius", clipWindowRadius, "clipping window radius (Voorhuis 2 = 5x5)", Range{0, 7});
+    v("clipOwnSurface", clipOwnSurface,
+      "clipping neighbourhood of a pixel = the pixels of its own surface (class and object id) in the window; off: all");
     v("materialAlpha", materialAlpha, "[variant] blend floor alphaSpecular on specular, alphaColor on diffuse pixels (Voorhuis)",
       {"off", "on", "auto"});
     v("alphaSpecular", alphaSpecular, "colour blend floor of specular pixels (Voorhuis 0.1)", Range{0.001, 1});

@@ -47,6 +47,7 @@ void Reflections::prepare(const FrameData& f, const FrameData* previous, const S
   if (!parts.classes) return;
   const int w = f.width, h = f.height;
   classifySurfaces(f, classThresholds(s), lobes, cls_);
+  if (parts.clipping && s.clipOwnSurface) surfaceKeys(f, cls_, surface_);
 
   if (parts.motion != SpecularMotion::Primary) {
     ReflectionMotionOptions opt;
@@ -125,9 +126,26 @@ void Reflections::prepare(const FrameData& f, const FrameData* previous, const S
       float* o = falloff_.row(y);
       for (int x = 0; x < w; ++x) {
         const size_t i = size_t(y) * w + x;
-        o[x] = SurfaceClass(cls_[i]) == SurfaceClass::GlossyReflection
-                   ? glossySpatialFalloff(glossySpatialSigma(fp.data[i], s.bandwidthOmega))
-                   : 0.0f;
+        if (SurfaceClass(cls_[i]) != SurfaceClass::GlossyReflection) {
+          o[x] = 0.0f;
+          continue;
+        }
+        float omega = s.bandwidthOmega;
+        if (s.bandwidthPerLobe) {
+          float n2 = 0.0f, t2 = 0.0f;
+          for (int k = 0; k < 3; ++k) {
+            const float n = f.plane(Buffer::ReflectedNormal, k).data[i];
+            const float d = f.plane(Buffer::ReflectedPosition, k).data[i] - f.plane(Buffer::Position, k).data[i];
+            n2 += n * n;
+            t2 += d * d;
+          }
+          if (n2 < 0.25f) {  // the mirror ray escapes: the sky's reflection has no detail to keep
+            o[x] = 0.0f;
+            continue;
+          }
+          omega *= reflectedLobeWidth(f.plane(Buffer::Roughness).data[i], std::sqrt(t2));
+        }
+        o[x] = glossySpatialFalloff(glossySpatialSigma(fp.data[i], omega));
       }
     });
   }
@@ -178,7 +196,7 @@ void Reflections::clipBoxes(const Plane3& demod, const StreamPlan& plan, const S
   ClipBoxOptions opt;
   opt.sigma = s.clipSigma;
   opt.windowRadius = s.clipWindowRadius;
-  clipBox(demod, &clipMask_, opt, clipLow_, clipHigh_, clipScratch_);
+  clipBox(demod, &clipMask_, opt, clipLow_, clipHigh_, clipScratch_, s.clipOwnSurface ? &surface_ : nullptr);
   low = &clipLow_;
   high = &clipHigh_;
 }

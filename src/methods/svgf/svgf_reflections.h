@@ -77,8 +77,13 @@ template <class Has> ReflectionParts resolveReflectionParts(const SvgfSettings& 
   }
   p.reflectedFeatures = decide("reflectedFeatures", s.reflectedFeatures != SvgfPart::off, s.reflectedFeatures == SvgfPart::on,
                                {Buffer::Roughness, Buffer::ReflectedPosition, Buffer::ReflectedNormal, Buffer::ReflectedAlbedo});
-  p.glossyBandwidth = decide("glossyBandwidth", s.glossyBandwidth != SvgfPart::off, s.glossyBandwidth == SvgfPart::on,
-                             {Buffer::Roughness, Buffer::ReflectedFootprint});
+  p.glossyBandwidth =
+      s.bandwidthPerLobe
+          ? decide("glossyBandwidth", s.glossyBandwidth != SvgfPart::off, s.glossyBandwidth == SvgfPart::on,
+                   {Buffer::Roughness, Buffer::ReflectedFootprint, Buffer::Position, Buffer::ReflectedPosition,
+                    Buffer::ReflectedNormal})
+          : decide("glossyBandwidth", s.glossyBandwidth != SvgfPart::off, s.glossyBandwidth == SvgfPart::on,
+                   {Buffer::Roughness, Buffer::ReflectedFootprint});
   p.classes = p.clipping || p.materialAlpha || p.motion != SpecularMotion::Primary || p.reflectedFeatures ||
               p.glossyBandwidth;
   return p;
@@ -90,6 +95,17 @@ inline bool cameraEye(const Camera& c, float eye[3]) {
   const auto& m = c.worldToCamera;
   for (int k = 0; k < 3; ++k) eye[k] = -(m[0 * 4 + k] * m[3] + m[1 * 4 + k] * m[7] + m[2 * 4 + k] * m[11]);
   return true;
+}
+
+/// Width of a glossy pixel's reflected lobe where it lands, world units: 2 alpha t, alpha =
+/// roughness^2 the GGX width of the half-vector lobe (the renderer's parameterisation,
+/// Buffer::Roughness is perceptual), doubled by the reflection, over the distance t to the
+/// representative ray's hit. Eq. 6's omega in these units (SvgfSettings::bandwidthPerLobe)
+/// compares the pixel footprint at the hit with the blur of the reflection there. Never below
+/// 1e-30, so that omega stays positive.
+inline float reflectedLobeWidth(float roughness, float hitDistance) {
+  const float r = std::clamp(roughness, 0.0f, 1.0f);
+  return std::max(2.0f * r * r * std::max(0.0f, hitDistance), 1e-30f);
 }
 
 inline SurfaceClassThresholds classThresholds(const SvgfSettings& s) {
@@ -138,6 +154,7 @@ class Reflections {
   ReflectionParts parts_;
   bool lobes_ = false, hasPreviousClasses_ = false;
   PixelVector<uint8_t> cls_, prevCls_, clipMask_;
+  PixelVector<uint32_t> surface_;  ///< clipping's surface keys (surfaceKeys)
   Reprojection specular_, taa_;
   AtrousGuide reflectedGuide_;
   Plane virtualDepth_;

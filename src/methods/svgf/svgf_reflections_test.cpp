@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <random>
+#include <string_view>
+#include <vector>
 
 #include "core/frame_data.h"
 #include "methods/svgf/svgf_reflections.h"
@@ -278,6 +280,116 @@ TEST(VoorhuisClipping, InjectedHistoryIsClippedOnNonDiffusePixelsOnly) {
       }
 }
 
+// The clipping neighbourhood restricted to the pixel's own surface (SvgfSettings::clipOwnSurface,
+// docs/methods/reflections.md "Neighbourhood clipping at silhouettes"). A specular disc of
+// constant demodulated colour 1 against a background whose specular lobe is black (a diffuse
+// wall): over every pixel of the window the box of a rim pixel is pulled down by the black
+// background, so a converged history of 1 is clipped darker; over its own surface it is [1, 1].
+TEST(VoorhuisClipping, OwnSurfaceBoxDoesNotCrossASilhouette) {
+  const int w = 32, h = 24;
+  Plane3 cur;
+  resize(cur, w, h, 0.0f);
+  PixelVector<uint8_t> clip(size_t(w) * h, 0);
+  PixelVector<uint32_t> key(size_t(w) * h, 0);
+  auto inDisc = [](int x, int y) { return (x - 15.5) * (x - 15.5) + (y - 11.5) * (y - 11.5) < 36.0; };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (!inDisc(x, y)) continue;
+      const size_t i = size_t(y) * w + x;
+      clip[i] = 1;
+      key[i] = 4u * 7u + uint32_t(SurfaceClass::GlossyReflection);  // object 7
+      for (auto& p : cur) p.data[i] = 1.0f;
+    }
+  Plane3 lo, hi, scratch, loAll, hiAll;
+  clipBox(cur, &clip, ClipBoxOptions{}, lo, hi, scratch, &key);
+  clipBox(cur, &clip, ClipBoxOptions{}, loAll, hiAll, scratch);
+  double lowestTop = 1.0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        if (!inDisc(x, y)) {  // not clipped either way
+          EXPECT_TRUE(std::isinf(lo[c](x, y)) && lo[c](x, y) < 0 && std::isinf(hi[c](x, y)) && hi[c](x, y) > 0);
+          continue;
+        }
+        EXPECT_NEAR(lo[c](x, y), 1.0f, 1e-6f) << x << "," << y;
+        EXPECT_NEAR(hi[c](x, y), 1.0f, 1e-6f) << x << "," << y;
+        lowestTop = std::min(lowestTop, double(hiAll[c](x, y)));
+      }
+  // The whole window: the rim's box top is dragged towards the black, so a history of 1 is
+  // clipped darker (measured 0.943; the window's inner pixels keep it from falling further).
+  EXPECT_LT(lowestTop, 0.97);
+
+  // Two specular objects side by side, same class, colours 1 and 3, told apart by the object id
+  // in the key: with the key each box holds its own colour; a direct evaluation of the masked
+  // Gaussian and window (double) at a pixel next to the seam agrees.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-0.2f, 0.2f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const bool right = x >= w / 2;
+      clip[i] = 1;
+      key[i] = 4u * (right ? 2u : 1u) + uint32_t(SurfaceClass::Mirror);
+      for (auto& p : cur) p.data[i] = (right ? 3.0f : 1.0f) + u(rng);
+    }
+  clipBox(cur, &clip, ClipBoxOptions{}, lo, hi, scratch, &key);
+  float g[7];
+  clipGaussianWeights(3, 1.5f, g);
+  auto blurred = [&](int c, int x, int y) {  // over the taps with (x, y)'s key, edge-clamped
+    const uint32_t k = key[size_t(y) * w + x];
+    double v = 0, sum = 0;
+    for (int j = -3; j <= 3; ++j)
+      for (int i = -3; i <= 3; ++i) {
+        const int qx = std::clamp(x + i, 0, w - 1), qy = std::clamp(y + j, 0, h - 1);
+        if (key[size_t(qy) * w + qx] != k) continue;
+        v += double(g[i + 3]) * g[j + 3] * cur[c](qx, qy);
+        sum += double(g[i + 3]) * g[j + 3];
+      }
+    return v / sum;
+  };
+  for (int x : {w / 2 - 1, w / 2, 3}) {
+    const int y = 10, c = 1;
+    const uint32_t k = key[size_t(y) * w + x];
+    double mn = 1e9, mx = -1e9;
+    for (int j = -2; j <= 2; ++j)
+      for (int i = -2; i <= 2; ++i) {
+        const int qx = x + i, qy = y + j;
+        if (qx < 0 || qx >= w || key[size_t(qy) * w + qx] != k) continue;
+        mn = std::min(mn, blurred(c, qx, qy));
+        mx = std::max(mx, blurred(c, qx, qy));
+      }
+    EXPECT_NEAR(lo[c](x, y), mn, 1e-5) << x;
+    EXPECT_NEAR(hi[c](x, y), mx, 1e-5) << x;
+    const float own = x >= w / 2 ? 3.0f : 1.0f;
+    EXPECT_GT(lo[c](x, y), own - 0.25f) << x;  // the other object's colour is not in the box
+    EXPECT_LT(hi[c](x, y), own + 0.25f) << x;
+  }
+  EXPECT_THROW(clipBox(cur, nullptr, ClipBoxOptions{}, lo, hi, scratch, &key), Error);
+}
+
+TEST(VoorhuisClipping, SurfaceKeysSeparateClassesAndObjects) {
+  TestFrame t(4, 1);
+  t.set(Buffer::ObjectId, 0.0f);
+  const float ids[4] = {3, 3, 4, -1};
+  for (int x = 0; x < 4; ++x) t.p(Buffer::ObjectId)(x, 0) = ids[x];
+  PixelVector<uint8_t> cls(4);
+  cls[0] = uint8_t(SurfaceClass::Mirror);
+  cls[1] = uint8_t(SurfaceClass::GlossyReflection);
+  cls[2] = uint8_t(SurfaceClass::GlossyReflection);
+  cls[3] = uint8_t(SurfaceClass::GlossyReflection);
+  PixelVector<uint32_t> k;
+  surfaceKeys(t.f, cls, k);
+  EXPECT_NE(k[0], k[1]);  // same object, another class
+  EXPECT_NE(k[1], k[2]);  // same class, another object
+  EXPECT_NE(k[2], k[3]);
+  EXPECT_NE(k[1], k[3]);
+  t.f.buffers[int(Buffer::ObjectId)].clear();  // no object ids: the class alone
+  surfaceKeys(t.f, cls, k);
+  EXPECT_NE(k[0], k[1]);
+  EXPECT_EQ(k[1], k[2]);
+  EXPECT_EQ(k[2], k[3]);
+}
+
 // Item 16(c): a glossy surface (0.4 <= roughness < 0.9 keeps the primary motion) under a camera
 // panning sideways. Its highlight (a reflection) moves 2 px a frame while the surface moves 1, so
 // the primary reprojection drags the highlight's history behind it: a ghost trail. The trail is
@@ -366,6 +478,66 @@ TEST(VoorhuisBandwidth, Eq6SigmaAndFalloff) {
   EXPECT_LT(glossySpatialSigma(1.0f, 0.5f), glossySpatialSigma(0.2f, 0.5f));  // larger footprint, smaller sigma
   EXPECT_FLOAT_EQ(glossySpatialFalloff(1.0f), 0.0f);  // sigma 1 leaves the B3 kernel unchanged
   EXPECT_NEAR(glossySpatialFalloff(0.5f), 1.5f, 1e-6);
+}
+
+// Eq. 6 with omega in widths of the reflected lobe (SvgfSettings::bandwidthPerLobe): the falloff
+// c of a glossy pixel follows from sigma = exp(-footprint / (omega 2 roughness^2 t)); it is the
+// same when the scene is modelled in other units (positions and footprint x 100), unlike the
+// paper's world-unit omega; a rougher lobe narrows less; a mirror ray into the sky not at all.
+std::vector<float> falloffValues(float roughness, float scale, bool perLobe, bool sky = false) {
+  TestFrame t(6, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 6; ++x)
+      for (int k = 0; k < 3; ++k) t.p(Buffer::Position, k)(x, y) *= scale;
+  t.set(Buffer::Roughness, roughness);
+  t.set(Buffer::ReflectedFootprint, 0.04f * scale);
+  t.set(Buffer::ReflectedNormal, 0.0f);
+  t.set(Buffer::ReflectedPosition, 0.0f);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 6; ++x) {
+      for (int k = 0; k < 3; ++k) t.p(Buffer::ReflectedPosition, k)(x, y) = t.p(Buffer::Position, k)(x, y);
+      t.p(Buffer::ReflectedPosition, 2)(x, y) += 2.0f * scale;  // the hit 2 (x scale) away
+      t.p(Buffer::ReflectedNormal, 2)(x, y) = sky ? 0.0f : -1.0f;
+    }
+  SvgfSettings s = ours();
+  s.bandwidthPerLobe = perLobe;
+  const svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return t.f.has(b); }, false);
+  EXPECT_TRUE(parts.glossyBandwidth);
+  svgf::Reflections refl;
+  refl.resize(6, 4, 2);
+  refl.prepare(t.f, nullptr, s, parts, false, noHistory(t.f));
+  std::vector<float> v;
+  refl.forEachPlane([&](std::string_view name, const float* data, size_t n) {
+    if (name != "Eq. 6 falloff") return;
+    for (size_t i = 0; i < n; ++i)
+      if (data[i] != 0.0f) v.push_back(data[i]);
+  });
+  return v;
+}
+
+TEST(VoorhuisBandwidth, OmegaInLobeWidthsIsScaleFreeAndFollowsTheRoughness) {
+  EXPECT_FLOAT_EQ(svgf::reflectedLobeWidth(0.1f, 5.0f), 2.0f * 0.01f * 5.0f);
+  EXPECT_GT(svgf::reflectedLobeWidth(0.0f, 1.0f), 0.0f);  // omega stays positive
+
+  const double sigma = std::exp(-0.04 / (0.5 * 2 * 0.1 * 0.1 * 2));  // e^-2
+  const double c = 0.5 / (sigma * sigma) - 0.5;
+  for (float scale : {1.0f, 100.0f}) {
+    const std::vector<float> v = falloffValues(0.1f, scale, true);
+    ASSERT_EQ(v.size(), 24u) << scale;  // every pixel is glossy (0.02 <= 0.1 < 0.4)
+    for (float f : v) EXPECT_NEAR(f, c, 1e-3 * c) << scale;
+  }
+  // World units: the same scene in centimetres narrows the kernel to the clamp.
+  const std::vector<float> m = falloffValues(0.1f, 1.0f, false), cm = falloffValues(0.1f, 100.0f, false);
+  ASSERT_FALSE(m.empty());
+  ASSERT_FALSE(cm.empty());
+  EXPECT_NEAR(m[0], 0.5 / std::exp(-2 * 0.04 / 0.5) - 0.5, 1e-4);
+  EXPECT_GT(cm[0], 1000.0f * m[0]);
+  // A rougher lobe (0.3: nine times as wide) spreads over the footprint: a smaller falloff.
+  const std::vector<float> rough = falloffValues(0.3f, 1.0f, true);
+  ASSERT_FALSE(rough.empty());
+  EXPECT_LT(rough[0], 0.1f * c);
+  // The mirror ray escapes (zero reflected normal): no narrowing.
+  EXPECT_TRUE(falloffValues(0.1f, 1.0f, true, true).empty());
 }
 
 TEST(VoorhuisBandwidth, FalloffNarrowsTheAtrousFootprint) {

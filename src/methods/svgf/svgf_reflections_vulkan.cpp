@@ -32,6 +32,8 @@ void GpuReflections::prepare(vk::Recorder& rec, const vk::GpuFrame& f, const vk:
   if (!parts.classes) return;
   const vk::Context& ctx = rec.context();
   const uint32_t w = uint32_t(f.width), h = uint32_t(f.height);
+  hasObjectId_ = f.has(Buffer::ObjectId);
+  objectId_ = f.bindingOf(Buffer::ObjectId, ctx);
   {
     struct PC {
       uint32_t width, height;
@@ -77,12 +79,13 @@ void GpuReflections::prepare(vk::Recorder& rec, const vk::GpuFrame& f, const vk:
       float alphaColor, alphaSpecular, omega, eyeX, eyeY, eyeZ;
     } pc{w, h,
          (parts.materialAlpha ? 1u : 0u) | (parts.glossyBandwidth ? 2u : 0u) | (parts.reflectedFeatures ? 4u : 0u) |
-             (haveEye ? 8u : 0u),
+             (haveEye ? 8u : 0u) | (parts.glossyBandwidth && s.bandwidthPerLobe ? 16u : 0u),
          s.alphaColor, s.alphaSpecular, s.bandwidthOmega, eye[0], eye[1], eye[2]};
     rec.dispatch("voorhuis_features",
                  {cls_[cur_], f[Buffer::Normal], f[Buffer::Depth], f.bindingOf(Buffer::Position, ctx),
                   f.bindingOf(Buffer::ReflectedPosition, ctx), f.bindingOf(Buffer::ReflectedNormal, ctx),
-                  f.bindingOf(Buffer::ReflectedFootprint, ctx), alpha_, falloff_, guideDepth_, guideNormal_},
+                  f.bindingOf(Buffer::ReflectedFootprint, ctx), alpha_, falloff_, guideDepth_, guideNormal_,
+                  f.bindingOf(Buffer::Roughness, ctx)},
                  pc, f.width, f.height);
   }
   if (parts.reflectedFeatures) {
@@ -131,18 +134,28 @@ const vk::Planes* GpuReflections::clipBox(vk::Recorder& rec, const vk::Planes& d
     int32_t radius;
     uint32_t masked;
     float weights[7];
-  } pc{uint32_t(demod.width), uint32_t(demod.height), 0, 3, 0, {}};
+    uint32_t hasObject;
+  } pc{uint32_t(demod.width), uint32_t(demod.height), 0, 3, 0, {}, hasObjectId_};
   clipGaussianWeights(3, s.clipSigma, pc.weights);
   const vk::Binding dummy(rec.context().dummy());
-  rec.dispatch("clip_box", {demod, clipRows_, dummy}, pc, demod.width, demod.height);
+  if (s.clipOwnSurface) {  // the pixel's own surface: clipBoxOnSurfaces
+    const vk::Binding obj = hasObjectId_ ? objectId_ : dummy;
+    pc.mode = 4;
+    rec.dispatch("clip_box", {demod, clipBlur_, cls_[cur_], obj}, pc, demod.width, demod.height);
+    pc.mode = 5;
+    pc.radius = s.clipWindowRadius;
+    rec.dispatch("clip_box", {clipBlur_, clip_, cls_[cur_], obj}, pc, demod.width, demod.height);
+    return &clip_;
+  }
+  rec.dispatch("clip_box", {demod, clipRows_, dummy, dummy}, pc, demod.width, demod.height);
   pc.mode = 1;
-  rec.dispatch("clip_box", {clipRows_, clipBlur_, dummy}, pc, demod.width, demod.height);
+  rec.dispatch("clip_box", {clipRows_, clipBlur_, dummy, dummy}, pc, demod.width, demod.height);
   pc.mode = 2;
   pc.radius = s.clipWindowRadius;
-  rec.dispatch("clip_box", {clipBlur_, clipRows_, dummy}, pc, demod.width, demod.height);
+  rec.dispatch("clip_box", {clipBlur_, clipRows_, dummy, dummy}, pc, demod.width, demod.height);
   pc.mode = 3;
   pc.masked = 1;
-  rec.dispatch("clip_box", {clipRows_, clip_, cls_[cur_]}, pc, demod.width, demod.height);
+  rec.dispatch("clip_box", {clipRows_, clip_, cls_[cur_], dummy}, pc, demod.width, demod.height);
   return &clip_;
 }
 

@@ -56,6 +56,8 @@ class GpuReflections {
   vk::Planes alpha_, falloff_;
   vk::Planes albedo_[2];
   vk::Planes clip_, clipRows_, clipBlur_;
+  vk::Binding objectId_;  ///< this frame's ObjectId (prepare), for the clipping surfaces
+  bool hasObjectId_ = false;
 };
 
 }  // namespace rtd::svgf

@@ -4,6 +4,8 @@
 // 2 glossy with reflection motion, 3 mirror)
 //   - the blend floor: alphaSpecular on specular, alphaColor on diffuse pixels (Sec. 7);
 //   - Eq. 6's falloff c = 1/(2 sigma^2) - 1/2, sigma = exp(-footprint / omega), on class 2;
+//     with F_LOBE omega is in widths of the reflected lobe, 2 roughness^2 |reflPos - position|
+//     (svgf::reflectedLobeWidth), and 0 where the mirror ray escapes (zero reflected normal);
 //   - the guide of the reflected geometry (Sec. 4.1): mirror pixels get the reflected normal
 //     and the view depth of the virtual image (primary depth x path length / primary distance;
 //     kMissDepth where the mirror shows the sky); other pixels their own features.
@@ -21,11 +23,13 @@ layout(std430, binding = 7) writeonly buffer Alpha { float alphaOut[]; };
 layout(std430, binding = 8) writeonly buffer Falloff { float falloffOut[]; };
 layout(std430, binding = 9) writeonly buffer GuideDepth { float guideDepth[]; };
 layout(std430, binding = 10) writeonly buffer GuideNormal { float guideNormal[]; };
+layout(std430, binding = 11) readonly buffer Rough { float roughness[]; };
 
 #define F_ALPHA 1u
 #define F_FALLOFF 2u
 #define F_GUIDE 4u
 #define F_EYE 8u
+#define F_LOBE 16u
 
 layout(push_constant) uniform PC {
   uint width, height, flags;
@@ -43,8 +47,23 @@ void main() {
   if ((pc.flags & F_ALPHA) != 0u) alphaOut[i] = c != 0.0 ? pc.alphaSpecular : pc.alphaColor;
   if ((pc.flags & F_FALLOFF) != 0u) {
     float f = 0.0;
-    if (c == 2.0) {
-      const float s = clamp(exp(-max(0.0, footprint[i]) / pc.omega), 1e-3, 1.0);
+    bool sky = false;
+    float omega = pc.omega;
+    if (c == 2.0 && (pc.flags & F_LOBE) != 0u) {
+      precise float n2 = 0.0, t2 = 0.0;
+      for (uint k = 0; k < 3u; ++k) {
+        const float nk = reflNormal[k * n + i];
+        precise float d = reflPos[k * n + i] - position[k * n + i];
+        n2 += nk * nk;
+        t2 += d * d;
+      }
+      sky = n2 < 0.25;
+      const float r = clamp(roughness[i], 0.0, 1.0);
+      precise float width = max(2.0 * r * r * max(0.0, sqrt(t2)), 1e-30);
+      omega *= width;
+    }
+    if (c == 2.0 && !sky) {
+      const float s = clamp(exp(-max(0.0, footprint[i]) / omega), 1e-3, 1.0);
       f = 0.5 / (s * s) - 0.5;  // glossySpatialFalloff(glossySpatialSigma(...))
     }
     falloffOut[i] = f;
