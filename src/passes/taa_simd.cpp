@@ -1,6 +1,7 @@
-// TAA's rows for one CPU path (core/simd.h): the history fetch eight pixels at a time with
-// AVX2 (Bilinear8) on the avx2 and avx512 paths; the clamp and blend loop is vectorized by the
-// compiler for each path's width.
+// TAA's rows for one CPU path (core/simd.h): the bilinear history fetch eight pixels at a time
+// with AVX2 (Bilinear8) on the avx2 and avx512 paths, the Catmull-Rom fetch pixel by pixel on
+// every path (16 taps of a data-dependent footprint); the clamp and blend loop is vectorized by
+// the compiler for each path's width.
 #include <algorithm>
 #include <cmath>
 
@@ -16,6 +17,46 @@ namespace {
 
 inline float fmin(float a, float b) { return a < b ? a : b; }
 inline float fmax(float a, float b) { return a > b ? a : b; }
+
+// Catmull-Rom weights of the taps at -1, 0, 1, 2 for the fraction t in [0, 1): Keys' cubic
+// convolution kernel with a = -1/2 (Keys 1981, Eq. 15), written out per tap. They sum to 1
+// and reproduce quadratics. A weight below 2^-24 in magnitude is 0 (it is below the float
+// rounding of the sum, whose two middle weights add up to at least 1): with stored values
+// >= kTiny their products stay normal (core/flush.h). The GLSL twin is in taa.comp.
+inline void catmullRomWeights(float t, float w[4]) {
+  w[0] = 0.5f * t * ((2.0f - t) * t - 1.0f);
+  w[1] = 0.5f * (t * t * (3.0f * t - 5.0f) + 2.0f);
+  w[2] = 0.5f * t * ((4.0f - 3.0f * t) * t + 1.0f);
+  w[3] = 0.5f * t * t * (t - 1.0f);
+  for (int k = 0; k < 4; ++k) w[k] = std::abs(w[k]) < 0x1p-24f ? 0.0f : w[k];
+}
+
+// The Catmull-Rom history of the three planes at (px, py) (pixel units, texel centres at
+// integers): the separable 4x4 cubic, rows summed first. Taps off the frame repeat the border
+// texel (clamp-to-edge addressing, as a texture sampler's), so a footprint crossing the border
+// extrapolates the border value flat. Each row sum is flushed (core/flush.h): with negative
+// weights two products can cancel to below kTiny.
+inline void catmullRomFetch(const Plane3& hist, float px, float py, int w, int h, float v[3]) {
+  const float fx = std::floor(px), fy = std::floor(py);
+  const int x0 = int(fx) - 1, y0 = int(fy) - 1;
+  float wx[4], wy[4];
+  catmullRomWeights(px - fx, wx);
+  catmullRomWeights(py - fy, wy);
+  int xs[4], ys[4];
+  for (int k = 0; k < 4; ++k) {
+    xs[k] = std::clamp(x0 + k, 0, w - 1);
+    ys[k] = std::clamp(y0 + k, 0, h - 1);
+  }
+  for (int c = 0; c < 3; ++c) {
+    float sum = 0.0f;
+    for (int j = 0; j < 4; ++j) {
+      const float* row = hist[c].row(ys[j]);
+      const float r = wx[0] * row[xs[0]] + wx[1] * row[xs[1]] + wx[2] * row[xs[2]] + wx[3] * row[xs[3]];
+      sum += wy[j] * flushTiny(r);
+    }
+    v[c] = flushTiny(sum);
+  }
+}
 
 // Display encoding (tonemap::taaEncode) of n values, kLanes at a time.
 void encodeRow(const float* in, float* out, int n) {
@@ -88,9 +129,10 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     const float* a = slot(std::max(y - 1, 0));
     const float* c = slot(y);
     const float* b = slot(std::min(y + 1, h - 1));
-    // Bilinear history fetch with clamp-to-edge (eight pixels at a time inside). A pixel
-    // whose reprojected centre lies a pixel or more outside the frame has no history: its
-    // "history" is the current colour, which the blend then returns unchanged.
+    // History fetch, bilinear (eight pixels at a time inside) or Catmull-Rom, with
+    // clamp-to-edge. A pixel whose reprojected centre lies a pixel or more outside the frame
+    // has no history: its "history" is the current colour, which the blend then returns
+    // unchanged (with either filter).
     const float *prevX = rp.prevX.row(y), *prevY = rp.prevY.row(y);
     const float *r = color[0].row(y), *g = color[1].row(y), *bl = color[2].row(y);
     auto fetch = [&](int x) {
@@ -101,6 +143,12 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
         } else {
           hr[x] = r[x]; hg[x] = g[x]; hb[x] = bl[x];
         }
+        return;
+      }
+      if (p.catmullRom) {
+        float v[3];
+        catmullRomFetch(hist, px, py, w, h, v);
+        hr[x] = v[0]; hg[x] = v[1]; hb[x] = v[2];
         return;
       }
       const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
@@ -125,7 +173,7 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
 #ifdef RTD_SIMD_AVX2
     // Eight pixels at a time where all eight footprints are inside the frame.
     Bilinear8 taps8;
-    for (; x + 8 <= w; x += 8)
+    for (; x + 8 <= w && !p.catmullRom; x += 8)
       if (taps8.footprint(prevX + x, prevY + x, w, h)) {
         _mm256_storeu_ps(hr + x, taps8.gather(hist[0].ptr()));
         _mm256_storeu_ps(hg + x, taps8.gather(hist[1].ptr()));
