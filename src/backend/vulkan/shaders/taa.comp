@@ -83,6 +83,19 @@ vec3 catmullRomHistory(float px, float py, uint plane) {
   return sum;
 }
 
+// The CPU's `consistent` (taa_simd.cpp): the reprojection record (reprojection.glsl) is
+// bilinear, not slid at the border, and keeps every 2x2 tap the plain bilinear weighs.
+bool accepted(uint i, float px, float py, uint plane) {
+  if ((rp[i] & 3u) != RP_BILINEAR) return false;
+  const float fx = floor(px), fy = floor(py);
+  if (int(rp[plane + i]) != int(fy) * int(pc.width) + int(fx)) return false;
+  precise float ax = px - fx, ay = py - fy;
+  precise vec4 plain = vec4((1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay);
+  for (uint t = 0u; t < 4u; ++t)
+    if (plain[t] > 0.0 && !(uintBitsToFloat(rp[(2u + t) * plane + i]) > 0.0)) return false;
+  return true;
+}
+
 shared vec3 tile[18][18];
 shared float tileMax[18][18];  // display: largest encoded channel
 
@@ -142,7 +155,7 @@ void main() {
     const int x0 = int(floor(px)), y0 = int(floor(py));
     precise float ax = px - float(x0), ay = py - float(y0);
     precise vec3 h = vec3(0.0);
-    if (pc.catmullRom != 0u) h = catmullRomHistory(px, py, plane);
+    if (pc.catmullRom != 0u && accepted(i, px, py, plane)) h = catmullRomHistory(px, py, plane);
     else for (int t = 0; t < 4; ++t) {
       const int tx = clamp(x0 + (t & 1), 0, int(pc.width) - 1), ty = clamp(y0 + (t >> 1), 0, int(pc.height) - 1);
       precise float wt = ((t & 1) != 0 ? ax : 1.0 - ax) * ((t >> 1) != 0 ? ay : 1.0 - ay);
