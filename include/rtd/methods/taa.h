@@ -20,7 +20,10 @@ enum class TaaNeighbourhood { box3x3, boxCross };
 /// 4x4 Catmull-Rom cubic (Keys 1981, a = -1/2), exact for quadratics; Jimenez's SMAA T2x
 /// evaluates the same filter with 9 (or, corners dropped, 5) bilinear fetches, here its 16
 /// texels are read directly. Its overshoot is contained by the neighbourhood clamp; taps off
-/// the frame repeat the border texel.
+/// the frame repeat the border texel; a pixel whose reprojection rejected one of its 2x2 taps
+/// (disocclusion, edge) takes the bilinear history. Not the default: measured in
+/// docs/methods/taa.md (better on textured slow motion, slightly worse on the Cornell box and
+/// the Blender fixture, 3.6-4.7x the pass's CPU time).
 enum class TaaHistoryFilter { bilinear, catmullRom };
 
 struct TaaSettings {
