@@ -1,6 +1,6 @@
-// TAA's rows for one CPU path (core/simd.h): the bilinear history fetch eight pixels at a time
-// with AVX2 (Bilinear8) on the avx2 and avx512 paths, the Catmull-Rom fetch pixel by pixel on
-// every path (16 taps of a data-dependent footprint); the clamp and blend loop is vectorized by
+// TAA's rows for one CPU path (core/simd.h): the history fetch (bilinear: Bilinear8;
+// Catmull-Rom: catmullRomFetch8) eight pixels at a time with AVX2 on the avx2 and avx512 paths,
+// pixel by pixel on sse2 and at the frame's border; the clamp and blend loop is vectorized by
 // the compiler for each path's width.
 #include <algorithm>
 #include <array>
@@ -114,6 +114,54 @@ template <bool kDisplay> void buildSlot(const Plane3& color, int y, int w, float
   }
 }
 
+#ifdef RTD_SIMD_AVX2
+// The eight-pixel twin of catmullRomFetch for footprints wholly inside the frame (the caller
+// checks): the same weights, flushes and summation order, taps as vector loads where the eight
+// footprints are consecutive (locally uniform motion), gathers otherwise.
+inline __m256 flush8(__m256 v, float below) {
+  const __m256 magnitude = _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+  return _mm256_and_ps(v, _mm256_cmp_ps(magnitude, _mm256_set1_ps(below), _CMP_GE_OQ));
+}
+inline void catmullRomWeights8(__m256 t, __m256 w[4]) {
+  const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f), tt = _mm256_mul_ps(t, t);
+  w[0] = _mm256_mul_ps(_mm256_mul_ps(half, t), _mm256_sub_ps(_mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(2.0f), t), t), one));
+  w[1] = _mm256_mul_ps(half, _mm256_add_ps(_mm256_mul_ps(tt, _mm256_sub_ps(_mm256_mul_ps(_mm256_set1_ps(3.0f), t), _mm256_set1_ps(5.0f))),
+                                           _mm256_set1_ps(2.0f)));
+  w[2] = _mm256_mul_ps(_mm256_mul_ps(half, t),
+                       _mm256_add_ps(_mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(4.0f), _mm256_mul_ps(_mm256_set1_ps(3.0f), t)), t), one));
+  w[3] = _mm256_mul_ps(_mm256_mul_ps(half, tt), _mm256_sub_ps(t, one));
+  for (int k = 0; k < 4; ++k) w[k] = flush8(w[k], 0x1p-24f);
+}
+void catmullRomFetch8(const Plane3& hist, const float* prevX, const float* prevY, int w, float* out[3]) {
+  const __m256 qx = _mm256_sub_ps(_mm256_loadu_ps(prevX), _mm256_set1_ps(0.5f));
+  const __m256 qy = _mm256_sub_ps(_mm256_loadu_ps(prevY), _mm256_set1_ps(0.5f));
+  const __m256 fx = _mm256_floor_ps(qx), fy = _mm256_floor_ps(qy);
+  __m256 wx[4], wy[4];
+  catmullRomWeights8(_mm256_sub_ps(qx, fx), wx);
+  catmullRomWeights8(_mm256_sub_ps(qy, fy), wy);
+  const __m256i one = _mm256_set1_epi32(1);
+  const __m256i base = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_sub_epi32(_mm256_cvttps_epi32(fy), one), _mm256_set1_epi32(w)),
+                                        _mm256_sub_epi32(_mm256_cvttps_epi32(fx), one));
+  const int first = _mm256_extract_epi32(base, 0);
+  const bool consecutive =
+      _mm256_movemask_epi8(_mm256_cmpeq_epi32(base, _mm256_add_epi32(_mm256_set1_epi32(first), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)))) == -1;
+  for (int c = 0; c < 3; ++c) {
+    const float* hp = hist[c].ptr();
+    __m256 sum = _mm256_setzero_ps();
+    for (int j = 0; j < 4; ++j) {
+      const float* row = hp + size_t(j) * w;
+      auto tap = [&](int i) { return consecutive ? _mm256_loadu_ps(row + first + i) : _mm256_i32gather_ps(row + i, base, 4); };
+      __m256 r = _mm256_mul_ps(wx[0], tap(0));
+      r = _mm256_add_ps(r, _mm256_mul_ps(wx[1], tap(1)));
+      r = _mm256_add_ps(r, _mm256_mul_ps(wx[2], tap(2)));
+      r = _mm256_add_ps(r, _mm256_mul_ps(wx[3], tap(3)));
+      sum = _mm256_add_ps(sum, _mm256_mul_ps(wy[j], flush8(r, kTiny)));
+    }
+    _mm256_storeu_ps(out[c], flush8(sum, kTiny));
+  }
+}
+#endif
+
 template <bool kDisplay>
 void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
           Plane3& next, Plane3& linearOut, float* window, int slotRow[3]) {
@@ -189,7 +237,22 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     };
     int x = 0;
 #ifdef RTD_SIMD_AVX2
-    // Eight pixels at a time where all eight footprints are inside the frame.
+    // Catmull-Rom eight pixels at a time where all eight 4x4 footprints lie inside the frame
+    // and all eight pixels' history was accepted.
+    for (; x + 8 <= w && p.catmullRom; x += 8) {
+      bool inside = true;
+      for (int k = x; k < x + 8 && inside; ++k) {
+        const float qx = prevX[k] - 0.5f, qy = prevY[k] - 0.5f;
+        inside = qx >= 1.0f && qy >= 1.0f && qx < float(w - 2) && qy < float(h - 2) && consistent(k, qx, qy);
+      }
+      if (inside) {
+        float* out[3] = {hr + x, hg + x, hb + x};
+        catmullRomFetch8(hist, prevX + x, prevY + x, w, out);
+      } else {
+        for (int k = x; k < x + 8; ++k) fetch(k);
+      }
+    }
+    // Bilinear eight pixels at a time where all eight footprints are inside the frame.
     Bilinear8 taps8;
     for (; x + 8 <= w && !p.catmullRom; x += 8)
       if (taps8.footprint(prevX + x, prevY + x, w, h)) {

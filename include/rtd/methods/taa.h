@@ -23,7 +23,7 @@ enum class TaaNeighbourhood { box3x3, boxCross };
 /// the frame repeat the border texel; a pixel whose reprojection rejected one of its 2x2 taps
 /// (disocclusion, edge) takes the bilinear history. Not the default: measured in
 /// docs/methods/taa.md (better on textured slow motion, slightly worse on the Cornell box and
-/// the Blender fixture, 3.6-4.7x the pass's CPU time).
+/// the Blender fixture, about twice the pass's CPU time).
 enum class TaaHistoryFilter { bilinear, catmullRom };
 
 struct TaaSettings {
