@@ -130,15 +130,17 @@ void BM_TemporalAccumulation(benchmark::State& state) {
 }
 BENCHMARK(BM_TemporalAccumulation)->DenseRange(0, 2)->ArgName("path")->Unit(benchmark::kMillisecond);
 
-// TAA with the default settings (YCoCg box clamp, alpha 0.1).
+// TAA with the default settings (YCoCg box clamp, alpha 0.1, display domain) and the history
+// filter of the second argument (0 bilinear, 1 catmullRom).
 void BM_Taa(benchmark::State& state) {
   const Inputs& in = inputs();
   rtd::Taa taa;
   taa.resize(kW, kH);
-  const rtd::TaaSettings s;
+  rtd::TaaSettings s;
+  s.taaHistoryFilter = state.range(1) ? rtd::TaaHistoryFilter::catmullRom : rtd::TaaHistoryFilter::bilinear;
   taa.run(in.reprojection, in.color, s);
   onPath(state, [&] { benchmark::DoNotOptimize(taa.run(in.reprojection, in.color, s)[0].data.data()); });
 }
-BENCHMARK(BM_Taa)->DenseRange(0, 2)->ArgName("path")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Taa)->ArgsProduct({{0, 1, 2}, {0, 1}})->ArgNames({"path", "catmullRom"})->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Shared pass: temporal anti-aliasing with neighbourhood clamping (Karis 2014): the previous
-// output, reprojected bilinearly, is clamped to the min/max box of the current 3x3
+// output, reprojected bilinearly or with the 4x4 Catmull-Rom cubic (TaaSettings::
+// taaHistoryFilter; Jimenez's SMAA T2x), is clamped to the min/max box of the current 3x3
 // neighbourhood in YCoCg (optionally averaged with the 5-tap cross's, as the BMFR code) and
 // blended with the current frame, on linear radiance or on display-encoded values
 // (TaaSettings::taaDomain; tonemap::taaEncode before, taaDecode after).
@@ -19,8 +20,10 @@ struct TaaParams {
   float alpha;        ///< weight of the current frame
   bool display;       ///< clamp and blend taaEncode()d values; the history holds them too
   float crossWeight;  ///< bounds = box + crossWeight * (cross - box): 0 box3x3, 0.5 boxCross (BMFR)
+  bool catmullRom;    ///< history fetch: 4x4 Catmull-Rom instead of bilinear (TaaHistoryFilter)
   static TaaParams of(const TaaSettings& s) {
-    return {s.taaAlpha, s.taaDomain == TaaDomain::display, s.taaNeighbourhood == TaaNeighbourhood::boxCross ? 0.5f : 0.0f};
+    return {s.taaAlpha, s.taaDomain == TaaDomain::display, s.taaNeighbourhood == TaaNeighbourhood::boxCross ? 0.5f : 0.0f,
+            s.taaHistoryFilter == TaaHistoryFilter::catmullRom};
   }
 };
 
@@ -57,7 +60,7 @@ class Taa {
   Plane3 history_[2];  // in the frame's domain (display-encoded or linear)
   Plane3 linear_;      // display domain: the decoded output
   int cur_ = 0;
-  TaaParams params_{0.1f, false, 0.0f};
+  TaaParams params_{0.1f, false, 0.0f, false};
   bool display_ = false;  // the domain the history holds
   int width_ = 0;
   tbb::enumerable_thread_specific<Window> windows_;

@@ -254,18 +254,28 @@ TEST(VulkanPasses, TemporalAccumulationWithSampleMaskMatchesCpu) {
   EXPECT_GT(carried, 0u) << "some unsampled pixels should reproject exactly onto one pixel";
 }
 
-// In both domains and with both neighbourhoods.
+// In both domains, with both neighbourhoods and both history filters.
 TEST(VulkanPasses, TaaMatchesCpu) {
   REQUIRE_CONTEXT();
   auto frames = syntheticFrames(3);
-  for (const auto& [domain, shape] : {std::pair{TaaDomain::linear, TaaNeighbourhood::box3x3},
-                                      std::pair{TaaDomain::display, TaaNeighbourhood::box3x3},
-                                      std::pair{TaaDomain::display, TaaNeighbourhood::boxCross}}) {
+  struct Config {
+    TaaDomain domain;
+    TaaNeighbourhood shape;
+    TaaHistoryFilter filter;
+  };
+  for (const Config& config : {Config{TaaDomain::linear, TaaNeighbourhood::box3x3, TaaHistoryFilter::bilinear},
+                               Config{TaaDomain::display, TaaNeighbourhood::box3x3, TaaHistoryFilter::bilinear},
+                               Config{TaaDomain::display, TaaNeighbourhood::boxCross, TaaHistoryFilter::bilinear},
+                               Config{TaaDomain::linear, TaaNeighbourhood::box3x3, TaaHistoryFilter::catmullRom},
+                               Config{TaaDomain::display, TaaNeighbourhood::box3x3, TaaHistoryFilter::catmullRom},
+                               Config{TaaDomain::display, TaaNeighbourhood::boxCross, TaaHistoryFilter::catmullRom}}) {
     TaaSettings s;
-    s.taaDomain = domain;
-    s.taaNeighbourhood = shape;
-    const std::string name = std::string(domain == TaaDomain::linear ? "linear" : "display") +
-                             (shape == TaaNeighbourhood::box3x3 ? " box3x3" : " boxCross");
+    s.taaDomain = config.domain;
+    s.taaNeighbourhood = config.shape;
+    s.taaHistoryFilter = config.filter;
+    const std::string name = std::string(config.domain == TaaDomain::linear ? "linear" : "display") +
+                             (config.shape == TaaNeighbourhood::box3x3 ? " box3x3" : " boxCross") +
+                             (config.filter == TaaHistoryFilter::bilinear ? " bilinear" : " catmullRom");
     Taa cpu;
     cpu.resize(kWidth, kHeight);
     vk::GpuTaa gpu;

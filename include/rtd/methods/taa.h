@@ -14,6 +14,17 @@ enum class TaaDomain { linear, display };
 /// Clamp bounds: the 3x3 box (Karis 2014, Dundr), or the mean of the 3x3 box's and the 5-tap
 /// cross's bounds (BMFR code).
 enum class TaaNeighbourhood { box3x3, boxCross };
+/// How the previous output is resampled at the reprojected position. bilinear: the 2x2
+/// footprint (Karis 2014's hardware fetch); it low-passes the history once per frame, which
+/// under sub-pixel motion compounds into blur (docs/methods/taa.md). catmullRom: the separable
+/// 4x4 Catmull-Rom cubic (Keys 1981, a = -1/2), exact for quadratics; Jimenez's SMAA T2x
+/// evaluates the same filter with 9 (or, corners dropped, 5) bilinear fetches, here its 16
+/// texels are read directly. Its overshoot is contained by the neighbourhood clamp; taps off
+/// the frame repeat the border texel; a pixel whose reprojection rejected one of its 2x2 taps
+/// (disocclusion, edge) takes the bilinear history. Not the default: measured in
+/// docs/methods/taa.md (better on textured slow motion, slightly worse on the Cornell box and
+/// the Blender fixture, about twice the pass's CPU time).
+enum class TaaHistoryFilter { bilinear, catmullRom };
 
 struct TaaSettings {
   /// Run TAA on the output.
@@ -22,6 +33,7 @@ struct TaaSettings {
   float taaAlpha = 0.1f;
   TaaDomain taaDomain = TaaDomain::display;
   TaaNeighbourhood taaNeighbourhood = TaaNeighbourhood::box3x3;
+  TaaHistoryFilter taaHistoryFilter = TaaHistoryFilter::bilinear;
 
   template <class V> void visit(V& v) {
     v("taa", taa, "final TAA with YCoCg 3x3 neighbourhood clamping (Karis 2014)");
@@ -32,6 +44,10 @@ struct TaaSettings {
       {"linear", "display"});
     v("taaNeighbourhood", taaNeighbourhood, "clamp bounds: 3x3 box (Karis, Dundr) or mean of box and 5-tap cross (BMFR code)",
       {"box3x3", "boxCross"});
+    v("taaHistoryFilter", taaHistoryFilter,
+      "resampling of the reprojected history: bilinear (2x2) or catmullRom (4x4 Catmull-Rom cubic, Jimenez's SMAA T2x; "
+      "less blur under sub-pixel motion, overshoot clamped to the neighbourhood)",
+      {"bilinear", "catmullRom"});
   }
 };
 

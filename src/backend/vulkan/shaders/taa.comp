@@ -1,6 +1,7 @@
 #version 450
 // Pass "taa": temporal anti-aliasing with neighbourhood clamping (Karis 2014): the previous
-// output, fetched bilinearly at the reprojected position, is clamped to the YCoCg min/max box of
+// output, fetched bilinearly or with the 4x4 Catmull-Rom cubic (historyFilter; Jimenez's SMAA
+// T2x) at the reprojected position, is clamped to the YCoCg min/max box of
 // the current 3x3 neighbourhood (optionally averaged with the 5-tap cross's bounds, as the BMFR
 // code) and blended, on linear radiance or on display-encoded values (Reinhard + gamma 2,
 // decoded after). Port of src/passes/taa.cpp and taa_simd.cpp. The 3x3 neighbourhood is read
@@ -21,6 +22,7 @@ layout(push_constant) uniform PC {
   uint valid;    // 0: first frame, output = input
   uint display;  // 1: clamp and blend taaEncode()d values (tonemap.h)
   float crossWeight;
+  uint catmullRom;  // 1: 4x4 Catmull-Rom history fetch (TaaHistoryFilter)
 } pc;
 
 vec3 toYCoCg(vec3 c) {
@@ -50,6 +52,48 @@ vec3 decode(vec3 y) {
   precise vec3 t = y * y;
   precise vec3 r = t / (1.0 - t);
   return r;
+}
+
+vec3 histAt(int x, int y, uint plane) {
+  const uint j = uint(clamp(y, 0, int(pc.height) - 1)) * pc.width + uint(clamp(x, 0, int(pc.width) - 1));
+  return vec3(hist[j], hist[plane + j], hist[2u * plane + j]);
+}
+
+// catmullRomWeights in taa_simd.cpp: Keys' a = -1/2 cubic for taps -1..2, |w| < 2^-24 -> 0.
+vec4 catmullRomWeights(float t) {
+  precise vec4 w;
+  w.x = 0.5 * t * ((2.0 - t) * t - 1.0);
+  w.y = 0.5 * (t * t * (3.0 * t - 5.0) + 2.0);
+  w.z = 0.5 * t * ((4.0 - 3.0 * t) * t + 1.0);
+  w.w = 0.5 * t * t * (t - 1.0);
+  return mix(w, vec4(0.0), lessThan(abs(w), vec4(1.0 / 16777216.0)));
+}
+
+// catmullRomFetch in taa_simd.cpp: the separable 4x4 cubic, rows first, clamp-to-edge taps.
+vec3 catmullRomHistory(float px, float py, uint plane) {
+  const float fx = floor(px), fy = floor(py);
+  const vec4 wx = catmullRomWeights(px - fx), wy = catmullRomWeights(py - fy);
+  const int x0 = int(fx) - 1, y0 = int(fy) - 1;
+  precise vec3 sum = vec3(0.0);
+  for (int j = 0; j < 4; ++j) {
+    precise vec3 r = wx.x * histAt(x0, y0 + j, plane) + wx.y * histAt(x0 + 1, y0 + j, plane) +
+                     wx.z * histAt(x0 + 2, y0 + j, plane) + wx.w * histAt(x0 + 3, y0 + j, plane);
+    sum += wy[j] * r;
+  }
+  return sum;
+}
+
+// The CPU's `consistent` (taa_simd.cpp): the reprojection record (reprojection.glsl) is
+// bilinear, not slid at the border, and keeps every 2x2 tap the plain bilinear weighs.
+bool accepted(uint i, float px, float py, uint plane) {
+  if ((rp[i] & 3u) != RP_BILINEAR) return false;
+  const float fx = floor(px), fy = floor(py);
+  if (int(rp[plane + i]) != int(fy) * int(pc.width) + int(fx)) return false;
+  precise float ax = px - fx, ay = py - fy;
+  precise vec4 plain = vec4((1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay);
+  for (uint t = 0u; t < 4u; ++t)
+    if (plain[t] > 0.0 && !(uintBitsToFloat(rp[(2u + t) * plane + i]) > 0.0)) return false;
+  return true;
 }
 
 shared vec3 tile[18][18];
@@ -111,7 +155,8 @@ void main() {
     const int x0 = int(floor(px)), y0 = int(floor(py));
     precise float ax = px - float(x0), ay = py - float(y0);
     precise vec3 h = vec3(0.0);
-    for (int t = 0; t < 4; ++t) {
+    if (pc.catmullRom != 0u && accepted(i, px, py, plane)) h = catmullRomHistory(px, py, plane);
+    else for (int t = 0; t < 4; ++t) {
       const int tx = clamp(x0 + (t & 1), 0, int(pc.width) - 1), ty = clamp(y0 + (t >> 1), 0, int(pc.height) - 1);
       precise float wt = ((t & 1) != 0 ? ax : 1.0 - ax) * ((t >> 1) != 0 ? ay : 1.0 - ay);
       const uint j = uint(ty) * pc.width + uint(tx);

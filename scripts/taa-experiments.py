@@ -1,0 +1,103 @@
+#!/usr/bin/env python3
+"""The shared TAA pass's history filter (issue 12): quality of every method that runs TAA with
+taaHistoryFilter=bilinear, =catmullRom and with taa=false, on the renderer's scenes and the
+committed Blender fixture with a reference; prints the Markdown table of docs/methods/taa.md.
+
+  scripts/taa-experiments.py [--build build/release] [--size 160x90] [--frames 16]
+                             [--reference-spp 64] [--work /tmp/rtd-taa] [--scenes cornell,...]
+
+Each scene is rendered once into WORK/<scene> (1 spp, --reference-spp references, kept for
+re-runs), then one `rtdenoise compare` runs every configuration over it; the table holds the
+means after compare's warm-up (frames 5-16 of 16; on the 8-frame Blender fixture frames 5-8):
+PSNR and SSIM of ACES-tone-mapped sRGB, temporal = temporalErrorVsReference.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+METHODS = ["svgf", "svgf:variant=dundr", "bmfr", "asvgf"]
+TAA = [("bilinear", ":taaHistoryFilter=bilinear"), ("catmullRom", ":taaHistoryFilter=catmullRom"), ("no TAA", ":taa=false")]
+SCENES = ["cornell", "pillars", "dynamic", "corridorglossy", "mirrorfloor", "glossyfloor"]
+
+
+def run(cmd):
+    print("+", " ".join(cmd), file=sys.stderr, flush=True)
+    return subprocess.run(["nice", "-n", "10"] + cmd, check=True, text=True, stdout=subprocess.PIPE).stdout
+
+
+def scene_arg(cli, name, work):
+    if name != "glossyfloor":
+        return name
+    # mirrorfloor with a glossy floor (metallic, roughness 0.1), as scripts/reflections-experiments.py.
+    scene = json.loads(run([cli, "render", "--print-scene", "mirrorfloor"]))
+    scene["name"] = "glossyfloor"
+    scene["materials"]["mirror"] = {"baseColor": [0.9, 0.9, 0.9], "metallic": 1, "roughness": 0.1}
+    path = os.path.join(work, "glossyfloor.json")
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    return path
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
+    ap.add_argument("--size", default="160x90")
+    ap.add_argument("--frames", default="16")
+    ap.add_argument("--reference-spp", default="64")
+    ap.add_argument("--work", default="/tmp/rtd-taa")
+    ap.add_argument("--scenes", default=",".join(SCENES + ["blender_glossy"]))
+    ap.add_argument("--json", help="also write every run's steady-state means here")
+    a = ap.parse_args()
+    cli = os.path.join(a.build, "apps", "rtdenoise")
+    os.makedirs(a.work, exist_ok=True)
+    rows, everything = [], {}
+    for name in a.scenes.split(","):
+        # The Blender fixtures have no gradientSample buffer, which A-SVGF needs.
+        methods = [m for m in METHODS if not (name.startswith("blender") and m == "asvgf")]
+        configs = ["accumulate"] + [m + t for m in methods for _, t in TAA]
+        if name.startswith("blender"):
+            seq = os.path.join(ROOT, "tests", "fixtures", name)
+        else:
+            seq = os.path.join(a.work, name)
+            if not os.path.exists(os.path.join(seq, "reference")):
+                run([cli, "render", "--scene", scene_arg(cli, name, a.work), "--size", a.size, "--frames", a.frames,
+                     "--reference-spp", a.reference_spp, "-o", seq, "--no-reference-cache"])
+        out = os.path.join(a.work, "compare-" + name)
+        metrics = os.path.join(a.work, "metrics-" + name + ".json")
+        cmd = [cli, "compare", "-i", seq, "-r", os.path.join(seq, "reference"), "-o", out, "--overwrite", "--json", metrics]
+        for c in configs:
+            cmd += ["-m", c]
+        run(cmd)
+        with open(metrics) as f:
+            d = json.load(f)
+        res = {}
+        for r in d["runs"]:
+            if r.get("method"):
+                res[r["config"]] = r["steady"]
+        everything[name] = res
+        for m in ["accumulate"] + methods:
+            label = m.replace("svgf:variant=dundr", "dundr")
+            cells = []
+            keys = [m] if m == "accumulate" else [m + t for _, t in TAA]
+            for key in keys:
+                s = next((v for k, v in res.items() if k == key or k.replace(":", "") == key.replace(":", "")), None)
+                if s is None:  # compare names a run by what sets it apart: match on the settings
+                    raise SystemExit("no run %s in %s (have %s)" % (key, metrics, list(res)))
+                cells.append(s)
+            def col(k, fmt):
+                return " / ".join(fmt % c[k] for c in cells)
+            rows.append("| %s | %s | %s | %s | %s |" % (name, label, col("psnr", "%.2f"), col("ssim", "%.4f"),
+                                                        col("temporalErrorVsReference", "%.4f")))
+    print("| scene | method | PSNR [dB] | SSIM | temporal |")
+    print("|---|---|---|---|---|")
+    print("\n".join(rows))
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(everything, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
