@@ -28,8 +28,8 @@
 #include <utility>
 #include <vector>
 
-#include "passes/tonemap.h"
 #include "rtd/rtd.h"
+#include "support/ceiling_halo.h"
 #ifdef HAVE_RTDENOISE_EVAL
 #include "rtd/eval/evaluate.h"
 #endif
@@ -40,15 +40,7 @@ namespace {
 #ifdef HAVE_RTDENOISE_EVAL
 const std::filesystem::path kLamp = std::filesystem::path(RTD_SOURCE_DIR) / "tests/fixtures/blender_lamp";
 
-double displayLuma(const Image& img, int x, int y) {
-  auto d = [&](int c) { return tonemap::toneMapToSrgb(img.at(x, y, c), tonemap::Operator::Reinhard, 1.0f); };
-  return tonemap::luminance(d(0), d(1), d(2));
-}
-
-struct Halo {
-  double near = 0, far = 0, nearBias = 0, farBias = 0;
-  double ratio() const { return near / far; }
-};
+using test::CeilingHalo;
 
 class BlenderLamp : public ::testing::Test {
  protected:
@@ -62,7 +54,7 @@ class BlenderLamp : public ::testing::Test {
   }
 
   // The ceiling's halo measure of `method` with `settings` after every frame of the fixture.
-  static Halo measure(const std::string& method, const std::vector<std::pair<std::string, std::string>>& settings) {
+  static CeilingHalo measure(const std::string& method, const std::vector<std::pair<std::string, std::string>>& settings) {
     auto d = Device::create({.backend = Backend::Cpu, .threads = 2})->createDenoiser(method);
     for (const auto& [k, v] : settings) d->set(k, v);
     Frame last;
@@ -73,42 +65,17 @@ class BlenderLamp : public ::testing::Test {
       d->denoise(last.inputs(), out.view());
     }
     const Image reference = ref_->read(ref_->indexOf(last.number));
-    const int w = last.width, h = last.height;
-    // The lamp: its emission (the frames are centre-sampled: the same pixels every frame). The
-    // ceiling: downward normal at the ceiling's height (2.8 m, Blender's z up; the lamp is at
-    // 2.798 m), the lamp's pixels left out.
-    auto emitter = [&](int x, int y) { return last[Buffer::Emission].at(x, y, 0) > 0.0f; };
-    auto ceiling = [&](int x, int y) {
-      return last[Buffer::Normal].at(x, y, 2) < -0.9f && last[Buffer::Position].at(x, y, 2) > 2.79f && !emitter(x, y);
-    };
-    auto distance = [&](int x, int y) {  // Chebyshev distance to the nearest emitter pixel, capped
-      for (int r = 1; r <= 8; ++r)
-        for (int dy = -r; dy <= r; ++dy)
-          for (int dx = -r; dx <= r; ++dx) {
-            const int qx = x + dx, qy = y + dy;
-            if (qx >= 0 && qy >= 0 && qx < w && qy < h && emitter(qx, qy)) return r;
-          }
-      return 9;
-    };
-    int lamp = 0, nNear = 0, nFar = 0;
-    Halo r;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        lamp += emitter(x, y);
-        if (!ceiling(x, y)) continue;
-        const int dist = distance(x, y);
-        const double e = displayLuma(out, x, y) - displayLuma(reference, x, y);
-        if (dist <= 3) r.near += std::abs(e), r.nearBias += e, ++nNear;
-        if (dist >= 6) r.far += std::abs(e), r.farBias += e, ++nFar;
-      }
-    EXPECT_GE(lamp, 40) << "the lamp is visible";
-    EXPECT_GT(nNear, 100);
-    EXPECT_GT(nFar, 300);
-    r.near /= nNear, r.far /= nFar, r.nearBias /= nNear, r.farBias /= nFar;
+    // The ceiling: downward normal at the ceiling's height (2.8 m, Blender's z up; the lamp is
+    // at 2.798 m).
+    const CeilingHalo r = test::ceilingHalo(last, out, reference, [&](int x, int y) {
+      return last[Buffer::Normal].at(x, y, 2) < -0.9f && last[Buffer::Position].at(x, y, 2) > 2.79f;
+    });
+    EXPECT_GE(r.lampPixels, 40) << "the lamp is visible";
+    EXPECT_GT(r.nNear, 100);
+    EXPECT_GT(r.nFar, 300);
     std::string name = method;
     for (const auto& [k, v] : settings) name += " " + k + "=" + v;
-    std::printf("%s: ceiling next to the lamp |err| %.4f (bias %+.4f, %d px), elsewhere %.4f (bias %+.4f, %d px), ratio %.2f\n",
-                name.c_str(), r.near, r.nearBias, nNear, r.far, r.farBias, nFar, r.ratio());
+    r.print(name);
     return r;
   }
 
@@ -130,9 +97,9 @@ TEST_F(BlenderLamp, TheSequenceHasTheLampAsEmission) {
 // elsewhere on the ceiling; 1.03 measured). With the old cause present (exclusion off: the lamp
 // enters its blocks' fits as a black surface) the same bound fails (1.82).
 TEST_F(BlenderLamp, BmfrCeilingNextToTheLampIsLikeElsewhere) {
-  const Halo on = measure("bmfr", {});
+  const CeilingHalo on = measure("bmfr", {});
   EXPECT_LT(on.ratio(), 1.3);
-  const Halo off = measure("bmfr", {{"excludeEmitters", "false"}});
+  const CeilingHalo off = measure("bmfr", {{"excludeEmitters", "false"}});
   EXPECT_GT(off.ratio(), 1.3);
   EXPECT_GT(off.near, 1.5 * on.near);
 }
@@ -145,17 +112,17 @@ TEST_F(BlenderLamp, BmfrCeilingNextToTheLampIsLikeElsewhere) {
 // before) fails the same bound (3.96). The rest is the a-trous levels' over-smoothing of the
 // ceiling's own illumination and TAA (file comment), so the bound is looser than BMFR's.
 TEST_F(BlenderLamp, SvgfLeavesTheLampOutOfTheCeilingsFilter) {
-  const Halo now = measure("svgf", {});
-  const Halo old = measure("svgf", {{"emitterThreshold", "1e9"}});
+  const CeilingHalo now = measure("svgf", {});
+  const CeilingHalo old = measure("svgf", {{"emitterThreshold", "1e9"}});
   EXPECT_LT(now.ratio(), 3.3);
   EXPECT_GT(old.ratio(), 3.3);
   EXPECT_LT(now.near, 0.8 * old.near);
   EXPECT_LT(now.far, 1.05 * old.far);  // elsewhere no worse
-  const Halo dundr = measure("svgf", {{"variant", "dundr"}});
+  const CeilingHalo dundr = measure("svgf", {{"variant", "dundr"}});
   EXPECT_LT(dundr.ratio(), 3.3);
   // With one a-trous level the lamp's neighbourhood is no worse than 2x the rest: what is left
   // at five levels is the filter's reach, not the lamp.
-  const Halo oneLevel = measure("svgf", {{"atrousIterations", "1"}});
+  const CeilingHalo oneLevel = measure("svgf", {{"atrousIterations", "1"}});
   EXPECT_LT(oneLevel.ratio(), 2.0);
 }
 #endif
