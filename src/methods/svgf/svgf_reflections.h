@@ -77,13 +77,12 @@ template <class Has> ReflectionParts resolveReflectionParts(const SvgfSettings& 
   }
   p.reflectedFeatures = decide("reflectedFeatures", s.reflectedFeatures != SvgfPart::off, s.reflectedFeatures == SvgfPart::on,
                                {Buffer::Roughness, Buffer::ReflectedPosition, Buffer::ReflectedNormal, Buffer::ReflectedAlbedo});
-  p.glossyBandwidth =
-      s.bandwidthPerLobe
-          ? decide("glossyBandwidth", s.glossyBandwidth != SvgfPart::off, s.glossyBandwidth == SvgfPart::on,
-                   {Buffer::Roughness, Buffer::ReflectedFootprint, Buffer::Position, Buffer::ReflectedPosition,
-                    Buffer::ReflectedNormal})
-          : decide("glossyBandwidth", s.glossyBandwidth != SvgfPart::off, s.glossyBandwidth == SvgfPart::on,
-                   {Buffer::Roughness, Buffer::ReflectedFootprint});
+  // Eq. 6 in world units reads the footprint; in lobe widths also the reflected hit's distance.
+  const std::initializer_list<Buffer> bandwidthWorld = {Buffer::Roughness, Buffer::ReflectedFootprint};
+  const std::initializer_list<Buffer> bandwidthLobe = {Buffer::Roughness, Buffer::ReflectedFootprint, Buffer::Position,
+                                                       Buffer::ReflectedPosition, Buffer::ReflectedNormal};
+  p.glossyBandwidth = decide("glossyBandwidth", s.glossyBandwidth != SvgfPart::off, s.glossyBandwidth == SvgfPart::on,
+                             s.bandwidthPerLobe ? bandwidthLobe : bandwidthWorld);
   p.classes = p.clipping || p.materialAlpha || p.motion != SpecularMotion::Primary || p.reflectedFeatures ||
               p.glossyBandwidth;
   return p;
