@@ -16,6 +16,7 @@
 #include "passes/emitters.h"
 #include "passes/reprojection.h"
 #include "passes/taa.h"
+#include "passes/taa_keys.h"
 #include "passes/temporal_accumulation.h"
 #include "rtd/methods/svgf.h"
 
@@ -145,7 +146,12 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     if (!s.taa.taa) return *shown;
     PassTimer t(stats, "taa");
-    return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion), *shown, s.taa);
+    // The own-surface box's keys: object id, the Voorhuis classes where they were computed,
+    // the emitters excludeEmitters() took out of the filter.
+    const bool keyed = s.taa.taaOwnSurface &&
+                       taaSurfaceKeys(frame, s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
+    return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion), *shown, s.taa,
+                    keyed ? &taaKeys_ : nullptr);
   }
 
  private:
@@ -252,6 +258,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   Stream streams_[kMaxStreams];
   Plane3 sum_, display_, lobeMedian_;
   Taa taa_;
+  PixelVector<uint32_t> taaKeys_;  // TaaSettings::taaOwnSurface
   std::unique_ptr<svgf::GersthoferEye> gersthofer_;  // components = composite
 };
 
