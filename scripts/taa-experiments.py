@@ -5,6 +5,7 @@ committed Blender fixture with a reference; prints the Markdown table of docs/me
 
   scripts/taa-experiments.py [--build build/release] [--size 160x90] [--frames 16]
                              [--reference-spp 64] [--work /tmp/rtd-taa] [--scenes cornell,...]
+                             [--taa 'label=settings;...']
 
 Each scene is rendered once into WORK/<scene> (1 spp, --reference-spp references, kept for
 re-runs), then one `rtdenoise compare` runs every configuration over it; the table holds the
@@ -50,7 +51,12 @@ def main():
     ap.add_argument("--work", default="/tmp/rtd-taa")
     ap.add_argument("--scenes", default=",".join(SCENES + ["blender_glossy"]))
     ap.add_argument("--json", help="also write every run's steady-state means here")
+    ap.add_argument("--taa", help="the TAA configurations instead of the history filters: label=settings;... "
+                    "(e.g. 'plain=:taaOwnSurface=false;own=:taaOwnSurface=true;no TAA=:taa=false')")
     a = ap.parse_args()
+    global TAA
+    if a.taa:
+        TAA = [tuple(c.split("=", 1)) for c in a.taa.split(";")]
     cli = os.path.join(a.build, "apps", "rtdenoise")
     os.makedirs(a.work, exist_ok=True)
     rows, everything = [], {}
@@ -91,7 +97,7 @@ def main():
                 return " / ".join(fmt % c[k] for c in cells)
             rows.append("| %s | %s | %s | %s | %s |" % (name, label, col("psnr", "%.2f"), col("ssim", "%.4f"),
                                                         col("temporalErrorVsReference", "%.4f")))
-    print("| scene | method | PSNR [dB] | SSIM | temporal |")
+    print("| scene | method | PSNR [dB] (%s) | SSIM | temporal |" % " / ".join(l for l, _ in TAA))
     print("|---|---|---|---|---|")
     print("\n".join(rows))
     if a.json:
