@@ -20,8 +20,8 @@ constexpr uint32_t kTaaEmitterKey = 0x80000000u;
 /// in bits 0-30, as surfaceKeys() (passes/reflection_reprojection.h) keys the Voorhuis clipping,
 /// with the object id where the frame has Buffer::ObjectId, the class where `cls` is given
 /// (the method classified the surfaces), and kTaaEmitterKey at the emitters that `emitters`
-/// excludes (where the frame has Buffer::Emission).
-bool taaSurfaceKeys(const FrameData& f, const EmitterSettings& emitters, const PixelVector<uint8_t>* cls,
+/// excludes (where the frame has Buffer::Emission; nullptr: a method that excludes none).
+bool taaSurfaceKeys(const FrameData& f, const EmitterSettings* emitters, const PixelVector<uint8_t>* cls,
                     PixelVector<uint32_t>& out);
 
 }  // namespace rtd

@@ -178,7 +178,7 @@ TEST(TaaOwnSurface, KeysTellObjectsClassesAndEmittersApart) {
   f.height = 1;
   PixelVector<uint32_t> keys;
   EmitterSettings e;
-  EXPECT_FALSE(taaSurfaceKeys(f, e, nullptr, keys));
+  EXPECT_FALSE(taaSurfaceKeys(f, &e, nullptr, keys));
   auto add = [&](Buffer b, int n) {
     f.buffers[int(b)].assign(size_t(n), Plane{});
     for (Plane& p : f.buffers[int(b)]) p.resize(4, 1, 0.0f);
@@ -189,11 +189,13 @@ TEST(TaaOwnSurface, KeysTellObjectsClassesAndEmittersApart) {
   f.plane(Buffer::Emission, 0)(1, 0) = 10.0f;
   PixelVector<uint8_t> cls = {0, 0, 2, 1};
   e.excludeEmitters = true;
-  ASSERT_TRUE(taaSurfaceKeys(f, e, &cls, keys));
+  ASSERT_TRUE(taaSurfaceKeys(f, &e, &cls, keys));
   EXPECT_EQ(keys[0], 12u);
   EXPECT_EQ(keys[1], 12u | kTaaEmitterKey);
   EXPECT_EQ(keys[2], 18u);
   EXPECT_EQ(keys[3], 17u);
+  ASSERT_TRUE(taaSurfaceKeys(f, nullptr, nullptr, keys));  // a method that excludes no emitter (A-SVGF)
+  EXPECT_EQ(keys[1], 12u);
 }
 
 }  // namespace

@@ -351,7 +351,7 @@ TEST(VulkanPasses, TaaOwnSurfaceMatchesCpu) {
           for (int x = 0; x < kWidth; ++x)
             if ((x * 7 + y * 3 + k) % 11 == 0) em[1](x, y) = 5.0f;
         PixelVector<uint32_t> keys;
-        ASSERT_TRUE(taaSurfaceKeys(f, e, nullptr, keys));
+        ASSERT_TRUE(taaSurfaceKeys(f, &e, nullptr, keys));
         Reprojection r;
         reproject(f, k ? &prevCpu : nullptr, {}, r);
         Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
@@ -367,7 +367,7 @@ TEST(VulkanPasses, TaaOwnSurfaceMatchesCpu) {
         bool keyed = false;
         recordAndRun(ctx, [&](vk::Recorder& rec) {
           vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
-          keyed = vk::taaSurfaceKeys(rec, g, e, nullptr, keysGpu);
+          keyed = vk::taaSurfaceKeys(rec, g, &e, nullptr, keysGpu);
           rec.barrier();
           result = &gpu.run(rec, rp, color, s, &keysGpu);
         });

@@ -233,16 +233,16 @@ void GpuTaa::resize(Context& ctx, int w, int h) {
   valid_ = false;
 }
 
-bool taaSurfaceKeys(Recorder& rec, const GpuFrame& f, const EmitterSettings& emitters, const Planes* cls, Planes& out) {
+bool taaSurfaceKeys(Recorder& rec, const GpuFrame& f, const EmitterSettings* emitters, const Planes* cls, Planes& out) {
   const bool object = f.has(Buffer::ObjectId);
-  const bool emission = f.has(Buffer::Emission) && (emitters.excludeEmitters || f.has(Buffer::Albedo));
+  const bool emission = emitters && f.has(Buffer::Emission) && (emitters->excludeEmitters || f.has(Buffer::Albedo));
   if (!object && !cls && !emission) return false;
   if (out.width != f.width || out.height != f.height || out.count != 1) out.allocate(rec.context(), f.width, f.height, 1);
   struct PC {
     uint32_t width, height, hasCls, hasObject, emitters;
     float threshold;
   } pc{uint32_t(f.width), uint32_t(f.height), cls != nullptr, object,
-       emission ? (emitters.excludeEmitters ? 1u : 2u) : 0u, emitters.emitterThreshold};
+       emission ? (emitters->excludeEmitters ? 1u : 2u) : 0u, emitters ? emitters->emitterThreshold : 0.0f};
   const Context& ctx = rec.context();
   rec.dispatch("taa_keys",
                {cls ? Binding(*cls) : Binding(ctx.dummy()), f.bindingOf(Buffer::ObjectId, ctx),

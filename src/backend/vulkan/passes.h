@@ -138,7 +138,7 @@ void fxaa(Recorder& rec, const Planes& in, Planes& out, float edgeThreshold = 0.
 /// taaSurfaceKeys (src/passes/taa_keys.h) on the device into `out` (1 plane of uint32, allocated
 /// here): `cls` the surface classes (1 plane, as float) or nullptr. Returns false (nothing
 /// dispatched) where the frame has nothing that tells surfaces apart.
-bool taaSurfaceKeys(Recorder& rec, const GpuFrame& f, const EmitterSettings& emitters, const Planes* cls, Planes& out);
+bool taaSurfaceKeys(Recorder& rec, const GpuFrame& f, const EmitterSettings* emitters, const Planes* cls, Planes& out);
 
 /// Karis TAA on the remodulated output; its result is the next frame's history.
 class GpuTaa {

@@ -205,7 +205,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
       bool keyed = false;
       if (s.taa.taaOwnSurface) {
         PassTimer t(stats, "taa keys");
-        keyed = taaSurfaceKeys(frame, s.emitters, nullptr, taaKeys_);
+        keyed = taaSurfaceKeys(frame, &s.emitters, nullptr, taaKeys_);
       }
       taa_.begin(frame.width, frame.height, s.taa, keyed ? &taaKeys_ : nullptr);
     }

@@ -101,7 +101,7 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
     if (!s.taa.taa) return remodulated_;
     rec.pass("taa");
     // The own-surface box's keys (as bmfr_simd.cpp): object id and the emitters the fits leave out.
-    const bool keyed = s.taa.taaOwnSurface && vk::taaSurfaceKeys(rec, frame, s.emitters, nullptr, taaKeys_);
+    const bool keyed = s.taa.taaOwnSurface && vk::taaSurfaceKeys(rec, frame, &s.emitters, nullptr, taaKeys_);
     return taa_.run(rec, reprojection_, remodulated_, s.taa, keyed ? &taaKeys_ : nullptr);
   }
 

@@ -149,7 +149,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     // The own-surface box's keys: object id, the Voorhuis classes where they were computed,
     // the emitters excludeEmitters() took out of the filter.
     const bool keyed = s.taa.taaOwnSurface &&
-                       taaSurfaceKeys(frame, s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
+                       taaSurfaceKeys(frame, &s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
     return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion), *shown, s.taa,
                     keyed ? &taaKeys_ : nullptr);
   }

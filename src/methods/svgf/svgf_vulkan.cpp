@@ -143,7 +143,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     if (!s.taa.taa) return remodulated_;
     // The own-surface box's keys (as svgf.cpp): object id, the classes where computed, emitters.
     const bool keyed = s.taa.taaOwnSurface &&
-                       vk::taaSurfaceKeys(rec, frame, s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
+                       vk::taaSurfaceKeys(rec, frame, &s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
     return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_, s.taaGlossyReflectionMotion), remodulated_, s.taa,
                     keyed ? &taaKeys_ : nullptr);
   }
