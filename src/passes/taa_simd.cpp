@@ -319,7 +319,10 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
               const float v = slots[j][k * w + q];
               boxLo[k] = fmin(boxLo[k], v);
               boxHi[k] = fmax(boxHi[k], v);
-              if (cross) crossLo[k] = fmin(crossLo[k], v), crossHi[k] = fmax(crossHi[k], v);
+              if (cross) {
+                crossLo[k] = fmin(crossLo[k], v);
+                crossHi[k] = fmax(crossHi[k], v);
+              }
             }
             if constexpr (kDisplay)
               top = fmax(top, fmax(fmax(tonemap::taaEncode(src[j][0][q]), tonemap::taaEncode(src[j][1][q])),
