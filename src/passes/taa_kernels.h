@@ -11,7 +11,8 @@ constexpr int kTaaSlotRows = 10;
 }  // namespace rtd
 
 RTD_SIMD_DECLARE(
-/// Taa::runRows once there is history: `window` holds 3 * kTaaSlotRows + 3 rows of the width.
+/// Taa::runRows once there is history: `window` holds 3 * kTaaSlotRows + 4 rows of the width
+/// (the slots, the fetched history, the own-surface box's flags).
 /// `next` receives the clamped blend (the next frame's history); with p.display, `linearOut`
 /// receives its taaDecode (otherwise it is unused: `next` is the output). `keys` (or nullptr):
 /// the surface keys of the own-surface box (TaaSettings::taaOwnSurface).

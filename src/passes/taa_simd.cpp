@@ -301,12 +301,25 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       const float* slots[3] = {a, c, b};
       const float* src[3][3] = {{color[0].row(ya), color[1].row(ya), color[2].row(ya)}, {r, g, bl},
                                 {color[0].row(yb), color[1].row(yb), color[2].row(yb)}};
+      // Which pixels have other keys in their 3x3: a column is uniform where its three keys are
+      // equal, a pixel's 3x3 where its three columns are and the row's three keys are
+      // (the first loop vectorized; the flags go in the window's last row,
+      // as floats 0 / 1: the window is float storage that the plane visitors scan).
+      float* mixed = window + size_t(3 * kSlotRows + 3) * w;
+#pragma GCC ivdep
+      for (int x = 0; x < w; ++x) mixed[x] = float((kr[0][x] != kr[1][x]) | (kr[2][x] != kr[1][x]));
+      float left = mixed[0];  // in place: the left column's own flag
       for (int x = 0; x < w; ++x) {
+        const int xl = x > 0 ? x - 1 : 0, xr = x + 1 < w ? x + 1 : x;
+        const float cur = mixed[x];
+        const bool row = kr[1][xl] != kr[1][x] || kr[1][xr] != kr[1][x];
+        mixed[x] = row ? 1.0f : fmax(fmax(left, cur), mixed[xr]);
+        left = cur;
+      }
+      for (int x = 0; x < w; ++x) {
+        if (mixed[x] == 0.0f) continue;
         const uint32_t own = kr[1][x];
         const int xs[3] = {std::max(x - 1, 0), x, std::min(x + 1, w - 1)};
-        bool same = true;
-        for (int j = 0; j < 3; ++j) same = same && kr[j][xs[0]] == own && kr[j][xs[1]] == own && kr[j][xs[2]] == own;
-        if (same) continue;
         float boxLo[3], boxHi[3], crossLo[3], crossHi[3];
         for (int k = 0; k < 3; ++k) boxLo[k] = boxHi[k] = crossLo[k] = crossHi[k] = c[k * w + x];
         float top = 0.0f;

@@ -145,11 +145,14 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       remodulate(*shown, albedo);
     }
     if (!s.taa.taa) return *shown;
-    PassTimer t(stats, "taa");
     // The own-surface box's keys: object id, the Voorhuis classes where they were computed,
     // the emitters excludeEmitters() took out of the filter.
-    const bool keyed = s.taa.taaOwnSurface &&
-                       taaSurfaceKeys(frame, &s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
+    bool keyed = false;
+    if (s.taa.taaOwnSurface) {
+      PassTimer t(stats, "taa keys");
+      keyed = taaSurfaceKeys(frame, &s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
+    }
+    PassTimer t(stats, "taa");
     return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion), *shown, s.taa,
                     keyed ? &taaKeys_ : nullptr);
   }
