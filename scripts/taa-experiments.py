@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The shared TAA pass's history filter and domain (issue 12): quality of every method that runs
 TAA with taaHistoryFilter=bilinear, =catmullRom and with taa=false (--compare filter), or with
-taaDomain=display, =displayClamp, =linear and taa=false (--compare domain), on the renderer's
+taaDomain=display, =linear and taa=false (--compare domain), on the renderer's
 scenes and the committed Blender fixture with a reference; prints the Markdown tables of
 docs/methods/taa.md.
 
@@ -25,8 +25,7 @@ METHODS = ["svgf", "svgf:variant=dundr", "bmfr", "asvgf"]
 # The configurations each table compares (--compare): the history filter, or the TAA's domain.
 COMPARISONS = {
     "filter": [("bilinear", ":taaHistoryFilter=bilinear"), ("catmullRom", ":taaHistoryFilter=catmullRom"), ("no TAA", ":taa=false")],
-    "domain": [("display", ":taaDomain=display"), ("displayClamp", ":taaDomain=displayClamp"), ("linear", ":taaDomain=linear"),
-               ("no TAA", ":taa=false")],
+    "domain": [("display", ":taaDomain=display"), ("linear", ":taaDomain=linear"), ("no TAA", ":taa=false")],
 }
 SCENES = ["cornell", "pillars", "dynamic", "corridorglossy", "mirrorfloor", "glossyfloor"]
 
@@ -59,7 +58,7 @@ def main():
     ap.add_argument("--scenes", default=",".join(SCENES + ["blender_glossy"]))
     ap.add_argument("--json", help="also write every run's steady-state means here")
     ap.add_argument("--compare", choices=sorted(COMPARISONS), default="filter",
-                    help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / displayClamp / linear / no TAA")
+                    help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / linear / no TAA")
     a = ap.parse_args()
     TAA = COMPARISONS[a.compare]
     cli = os.path.join(a.build, "apps", "rtdenoise")

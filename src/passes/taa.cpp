@@ -29,10 +29,10 @@ const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, const TaaSet
 void Taa::begin(int w, int h, const TaaSettings& s) {
   if (width_ != w || history_[0][0].height != h) resize(w, h);
   params_ = TaaParams::of(s);
-  if (params_.encodedHistory() && (linear_[0].width != w || linear_[0].height != h)) rtd::resize(linear_, w, h);
+  if (params_.display && (linear_[0].width != w || linear_[0].height != h)) rtd::resize(linear_, w, h);
   cur_ ^= 1;
-  first_ = !valid_ || encodedHistory_ != params_.encodedHistory();  // a history in the other domain is no history
-  encodedHistory_ = params_.encodedHistory();
+  first_ = !valid_ || display_ != params_.display;  // a history in the other domain is no history
+  display_ = params_.display;
   valid_ = true;
 }
 
@@ -43,7 +43,7 @@ void Taa::runRows(const Reprojection& rp, const Plane3& color, int rowBegin, int
     const size_t n = size_t(rowEnd - rowBegin) * w;
     for (int c = 0; c < 3; ++c) {
       const float* in = color[c].row(rowBegin);
-      if (!params_.encodedHistory()) {
+      if (!params_.display) {
         std::copy(in, in + n, next[c].row(rowBegin));
         continue;
       }

@@ -2,9 +2,8 @@
 // output, reprojected bilinearly or with the 4x4 Catmull-Rom cubic (TaaSettings::
 // taaHistoryFilter; Jimenez's SMAA T2x), is clamped to the min/max box of the current 3x3
 // neighbourhood in YCoCg (optionally averaged with the 5-tap cross's, as the BMFR code) and
-// blended with the current frame, on linear radiance or on display-encoded values, or
-// clamped on display-encoded values and blended on linear ones (TaaSettings::taaDomain;
-// tonemap::taaEncode before, taaDecode after).
+// blended with the current frame, on linear radiance or on display-encoded values
+// (TaaSettings::taaDomain; tonemap::taaEncode before, taaDecode after).
 #pragma once
 #include <tbb/enumerable_thread_specific.h>
 
@@ -19,17 +18,13 @@ namespace rtd {
 /// What the TAA kernel computes (rtd::TaaSettings, decoded once per frame).
 struct TaaParams {
   float alpha;        ///< weight of the current frame
-  TaaDomain domain;   ///< what is clamped and blended (rtd::TaaDomain)
+  bool display;       ///< clamp and blend taaEncode()d values; the history holds them too
   float crossWeight;  ///< bounds = box + crossWeight * (cross - box): 0 box3x3, 0.5 boxCross (BMFR)
   bool catmullRom;    ///< history fetch: 4x4 Catmull-Rom instead of bilinear (TaaHistoryFilter)
   static TaaParams of(const TaaSettings& s) {
-    return {s.taaAlpha, s.taaDomain, s.taaNeighbourhood == TaaNeighbourhood::boxCross ? 0.5f : 0.0f,
+    return {s.taaAlpha, s.taaDomain == TaaDomain::display, s.taaNeighbourhood == TaaNeighbourhood::boxCross ? 0.5f : 0.0f,
             s.taaHistoryFilter == TaaHistoryFilter::catmullRom};
   }
-  /// The 3x3 box is built from taaEncode()d values (display, displayClamp).
-  bool encodedBox() const { return domain != TaaDomain::linear; }
-  /// The history holds taaEncode()d values and the output is their decode (display only).
-  bool encodedHistory() const { return domain == TaaDomain::display; }
 };
 
 class Taa {
@@ -47,7 +42,7 @@ class Taa {
   void begin(int width, int height, const TaaSettings& s);
   void runRows(const Reprojection& rp, const Plane3& color, int rowBegin, int rowEnd);
   /// The linear output: the history itself in the linear domain, its decode in the display one.
-  const Plane3& result() const { return params_.encodedHistory() ? linear_ : history_[cur_]; }
+  const Plane3& result() const { return params_.display ? linear_ : history_[cur_]; }
   /// Both histories, the decoded output and this thread's window rows (PlaneVisitor).
   void forEachPlane(const PlaneVisitor& visit) const {
     for (const Plane3& h : history_) visitPlanes(visit, "taa history", h);
@@ -65,8 +60,8 @@ class Taa {
   Plane3 history_[2];  // in the frame's domain (display-encoded or linear)
   Plane3 linear_;      // display domain: the decoded output
   int cur_ = 0;
-  TaaParams params_{0.1f, TaaDomain::linear, 0.0f, false};
-  bool encodedHistory_ = false;  // the domain the history holds
+  TaaParams params_{0.1f, false, 0.0f, false};
+  bool display_ = false;  // the domain the history holds
   int width_ = 0;
   tbb::enumerable_thread_specific<Window> windows_;
   bool valid_ = false;

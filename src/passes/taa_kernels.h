@@ -12,7 +12,7 @@ constexpr int kTaaSlotRows = 10;
 
 RTD_SIMD_DECLARE(
 /// Taa::runRows once there is history: `window` holds 3 * kTaaSlotRows + 3 rows of the width.
-/// `next` receives the clamped blend (the next frame's history); with p.encodedHistory(), `linearOut`
+/// `next` receives the clamped blend (the next frame's history); with p.display, `linearOut`
 /// receives its taaDecode (otherwise it is unused: `next` is the output).
 void taaRows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd,
              const Plane3& history, Plane3& next, Plane3& linearOut, float* window, int slotRow[3]);

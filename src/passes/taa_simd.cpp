@@ -162,13 +162,9 @@ void catmullRomFetch8(const Plane3& hist, const float* prevX, const float* prevY
 }
 #endif
 
-// kDomain: what the box, the clamp and the blend run on (TaaDomain). The box is built from
-// encoded values in display and displayClamp (kDisplay); the history holds encoded values in
-// display only (kEncodedHistory).
-template <TaaDomain kDomain>
+template <bool kDisplay>
 void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
           Plane3& next, Plane3& linearOut, float* window, int slotRow[3]) {
-  constexpr bool kDisplay = kDomain != TaaDomain::linear, kEncodedHistory = kDomain == TaaDomain::display;
   const float alpha = p.alpha, cw = p.crossWeight;
   const int w = color[0].width, h = color[0].height;
   constexpr int kSlotRows = kTaaSlotRows;
@@ -208,7 +204,7 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     auto fetch = [&](int x) {
       const float px = prevX[x] - 0.5f, py = prevY[x] - 0.5f;
       if (!(px > -1.0f && py > -1.0f && px < float(w) && py < float(h))) {
-        if constexpr (kEncodedHistory) {
+        if constexpr (kDisplay) {
           hr[x] = tonemap::taaEncode(r[x]); hg[x] = tonemap::taaEncode(g[x]); hb[x] = tonemap::taaEncode(bl[x]);
         } else {
           hr[x] = r[x]; hg[x] = g[x]; hb[x] = bl[x];
@@ -268,11 +264,6 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       }
 #endif
     for (; x < w; ++x) fetch(x);
-    if constexpr (kDomain == TaaDomain::displayClamp) {  // the linear history, encoded for the clamp
-      encodeRow(hr, hr, w);
-      encodeRow(hg, hg, w);
-      encodeRow(hb, hb, w);
-    }
     // Clamp to the 3x3 YCoCg box (moved towards the 5-tap cross's bounds by cw) and blend
     // (vectorized over the row).
     float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
@@ -288,18 +279,6 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
         const float lo = boxLo + cw * (crossLo - boxLo), hi = boxHi + cw * (crossHi - boxHi);
         hc[k] = fmin(fmax(hc[k], lo), hi);
       }
-      if constexpr (kDomain == TaaDomain::displayClamp) {
-        // The clamped history back to encoded RGB, bounded as the display domain's blend
-        // below, decoded (tonemap::taaDecode), then blended with the current linear colour.
-        const float top = fmax(fmax(a[9 * w + x], c[9 * w + x]), b[9 * w + x]);
-        const float e[3] = {hc[0] + hc[1] - hc[2], hc[0] + hc[2], hc[0] - hc[1] - hc[2]};
-        const float cur[3] = {r[x], g[x], bl[x]};
-        for (int k = 0; k < 3; ++k) {
-          const float v = fmin(fmin(fmax(e[k], 0.0f), top), tonemap::kTaaMaxEncoded), t = v * v;
-          n[k][x] = flushTiny(alpha * cur[k] + (1 - alpha) * (t / (1.0f - t)));
-        }
-        continue;
-      }
       const float by = alpha * c[x] + (1 - alpha) * hc[0];
       const float bco = alpha * c[w + x] + (1 - alpha) * hc[1];
       const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hc[2];
@@ -312,7 +291,7 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       }
       for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);  // history: never subnormal (core/flush.h)
     }
-    if constexpr (kEncodedHistory) {
+    if constexpr (kDisplay) {
       for (int k = 0; k < 3; ++k) {
         const float* e = n[k];
         float* o = linearOut[k].row(y);
@@ -329,12 +308,8 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
 
 void taaRows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
              Plane3& next, Plane3& linearOut, float* window, int slotRow[3]) {
-  switch (p.domain) {
-    case TaaDomain::linear: return rows<TaaDomain::linear>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow);
-    case TaaDomain::display: return rows<TaaDomain::display>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow);
-    case TaaDomain::displayClamp:
-      return rows<TaaDomain::displayClamp>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow);
-  }
+  if (p.display) rows<true>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow);
+  else rows<false>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow);
 }
 
 }  // namespace rtd::RTD_SIMD_NS

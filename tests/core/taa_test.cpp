@@ -67,7 +67,7 @@ TEST(Taa, ConstantImageIsAFixedPoint) {
   const Plane3 in = image([](int, int, int c) { return 0.2f + 0.3f * c; });
   const Plane3 hdr = image([](int, int, int c) { return 0.05f + 10.0f * c; });
   for (TaaHistoryFilter filter : kFilters)
-  for (TaaDomain d : {TaaDomain::linear, TaaDomain::display, TaaDomain::displayClamp})
+  for (TaaDomain d : {TaaDomain::linear, TaaDomain::display})
     for (const Plane3* img : {&in, &hdr}) {
       Taa taa;
       Plane3 out;
@@ -249,38 +249,16 @@ TEST(Taa, DisplayDomainBlendsEncodedValues) {
     }
 }
 
-// displayClamp: the clamp runs on encoded values, the blend on linear ones. A grey history of
-// 3 inside the box of a grey 1/8 checkerboard is kept and blended linearly:
-// a c + (1 - a) 3; a history of 20 above the box is clamped to the box's top, encoded 8, and
-// decodes to 8: a c + (1 - a) 8. On every CPU path; the history it keeps is the linear output.
-TEST(Taa, DisplayClampDomainClampsEncodedAndBlendsLinear) {
-  const float alpha = 0.25f;
-  const Plane3 checker = image([](int x, int y, int) { return (x + y) % 2 ? 8.0f : 1.0f; });
-  for (CpuPath path : test::supportedCpuPaths()) {
-    test::ScopedCpuPath force(path);
-    for (float history : {3.0f, 20.0f}) {
-      Taa taa;
-      Plane3 out = taa.run(shifted(0.0f), image([&](int, int, int) { return history; }), settings(alpha, TaaDomain::displayClamp));
-      out = taa.run(shifted(0.0f), checker, settings(alpha, TaaDomain::displayClamp));
-      const double kept = std::min(history, 8.0f);
-      for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
-          const double want = alpha * checker[0](x, y) + (1 - alpha) * kept;
-          for (int c = 0; c < 3; ++c) ASSERT_NEAR(out[c](x, y), want, 4e-6 * want * (1 + kept)) << cpuPathName(path) << " " << x << "," << y;
-        }
-    }
-  }
-}
-
-// The reason for displayClamp: residual noise averaged over time keeps its mean radiance. A
-// grey frame whose pixels alternate between 0.2 and 1.8 in a checkerboard that flips every
-// frame, under a still camera: every 3x3 box spans [0.2, 1.8], so nothing is clamped and the
-// blend is a running average. Its mean over two consecutive frames converges to the mean
-// radiance 1 in the linear and the displayClamp domain. In the display domain the blend is a
-// running average of encoded values e(x) = sqrt(x / (1 + x)), which settles into the cycle
+// What the display domain costs (docs/methods/taa.md, "The domain"): residual noise averaged
+// over time decodes darker than its mean radiance. A grey frame whose pixels alternate between
+// 0.2 and 1.8 in a checkerboard that flips every frame, under a still camera: every 3x3 box
+// spans [0.2, 1.8], so nothing is clamped and the blend is a running average. In linear
+// radiance the mean of two consecutive outputs converges to the mean radiance 1. In the display
+// domain the running average of encoded values e(x) = sqrt(x / (1 + x)) settles into the cycle
 // h_a = (a e_a + a (1 - a) e_b) / (1 - (1 - a)^2) and its twin: their decodes' mean (computed
-// here in double) is 0.578: 42 % darker.
-TEST(Taa, DisplayClampKeepsTheMeanOfTemporalNoise) {
+// here in double) is 0.578, 42 % darker (Jensen: the encoding is concave). The same concavity
+// is what keeps a bright pixel from spreading (BrightPixelDoesNotDominateItsNeighboursInTheDisplayDomain).
+TEST(Taa, DisplayDomainDarkensTemporalNoiseByTheEncodingsConcavity) {
   const float lo = 0.2f, hi = 1.8f;
   auto frame = [&](int t) { return image([&](int x, int y, int) { return (x + y + t) % 2 ? hi : lo; }); };
   const Plane3 f0 = frame(0), f1 = frame(1);
@@ -289,7 +267,7 @@ TEST(Taa, DisplayClampKeepsTheMeanOfTemporalNoise) {
                hb = (al * e(hi) + al * (1 - al) * e(lo)) / (1 - (1 - al) * (1 - al));
   auto decode = [](double y) { return y * y / (1 - y * y); };
   const double displayMean = 0.5 * (decode(ha) + decode(hb));
-  for (TaaDomain d : {TaaDomain::linear, TaaDomain::display, TaaDomain::displayClamp}) {
+  for (TaaDomain d : {TaaDomain::linear, TaaDomain::display}) {
     Taa taa;
     Plane3 a, b;
     for (int f = 0; f < 200; ++f) {

@@ -10,13 +10,7 @@ namespace rtd {
 /// (Sec. 3.0) and the BMFR code (gamma-encoded LDR) anti-alias display-referred colour, so a
 /// few bright pixels do not dominate the YCoCg box and the blend; the output stays linear HDR.
 /// linear: the radiance itself (rtdenoise before 2026-12).
-/// displayClamp: the 3x3 box and the clamp in the display domain (the papers' reason for it:
-/// bright pixels do not widen the box), the blend of the clamped history with the current frame
-/// in linear radiance, where the history is also kept. Averaging display-encoded values decodes
-/// below the mean radiance (the encoding is concave: Jensen), which the display domain pays as a
-/// darkening of residual noise; this domain keeps the clamp's robustness without that bias
-/// (docs/methods/taa.md, "The blend's domain").
-enum class TaaDomain { linear, display, displayClamp };
+enum class TaaDomain { linear, display };
 /// Clamp bounds: the 3x3 box (Karis 2014, Dundr), or the mean of the 3x3 box's and the 5-tap
 /// cross's bounds (BMFR code).
 enum class TaaNeighbourhood { box3x3, boxCross };
@@ -46,8 +40,8 @@ struct TaaSettings {
     v("taaAlpha", taaAlpha, "weight of the current frame in the TAA blend (Karis 2014: 0.1, BMFR: 0.2)", Range{0.001, 1});
     v("taaDomain", taaDomain,
       "values TAA clamps and blends: display = Reinhard x/(1+x) + gamma 2 per channel, inverted after (Dundr, Voorhuis, BMFR "
-      "code); linear = HDR radiance; displayClamp = box and clamp in the display domain, blend and history in linear radiance",
-      {"linear", "display", "displayClamp"});
+      "code); linear = HDR radiance",
+      {"linear", "display"});
     v("taaNeighbourhood", taaNeighbourhood, "clamp bounds: 3x3 box (Karis, Dundr) or mean of box and 5-tap cross (BMFR code)",
       {"box3x3", "boxCross"});
     v("taaHistoryFilter", taaHistoryFilter,

@@ -237,18 +237,18 @@ const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, 
   const int prev = cur_;
   cur_ ^= 1;
   const TaaParams p = TaaParams::of(s);
-  const bool valid = valid_ && encodedHistory_ == p.encodedHistory();  // a history in the other domain is no history
+  const bool valid = valid_ && display_ == p.display;  // a history in the other domain is no history
   struct PC {
     uint32_t width, height;
     float alpha;
-    uint32_t valid, domain;  // TaaDomain: 0 linear, 1 display, 2 displayClamp
+    uint32_t valid, display;
     float crossWeight;
     uint32_t catmullRom;
-  } pc{uint32_t(color.width), uint32_t(color.height), p.alpha, valid, uint32_t(p.domain), p.crossWeight, p.catmullRom};
+  } pc{uint32_t(color.width), uint32_t(color.height), p.alpha, valid, p.display, p.crossWeight, p.catmullRom};
   rec.dispatch("taa", {rp, color, history_[prev], history_[cur_], linear_}, pc, color.width, color.height);
   valid_ = true;
-  encodedHistory_ = p.encodedHistory();
-  return p.encodedHistory() ? linear_ : history_[cur_];
+  display_ = p.display;
+  return p.display ? linear_ : history_[cur_];
 }
 
 }  // namespace rtd::vk

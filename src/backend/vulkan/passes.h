@@ -151,7 +151,7 @@ class GpuTaa {
   Planes linear_;      // display domain: the decoded output
   int cur_ = 0;
   bool valid_ = false;
-  bool encodedHistory_ = false;
+  bool display_ = false;
 };
 
 }  // namespace rtd::vk

@@ -4,7 +4,7 @@
 // T2x) at the reprojected position, is clamped to the YCoCg min/max box of
 // the current 3x3 neighbourhood (optionally averaged with the 5-tap cross's bounds, as the BMFR
 // code) and blended, on linear radiance or on display-encoded values (Reinhard + gamma 2,
-// decoded after), or clamped on display-encoded values and blended on linear ones. Port of src/passes/taa.cpp and taa_simd.cpp. The 3x3 neighbourhood is read
+// decoded after). Port of src/passes/taa.cpp and taa_simd.cpp. The 3x3 neighbourhood is read
 // through shared memory (an 18x18 tile per 16x16 workgroup: 1.27 loads per pixel instead of 9).
 #include "common.glsl"
 #include "reprojection.glsl"
@@ -20,8 +20,7 @@ layout(push_constant) uniform PC {
   uint width, height;
   float alpha;
   uint valid;    // 0: first frame, output = input
-  uint domain;   // TaaDomain: 0 linear, 1 display (clamp and blend taaEncode()d values, tonemap.h),
-                 // 2 displayClamp (box and clamp encoded, blend and history linear)
+  uint display;  // 1: clamp and blend taaEncode()d values (tonemap.h)
   float crossWeight;
   uint catmullRom;  // 1: 4x4 Catmull-Rom history fetch (TaaHistoryFilter)
 } pc;
@@ -108,8 +107,7 @@ vec3 loadColor(ivec2 q, uint plane) {
 
 void main() {
   const uint plane = pc.width * pc.height;
-  const bool display = pc.domain != 0u;           // the box is built from encoded values
-  const bool encodedHistory = pc.domain == 1u;    // the history holds them too
+  const bool display = pc.display != 0u;
   const ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16 - 1;
   for (uint k = gl_LocalInvocationIndex; k < 18u * 18u; k += 256u) {
     const ivec2 t = ivec2(k % 18u, k / 18u);
@@ -125,9 +123,9 @@ void main() {
   const uint i = p.y * pc.width + p.x;
   const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
   if (pc.valid == 0u) {
-    const vec3 e = encodedHistory ? encode(c) : c;
+    const vec3 e = display ? encode(c) : c;
     for (uint k = 0; k < 3; ++k) outp[k * plane + i] = e[k];
-    if (encodedHistory)
+    if (display)
       for (uint k = 0; k < 3; ++k) linearOut[k * plane + i] = c[k];
     return;
   }
@@ -152,7 +150,7 @@ void main() {
   precise vec3 bLo = lo + pc.crossWeight * (crossLo - lo);
   precise vec3 bHi = hi + pc.crossWeight * (crossHi - hi);
   precise float px = uintBitsToFloat(rp[6u * plane + i]) - 0.5, py = uintBitsToFloat(rp[7u * plane + i]) - 0.5;
-  vec3 result = encodedHistory ? encode(c) : c;
+  vec3 result = display ? encode(c) : c;
   if (px > -1.0 && py > -1.0 && px < float(pc.width) && py < float(pc.height)) {
     const int x0 = int(floor(px)), y0 = int(floor(py));
     precise float ax = px - float(x0), ay = py - float(y0);
@@ -164,22 +162,14 @@ void main() {
       const uint j = uint(ty) * pc.width + uint(tx);
       h += wt * vec3(hist[j], hist[plane + j], hist[2u * plane + j]);
     }
-    if (pc.domain == 2u) {
-      // displayClamp: the linear history clamped in the encoded box, back to encoded RGB and
-      // bounded as below, decoded, blended with the current linear colour.
-      const vec3 he = min(max(fromYCoCg(clamp(toYCoCg(encode(h)), bLo, bHi)), vec3(0.0)), vec3(top));
-      precise vec3 blended = pc.alpha * c + (1.0 - pc.alpha) * decode(he);
-      result = blended;
-    } else {
-      vec3 hy = clamp(toYCoCg(h), bLo, bHi);
-      precise vec3 blended = pc.alpha * cur + (1.0 - pc.alpha) * hy;
-      result = fromYCoCg(blended);
-    }
+    vec3 hy = clamp(toYCoCg(h), bLo, bHi);
+    precise vec3 blended = pc.alpha * cur + (1.0 - pc.alpha) * hy;
+    result = fromYCoCg(blended);
   }
   result = max(result, vec3(0.0));
-  if (encodedHistory) result = min(result, vec3(top));  // a box corner outside the RGB cube stays bounded
+  if (display) result = min(result, vec3(top));  // a box corner outside the RGB cube stays bounded
   for (uint k = 0; k < 3; ++k) outp[k * plane + i] = result[k];
-  if (encodedHistory) {
+  if (display) {
     const vec3 o = decode(result);
     for (uint k = 0; k < 3; ++k) linearOut[k * plane + i] = o[k];
   }
