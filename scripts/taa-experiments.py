@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
-"""The shared TAA pass's history filter (issue 12): quality of every method that runs TAA with
-taaHistoryFilter=bilinear, =catmullRom and with taa=false, on the renderer's scenes and the
-committed Blender fixture with a reference; prints the Markdown table of docs/methods/taa.md.
+"""The shared TAA pass's history filter and domain (issue 12): quality of every method that runs
+TAA with taaHistoryFilter=bilinear, =catmullRom and with taa=false (--compare filter), or with
+taaDomain=display, =linear and taa=false (--compare domain), on the renderer's
+scenes and the committed Blender fixture with a reference; prints the Markdown tables of
+docs/methods/taa.md.
 
   scripts/taa-experiments.py [--build build/release] [--size 160x90] [--frames 16]
                              [--reference-spp 64] [--work /tmp/rtd-taa] [--scenes cornell,...]
+                             [--compare filter|domain]
 
 Each scene is rendered once into WORK/<scene> (1 spp, --reference-spp references, kept for
 re-runs), then one `rtdenoise compare` runs every configuration over it; the table holds the
@@ -19,7 +22,11 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 METHODS = ["svgf", "svgf:variant=dundr", "bmfr", "asvgf"]
-TAA = [("bilinear", ":taaHistoryFilter=bilinear"), ("catmullRom", ":taaHistoryFilter=catmullRom"), ("no TAA", ":taa=false")]
+# The configurations each table compares (--compare): the history filter, or the TAA's domain.
+COMPARISONS = {
+    "filter": [("bilinear", ":taaHistoryFilter=bilinear"), ("catmullRom", ":taaHistoryFilter=catmullRom"), ("no TAA", ":taa=false")],
+    "domain": [("display", ":taaDomain=display"), ("linear", ":taaDomain=linear"), ("no TAA", ":taa=false")],
+}
 SCENES = ["cornell", "pillars", "dynamic", "corridorglossy", "mirrorfloor", "glossyfloor"]
 
 
@@ -50,7 +57,10 @@ def main():
     ap.add_argument("--work", default="/tmp/rtd-taa")
     ap.add_argument("--scenes", default=",".join(SCENES + ["blender_glossy"]))
     ap.add_argument("--json", help="also write every run's steady-state means here")
+    ap.add_argument("--compare", choices=sorted(COMPARISONS), default="filter",
+                    help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / linear / no TAA")
     a = ap.parse_args()
+    TAA = COMPARISONS[a.compare]
     cli = os.path.join(a.build, "apps", "rtdenoise")
     os.makedirs(a.work, exist_ok=True)
     rows, everything = [], {}
@@ -91,6 +101,7 @@ def main():
                 return " / ".join(fmt % c[k] for c in cells)
             rows.append("| %s | %s | %s | %s | %s |" % (name, label, col("psnr", "%.2f"), col("ssim", "%.4f"),
                                                         col("temporalErrorVsReference", "%.4f")))
+    print("Columns: " + " / ".join(label for label, _ in TAA))
     print("| scene | method | PSNR [dB] | SSIM | temporal |")
     print("|---|---|---|---|---|")
     print("\n".join(rows))
