@@ -343,22 +343,51 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
       const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
       vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
       const vf idc = pid ? load(pid + c) : splat(0.0f);
-      auto tap = [&](int dx, int dy, vf depthScale) {
-        const size_t q = c + ptrdiff_t(dy) * S + dx;
-        vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(-0.5f));
-        vf wt;
+      // As in atrousRowsT: the weights of up to kChunk opposite pairs first, both taps of a pair
+      // stage by stage (exp2ShiftedN), then their sums, in the order of the taps.
+      constexpr int kChunk = 7;
+      vf weights[2 * kChunk];
+      ptrdiff_t offsets[2 * kChunk];
+      auto pairWeights = [&](int i, int dx, int dy, vf depthScale) __attribute__((always_inline)) {
+        size_t q[2];
+        vf v[2], wt[2];
+        q[0] = c + ptrdiff_t(dy) * S + dx;
+        q[1] = c - ptrdiff_t(dy) * S - dx;
+        offsets[2 * i] = q[0];
+        offsets[2 * i + 1] = q[1];
+        for (int j = 0; j < 2; ++j) v[j] = vfnmadd(vabs(zc - load(pz + q[j])), depthScale, splat(-0.5f));
+        const float cutj[2] = {exp2Cut(1.0f), exp2Cut(1.0f)}, lowj[2] = {exp2Cut(1.0f) - 1.0f, exp2Cut(1.0f) - 1.0f};
         if constexpr (kLogNormal) {
-          const vf xx = oneMinusDot(nx, ny, nz, load(pnx + q), load(pny + q), load(pnz + q));
-          wt = exp2Shifted(normalSeries(v, xx, cn1, cn2, cn3));
+          vf xx[2], sr[2];
+          for (int j = 0; j < 2; ++j) xx[j] = vfnmadd(nx, load(pnx + q[j]), splat(1.0f));
+          for (int j = 0; j < 2; ++j) xx[j] = vfnmadd(ny, load(pny + q[j]), xx[j]);
+          for (int j = 0; j < 2; ++j) xx[j] = vfnmadd(nz, load(pnz + q[j]), xx[j]);
+          for (int j = 0; j < 2; ++j) sr[j] = cn2 + xx[j] * cn3;
+          for (int j = 0; j < 2; ++j) sr[j] = cn1 + xx[j] * sr[j];
+          for (int j = 0; j < 2; ++j) v[j] = vfnmadd(xx[j], sr[j], v[j]);
+          exp2ShiftedN<2>(v, cutj, lowj);
+          for (int j = 0; j < 2; ++j) wt[j] = v[j];
         } else {
-          const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-          const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v);
-          wt = wn >= kMinWeight ? wn : splat(0.0f);
+          exp2ShiftedN<2>(v, cutj, lowj);
+          for (int j = 0; j < 2; ++j) {
+            const vf d = nx * load(pnx + q[j]) + ny * load(pny + q[j]) + nz * load(pnz + q[j]);
+            const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * v[j];
+            wt[j] = wn >= kMinWeight ? wn : splat(0.0f);
+          }
         }
-        if (pid) wt = load(pid + q) == idc ? wt : splat(0.0f);  // the mesh-id term
-        sw += wt;
-        s1 += wt * load(A + q);
-        s2 += wt * load(B + q);
+        if (pid)
+          for (int j = 0; j < 2; ++j) wt[j] = load(pid + q[j]) == idc ? wt[j] : splat(0.0f);  // the mesh-id term
+        weights[2 * i] = wt[0];
+        weights[2 * i + 1] = wt[1];
+      };
+      auto chunkSums = [&](int count) __attribute__((always_inline)) {
+        for (int i = 0; i < 2 * count; ++i) {
+          const size_t q = offsets[i];
+          const vf wt = weights[i];
+          sw += wt;
+          s1 += wt * load(A + q);
+          s2 += wt * load(B + q);
+        }
       };
       // Opposite offsets share the depth denominator's reciprocal; the default radius 3 (48
       // taps) is unrolled at compile time.
@@ -366,14 +395,20 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
         constexpr int kR = decltype(radius)::value;
         const int r = kR > 0 ? kR : R;
 #pragma GCC unroll 7
-        for (int dy = -r; dy <= 0; ++dy)
+        for (int dy = -r; dy <= 0; ++dy) {
+          int i = 0;
 #pragma GCC unroll 7
           for (int dx = -r; dx <= r; ++dx) {
             if (dy == 0 && dx >= 0) break;
             const vf depthScale = vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(maxDen2)) + epsZc2);
-            tap(dx, dy, depthScale);
-            tap(-dx, -dy, depthScale);
+            pairWeights(i++, dx, dy, depthScale);
+            if (i == kChunk) {
+              chunkSums(i);
+              i = 0;
+            }
           }
+          if (i) chunkSums(i);
+        }
       };
       if (R == 3) window(std::integral_constant<int, 3>{});
       else window(std::integral_constant<int, 0>{});
