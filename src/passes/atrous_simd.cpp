@@ -38,11 +38,11 @@ inline float exp2Start(float h) { return -0.5f + std::log2(h); }
 /// 2^kMinWeightExp2 (the scalar weights' bound, atrous.h).
 inline float exp2Cut(float h) { return float(kMinWeightExp2) - 0.5f + std::log2(h); }
 // exp2Shifted of N independent arguments at once, stage by stage: each stage's N operations
-// are independent, so they stand next to each other in the instruction stream. A tap's chain
-// from its loads to its weight is ~20 dependent operations (~75 cycles); Zen 2's FP scheduler
-// holds only a few taps' worth of waiting operations, so one tap's chain after the other left
-// the FP ports idle most of the time (issue 20, "Session 8, speed" in docs/performance.md).
-// `cut` and `low` (= cut - 1, the clamp) per argument.
+// are independent and stand next to each other in the instruction stream (a tap's chain from
+// its loads to its weight is ~20 dependent operations). Together with computing a pixel's
+// weights before its sums (atrousRowsT) this took the AVX2 level from ~40 to ~35 cycles per
+// tap on Zen 2 ("Session 8, speed" in docs/performance.md). `cut` and `low` (= cut - 1, the
+// clamp; precomputed, so no scalar subtraction and broadcast per tap) per argument.
 template <int N> inline void exp2ShiftedN(vf (&v)[N], const float* cut, const float* low) {
 #ifdef RTD_SIMD_AVX512
   (void)low;
@@ -260,8 +260,11 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
           tapPair(k, n - 1 - k, depthScale);
         }
       };
-      // The weights first, then the sums (in the order of the pairs, as before): the five sums
-      // and the weight chains' registers do not fit in AVX2's sixteen together.
+      // The weights first (into `weights`, in L1), then the sums in the order of the pairs, so
+      // the result is bit for bit that of one tap after the other: AVX2 has 16 vector registers,
+      // and the five sums, the nine centre values and the exp's constants together (~25) made
+      // GCC spill and reload ~20 values per tap, the sums among them (docs/performance.md,
+      // "Session 8, speed").
       auto sums = [&](auto count) {
         constexpr int n = decltype(count)::value;
 #pragma GCC unroll 24
