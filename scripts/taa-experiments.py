@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
-"""The shared TAA pass's history filter (issue 12): quality of every method that runs TAA with
-taaHistoryFilter=bilinear, =catmullRom and with taa=false, on the renderer's scenes and the
-committed Blender fixture with a reference; prints the Markdown table of docs/methods/taa.md.
+"""The shared TAA pass's history filter and domain (issue 12): quality of every method that runs
+TAA with taaHistoryFilter=bilinear, =catmullRom and with taa=false (--compare filter), or with
+taaDomain=display, =linear and taa=false (--compare domain), or taaOwnSurface=false, =true and
+taa=false (--compare ownSurface), on the renderer's
+scenes and the committed Blender fixture with a reference; prints the Markdown tables of
+docs/methods/taa.md.
 
   scripts/taa-experiments.py [--build build/release] [--size 160x90] [--frames 16]
                              [--reference-spp 64] [--work /tmp/rtd-taa] [--scenes cornell,...]
-                             [--taa 'label=settings;...']
+                             [--compare filter|domain|ownSurface]
 
 Each scene is rendered once into WORK/<scene> (1 spp, --reference-spp references, kept for
 re-runs), then one `rtdenoise compare` runs every configuration over it; the table holds the
@@ -20,7 +23,12 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 METHODS = ["svgf", "svgf:variant=dundr", "bmfr", "asvgf"]
-TAA = [("bilinear", ":taaHistoryFilter=bilinear"), ("catmullRom", ":taaHistoryFilter=catmullRom"), ("no TAA", ":taa=false")]
+# The configurations each table compares (--compare): the history filter, or the TAA's domain.
+COMPARISONS = {
+    "filter": [("bilinear", ":taaHistoryFilter=bilinear"), ("catmullRom", ":taaHistoryFilter=catmullRom"), ("no TAA", ":taa=false")],
+    "domain": [("display", ":taaDomain=display"), ("linear", ":taaDomain=linear"), ("no TAA", ":taa=false")],
+    "ownSurface": [("plain", ":taaOwnSurface=false"), ("own", ":taaOwnSurface=true"), ("no TAA", ":taa=false")],
+}
 SCENES = ["cornell", "pillars", "dynamic", "corridorglossy", "mirrorfloor", "glossyfloor"]
 
 
@@ -51,12 +59,11 @@ def main():
     ap.add_argument("--work", default="/tmp/rtd-taa")
     ap.add_argument("--scenes", default=",".join(SCENES + ["blender_glossy"]))
     ap.add_argument("--json", help="also write every run's steady-state means here")
-    ap.add_argument("--taa", help="the TAA configurations instead of the history filters: label=settings;... "
-                    "(e.g. 'plain=:taaOwnSurface=false;own=:taaOwnSurface=true;no TAA=:taa=false')")
+    ap.add_argument("--compare", choices=sorted(COMPARISONS), default="filter",
+                    help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / linear / no TAA; "
+                    "ownSurface: taaOwnSurface off / on / no TAA")
     a = ap.parse_args()
-    global TAA
-    if a.taa:
-        TAA = [tuple(c.split("=", 1)) for c in a.taa.split(";")]
+    TAA = COMPARISONS[a.compare]
     cli = os.path.join(a.build, "apps", "rtdenoise")
     os.makedirs(a.work, exist_ok=True)
     rows, everything = [], {}
@@ -97,7 +104,8 @@ def main():
                 return " / ".join(fmt % c[k] for c in cells)
             rows.append("| %s | %s | %s | %s | %s |" % (name, label, col("psnr", "%.2f"), col("ssim", "%.4f"),
                                                         col("temporalErrorVsReference", "%.4f")))
-    print("| scene | method | PSNR [dB] (%s) | SSIM | temporal |" % " / ".join(l for l, _ in TAA))
+    print("Columns: " + " / ".join(label for label, _ in TAA))
+    print("| scene | method | PSNR [dB] | SSIM | temporal |")
     print("|---|---|---|---|---|")
     print("\n".join(rows))
     if a.json:

@@ -37,32 +37,56 @@ inline float exp2Start(float h) { return -0.5f + std::log2(h); }
 /// Where v falls below it, 2^(v + 1/2) is cut to 0: the weight without h is then below
 /// 2^kMinWeightExp2 (the scalar weights' bound, atrous.h).
 inline float exp2Cut(float h) { return float(kMinWeightExp2) - 0.5f + std::log2(h); }
-inline vf exp2Shifted(vf v, float cut = exp2Cut(1.0f)) {
+// exp2Shifted of N independent arguments at once, stage by stage: each stage's N operations
+// are independent and stand next to each other in the instruction stream (a tap's chain from
+// its loads to its weight is ~20 dependent operations). Together with computing a pixel's
+// weights before its sums (atrousRowsT) this took the AVX2 level from ~40 to ~35 cycles per
+// tap on Zen 2 ("Session 8, speed" in docs/performance.md). `cut` and `low` (= cut - 1, the
+// clamp; precomputed, so no scalar subtraction and broadcast per tap) per argument.
+template <int N> inline void exp2ShiftedN(vf (&v)[N], const float* cut, const float* low) {
 #ifdef RTD_SIMD_AVX512
+  (void)low;
   // 2^(g + 1/2) on [0, 1).
   constexpr float c0 = 1.41421723f, c1 = 0.980055392f, c2 = 0.341451615f, c3 = 0.0735553131f, c4 = 0.0191402044f;
-  const vf g = _mm512_reduce_ps(v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-  const vf p = c0 + g * (c1 + g * (c2 + g * (c3 + g * c4)));
-  return _mm512_maskz_scalef_ps(_mm512_cmp_ps_mask(v, splat(cut), _CMP_GE_OQ), p, v);
+  vf g[N], p[N];
+  for (int j = 0; j < N; ++j) g[j] = _mm512_reduce_ps(v[j], _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  for (int j = 0; j < N; ++j) p[j] = c3 + g[j] * c4;
+  for (int j = 0; j < N; ++j) p[j] = c2 + g[j] * p[j];
+  for (int j = 0; j < N; ++j) p[j] = c1 + g[j] * p[j];
+  for (int j = 0; j < N; ++j) p[j] = c0 + g[j] * p[j];
+  for (int j = 0; j < N; ++j)
+    v[j] = _mm512_maskz_scalef_ps(_mm512_cmp_ps_mask(v[j], splat(cut[j]), _CMP_GE_OQ), p[j], v[j]);
 #else
   // 2^(g + 1/2) on [-1/2, 1/2].
   constexpr float c0 = 1.41421247f, c1 = 0.980222285f, c2 = 0.339761198f, c3 = 0.0790797994f, c4 = 0.0135341678f;
   constexpr float kMagic = 12582912.0f;  // 1.5 * 2^23: v + kMagic rounds v to an integer
-  v = vmax(v, splat(cut - 1.0f));  // NaN: the bound
-  const vi keep = v >= cut;
-  const vf t = v + kMagic;
-  const vf n = t - kMagic;
-  const vf g = v - n;
+  vi keep[N];
+  vf t[N], g[N], p[N];
+  for (int j = 0; j < N; ++j) v[j] = vmax(v[j], splat(low[j]));  // NaN: the bound
+  for (int j = 0; j < N; ++j) t[j] = v[j] + kMagic;
+  for (int j = 0; j < N; ++j) keep[j] = v[j] >= cut[j];
+  for (int j = 0; j < N; ++j) g[j] = v[j] - (t[j] - kMagic);
 #ifdef RTD_SIMD_AVX2
-  const vf p = c0 + g * (c1 + g * (c2 + g * (c3 + g * c4)));
+  for (int j = 0; j < N; ++j) p[j] = c3 + g[j] * c4;
+  for (int j = 0; j < N; ++j) p[j] = c2 + g[j] * p[j];
+  for (int j = 0; j < N; ++j) p[j] = c1 + g[j] * p[j];
+  for (int j = 0; j < N; ++j) p[j] = c0 + g[j] * p[j];
 #else
   // Without FMA, Estrin's form: a shorter chain of separate multiplies and adds than Horner's.
-  const vf g2 = g * g;
-  const vf p = (c0 + g * c1) + g2 * ((c2 + g * c3) + g2 * c4);
+  for (int j = 0; j < N; ++j) {
+    const vf g2 = g[j] * g[j];
+    p[j] = (c0 + g[j] * c1) + g2 * ((c2 + g[j] * c3) + g2 * c4);
+  }
 #endif
   // The low bits of t hold n + 2^22 (t's exponent is that of kMagic): 2^n's exponent bits.
-  return p * asFloat(((asInt(t) + (127 - int(0x4b400000))) << 23) & keep);
+  for (int j = 0; j < N; ++j) v[j] = p[j] * asFloat(((asInt(t[j]) + (127 - int(0x4b400000))) << 23) & keep[j]);
 #endif
+}
+inline vf exp2Shifted(vf v, float cut = exp2Cut(1.0f)) {
+  vf a[1] = {v};
+  const float low = cut - 1.0f;
+  exp2ShiftedN<1>(a, &cut, &low);
+  return a[0];
 }
 
 // x = 1 - n(p) . n(q) with fused multiply-adds (one rounding per step, no product alone): the
@@ -137,11 +161,12 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const float* pziScale = kGlossy ? lv.indirectDistanceScale->data.data() : nullptr;
   const float* pcentre = lv.centreScale ? lv.centreScale->data.data() : nullptr;
   // Each tap's starting exponent and cut (exp2Shifted), and its bound on h w_n w_z w_l.
-  float start[32], cut[32], minWeight[32];
+  float start[32], cut[32], cutLow[32], minWeight[32];
   assert(tapCount == 24 || tapCount == 8);
   for (int k = 0; k < tapCount; ++k) {
     start[k] = exp2Start(taps[k].h);
     cut[k] = exp2Cut(taps[k].h);
+    cutLow[k] = cut[k] - 1.0f;
     minWeight[k] = taps[k].h * kMinWeight;
   }
   // The normal series' coefficients and the depth denominator in log2 units: the reciprocal
@@ -178,34 +203,50 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       if (pcentre) w0 *= load(pcentre + c);  // w_r on every neighbour = 1/w_r on the centre
       vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
       vf sv = kPropagate ? w0 * w0 * load(pv + c) : splat(0.0f);
-      // One tap: v = start - log2(e) (x_z + x_l [+ falloff] [+ x_zi] + x_n), then h w = 2^(v + 1/2).
-      auto tap = [&](int k, vf depthScale) {
-        const AtrousTap& t = taps[k];
-        const size_t q = c + t.offset;
-        vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(start[k]));  // fused: exp2Shifted
-        v = vfnmadd(vabs(lc - load(pl + q)), inv, v);
-        if constexpr (kFalloff) v = vfnmadd(fall, splat(t.k2), v);
-        if constexpr (kGlossy) v = vfnmadd(vabs(zic - load(pzi + q)), ziInv, v);
-        vf wt;
+      vf weights[24];
+      // One pair of opposite taps ka, kb: v = start - log2(e) (x_z + x_l [+ falloff] [+ x_zi] +
+      // x_n), then h w = 2^(v + 1/2). The two taps' chains are written stage by stage (each
+      // line's two operations are independent; exp2ShiftedN says why), the sums in tap order.
+      auto tapPair = [&](int ka, int kb, vf depthScale) __attribute__((always_inline)) {
+        const int kk[2] = {ka, kb};
+        size_t q[2];
+        vf v[2], wt[2];
+        for (int j = 0; j < 2; ++j) q[j] = c + taps[kk[j]].offset;
+        for (int j = 0; j < 2; ++j)
+          v[j] = vfnmadd(vabs(zc - load(pz + q[j])), depthScale, splat(start[kk[j]]));  // fused: exp2Shifted
+        for (int j = 0; j < 2; ++j) v[j] = vfnmadd(vabs(lc - load(pl + q[j])), inv, v[j]);
+        if constexpr (kFalloff)
+          for (int j = 0; j < 2; ++j) v[j] = vfnmadd(fall, splat(taps[kk[j]].k2), v[j]);
+        if constexpr (kGlossy)
+          for (int j = 0; j < 2; ++j) v[j] = vfnmadd(vabs(zic - load(pzi + q[j])), ziInv, v[j]);
+        const float cutj[2] = {cut[ka], cut[kb]}, lowj[2] = {cutLow[ka], cutLow[kb]};
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
           // series is exact to 1e-5 relative where w_n matters (d > 0.9 for sigma_n = 64) and
-          // makes w_n ~ 0 where d <= 0, so it joins the one exp.
-          const vf x = oneMinusDot(nx, ny, nz, load(pnx + q), load(pny + q), load(pnz + q));
-          wt = exp2Shifted(normalSeries(v, x, cn1, cn2, cn3), cut[k]);
+          // makes w_n ~ 0 where d <= 0, so it joins the one exp. x = oneMinusDot, the series
+          // normalSeries, each stage for both taps.
+          vf x[2], s[2];
+          for (int j = 0; j < 2; ++j) x[j] = vfnmadd(nx, load(pnx + q[j]), splat(1.0f));
+          for (int j = 0; j < 2; ++j) x[j] = vfnmadd(ny, load(pny + q[j]), x[j]);
+          for (int j = 0; j < 2; ++j) x[j] = vfnmadd(nz, load(pnz + q[j]), x[j]);
+          for (int j = 0; j < 2; ++j) s[j] = cn2 + x[j] * cn3;
+          for (int j = 0; j < 2; ++j) s[j] = cn1 + x[j] * s[j];
+          for (int j = 0; j < 2; ++j) v[j] = vfnmadd(x[j], s[j], v[j]);
+          exp2ShiftedN<2>(v, cutj, lowj);
+          for (int j = 0; j < 2; ++j) wt[j] = v[j];
         } else {
           // d below 2^(kMinWeightExp2 / e) gives w_n < 2^kMinWeightExp2: 0, so the powers
           // stay normal; the product w_n w_z w_l is cut at the same bound.
-          const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-          const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v, cut[k]);
-          wt = wn >= minWeight[k] ? wn : splat(0.0f);
+          exp2ShiftedN<2>(v, cutj, lowj);
+          for (int j = 0; j < 2; ++j) {
+            const vf d = nx * load(pnx + q[j]) + ny * load(pny + q[j]) + nz * load(pnz + q[j]);
+            const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * v[j];
+            wt[j] = wn >= minWeight[kk[j]] ? wn : splat(0.0f);
+          }
         }
-        if constexpr (kMasked) wt *= load(pvalid + q);
-        sw += wt;
-        sr += wt * load(pr + q);
-        sg += wt * load(pg + q);
-        sb += wt * load(pb + q);
-        if constexpr (kPropagate) sv += wt * wt * load(pv + q);
+        if constexpr (kMasked)
+          for (int j = 0; j < 2; ++j) wt[j] *= load(pvalid + q[j]);
+        for (int j = 0; j < 2; ++j) weights[kk[j]] = wt[j];
       };
       // Taps come in opposite pairs (q, 2p - q) whose w_z denominators sigma_z |grad z . (p - q)|
       // + eps are equal: one reciprocal serves both (atrousLevel orders the list that way).
@@ -216,12 +257,35 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         for (int k = 0; k < n / 2; ++k) {
           const AtrousTap& a = taps[k];
           const vf depthScale = vrcp(vmin(vabs(gx * a.ox + gy * a.oy), splat(maxDen2)) + epsZc2);
-          tap(k, depthScale);
-          tap(n - 1 - k, depthScale);
+          tapPair(k, n - 1 - k, depthScale);
         }
       };
-      if (tapCount == 24) pairs(std::integral_constant<int, 24>{});
-      else pairs(std::integral_constant<int, 8>{});
+      // The weights first (into `weights`, in L1), then the sums in the order of the pairs, so
+      // the result is bit for bit that of one tap after the other: AVX2 has 16 vector registers,
+      // and the five sums, the nine centre values and the exp's constants together (~25) made
+      // GCC spill and reload ~20 values per tap, the sums among them (docs/performance.md,
+      // "Session 8, speed").
+      auto sums = [&](auto count) {
+        constexpr int n = decltype(count)::value;
+#pragma GCC unroll 24
+        for (int i = 0; i < n; ++i) {
+          const int k = i % 2 ? n - 1 - i / 2 : i / 2;
+          const size_t q = c + taps[k].offset;
+          const vf wt = weights[k];
+          sw += wt;
+          sr += wt * load(pr + q);
+          sg += wt * load(pg + q);
+          sb += wt * load(pb + q);
+          if constexpr (kPropagate) sv += wt * wt * load(pv + q);
+        }
+      };
+      if (tapCount == 24) {
+        pairs(std::integral_constant<int, 24>{});
+        sums(std::integral_constant<int, 24>{});
+      } else {
+        pairs(std::integral_constant<int, 8>{});
+        sums(std::integral_constant<int, 8>{});
+      }
       vf rcp;
       if constexpr (kMasked) {
         // Any weight that is not 0 is >= 2^-32 (core/flush.h).
@@ -282,22 +346,51 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
       const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
       vf sw = splat(1.0f), s1 = load(A + c), s2 = load(B + c);
       const vf idc = pid ? load(pid + c) : splat(0.0f);
-      auto tap = [&](int dx, int dy, vf depthScale) {
-        const size_t q = c + ptrdiff_t(dy) * S + dx;
-        vf v = vfnmadd(vabs(zc - load(pz + q)), depthScale, splat(-0.5f));
-        vf wt;
+      // As in atrousRowsT: the weights of up to kChunk opposite pairs first, both taps of a pair
+      // stage by stage (exp2ShiftedN), then their sums, in the order of the taps.
+      constexpr int kChunk = 7;
+      vf weights[2 * kChunk];
+      ptrdiff_t offsets[2 * kChunk];
+      auto pairWeights = [&](int i, int dx, int dy, vf depthScale) __attribute__((always_inline)) {
+        size_t q[2];
+        vf v[2], wt[2];
+        q[0] = c + ptrdiff_t(dy) * S + dx;
+        q[1] = c - ptrdiff_t(dy) * S - dx;
+        offsets[2 * i] = q[0];
+        offsets[2 * i + 1] = q[1];
+        for (int j = 0; j < 2; ++j) v[j] = vfnmadd(vabs(zc - load(pz + q[j])), depthScale, splat(-0.5f));
+        const float cutj[2] = {exp2Cut(1.0f), exp2Cut(1.0f)}, lowj[2] = {exp2Cut(1.0f) - 1.0f, exp2Cut(1.0f) - 1.0f};
         if constexpr (kLogNormal) {
-          const vf xx = oneMinusDot(nx, ny, nz, load(pnx + q), load(pny + q), load(pnz + q));
-          wt = exp2Shifted(normalSeries(v, xx, cn1, cn2, cn3));
+          vf xx[2], sr[2];
+          for (int j = 0; j < 2; ++j) xx[j] = vfnmadd(nx, load(pnx + q[j]), splat(1.0f));
+          for (int j = 0; j < 2; ++j) xx[j] = vfnmadd(ny, load(pny + q[j]), xx[j]);
+          for (int j = 0; j < 2; ++j) xx[j] = vfnmadd(nz, load(pnz + q[j]), xx[j]);
+          for (int j = 0; j < 2; ++j) sr[j] = cn2 + xx[j] * cn3;
+          for (int j = 0; j < 2; ++j) sr[j] = cn1 + xx[j] * sr[j];
+          for (int j = 0; j < 2; ++j) v[j] = vfnmadd(xx[j], sr[j], v[j]);
+          exp2ShiftedN<2>(v, cutj, lowj);
+          for (int j = 0; j < 2; ++j) wt[j] = v[j];
         } else {
-          const vf d = nx * load(pnx + q) + ny * load(pny + q) + nz * load(pnz + q);
-          const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * exp2Shifted(v);
-          wt = wn >= kMinWeight ? wn : splat(0.0f);
+          exp2ShiftedN<2>(v, cutj, lowj);
+          for (int j = 0; j < 2; ++j) {
+            const vf d = nx * load(pnx + q[j]) + ny * load(pny + q[j]) + nz * load(pnz + q[j]);
+            const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * v[j];
+            wt[j] = wn >= kMinWeight ? wn : splat(0.0f);
+          }
         }
-        if (pid) wt = load(pid + q) == idc ? wt : splat(0.0f);  // the mesh-id term
-        sw += wt;
-        s1 += wt * load(A + q);
-        s2 += wt * load(B + q);
+        if (pid)
+          for (int j = 0; j < 2; ++j) wt[j] = load(pid + q[j]) == idc ? wt[j] : splat(0.0f);  // the mesh-id term
+        weights[2 * i] = wt[0];
+        weights[2 * i + 1] = wt[1];
+      };
+      auto chunkSums = [&](int count) __attribute__((always_inline)) {
+        for (int i = 0; i < 2 * count; ++i) {
+          const size_t q = offsets[i];
+          const vf wt = weights[i];
+          sw += wt;
+          s1 += wt * load(A + q);
+          s2 += wt * load(B + q);
+        }
       };
       // Opposite offsets share the depth denominator's reciprocal; the default radius 3 (48
       // taps) is unrolled at compile time.
@@ -305,14 +398,20 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
         constexpr int kR = decltype(radius)::value;
         const int r = kR > 0 ? kR : R;
 #pragma GCC unroll 7
-        for (int dy = -r; dy <= 0; ++dy)
+        for (int dy = -r; dy <= 0; ++dy) {
+          int i = 0;
 #pragma GCC unroll 7
           for (int dx = -r; dx <= r; ++dx) {
             if (dy == 0 && dx >= 0) break;
             const vf depthScale = vrcp(vmin(vabs(gx * float(dx) + gy * float(dy)), splat(maxDen2)) + epsZc2);
-            tap(dx, dy, depthScale);
-            tap(-dx, -dy, depthScale);
+            pairWeights(i++, dx, dy, depthScale);
+            if (i == kChunk) {
+              chunkSums(i);
+              i = 0;
+            }
           }
+          if (i) chunkSums(i);
+        }
       };
       if (R == 3) window(std::integral_constant<int, 3>{});
       else window(std::integral_constant<int, 0>{});

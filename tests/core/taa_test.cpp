@@ -249,6 +249,38 @@ TEST(Taa, DisplayDomainBlendsEncodedValues) {
     }
 }
 
+// What the display domain costs (docs/methods/taa.md, "The domain"): residual noise averaged
+// over time decodes darker than its mean radiance. A grey frame whose pixels alternate between
+// 0.2 and 1.8 in a checkerboard that flips every frame, under a still camera: every 3x3 box
+// spans [0.2, 1.8], so nothing is clamped and the blend is a running average. In linear
+// radiance the mean of two consecutive outputs converges to the mean radiance 1. In the display
+// domain the running average of encoded values e(x) = sqrt(x / (1 + x)) settles into the cycle
+// h_a = (a e_a + a (1 - a) e_b) / (1 - (1 - a)^2) and its twin: their decodes' mean (computed
+// here in double) is 0.578, 42 % darker (Jensen: the encoding is concave). The same concavity
+// is what keeps a bright pixel from spreading (BrightPixelDoesNotDominateItsNeighboursInTheDisplayDomain).
+TEST(Taa, DisplayDomainDarkensTemporalNoiseByTheEncodingsConcavity) {
+  const float lo = 0.2f, hi = 1.8f;
+  auto frame = [&](int t) { return image([&](int x, int y, int) { return (x + y + t) % 2 ? hi : lo; }); };
+  const Plane3 f0 = frame(0), f1 = frame(1);
+  auto e = [](double x) { return std::sqrt(x / (1.0 + x)); };
+  const double al = 0.1, ha = (al * e(lo) + al * (1 - al) * e(hi)) / (1 - (1 - al) * (1 - al)),
+               hb = (al * e(hi) + al * (1 - al) * e(lo)) / (1 - (1 - al) * (1 - al));
+  auto decode = [](double y) { return y * y / (1 - y * y); };
+  const double displayMean = 0.5 * (decode(ha) + decode(hb));
+  for (TaaDomain d : {TaaDomain::linear, TaaDomain::display}) {
+    Taa taa;
+    Plane3 a, b;
+    for (int f = 0; f < 200; ++f) {
+      a = b;
+      b = taa.run(shifted(0.0f), f % 2 ? f1 : f0, settings(0.1f, d));
+    }
+    const double want = d == TaaDomain::display ? displayMean : 1.0;
+    for (int y = 1; y < kH - 1; ++y)
+      for (int x = 1; x < kW - 1; ++x) ASSERT_NEAR(0.5 * (a[1](x, y) + b[1](x, y)), want, 1e-5) << int(d) << " " << x << "," << y;
+  }
+  EXPECT_LT(displayMean, 0.9);  // the test tells the domains apart
+}
+
 // A pixel whose reprojected centre is outside the previous frame keeps its current colour.
 TEST(Taa, PixelsWithoutHistoryKeepTheCurrentColour) {
   for (TaaHistoryFilter filter : kFilters) {

@@ -195,15 +195,20 @@ TEST(VulkanReflections, ClipBoxMatchesCpu) {
 }
 
 // The whole method: Ours (lobes, reflection motion, reflected features, Eq. 6, clipping, per-
-// class alpha) and NoSpecReproj over six rendered frames.
+// class alpha) and NoSpecReproj over six rendered frames; Ours also with the Catmull-Rom TAA
+// history, which reads the accepted taps of the record TAA follows (voorhuis_taa_motion).
 TEST(VulkanReflections, VoorhuisMatchesCpuOnARenderedSequence) {
   RTD_REQUIRE_VULKAN();
   const Rendered& r = rendered();
-  for (const char* variant : {"voorhuis", "voorhuisNoSpecReproj"}) {
+  for (const char* variant : {"voorhuis", "voorhuisNoSpecReproj", "voorhuis+catmullRom"}) {
     auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
     auto cpu = cpuDevice->createDenoiser("svgf");
     auto gpu = vulkanDevice()->createDenoiser("svgf");
-    for (Denoiser* d : {cpu.get(), gpu.get()}) d->set("variant", variant);
+    const bool catmullRom = std::string(variant) == "voorhuis+catmullRom";
+    for (Denoiser* d : {cpu.get(), gpu.get()}) {
+      d->set("variant", catmullRom ? "voorhuis" : variant);
+      if (catmullRom) d->set("taaHistoryFilter", "catmullRom");
+    }
     for (int i = 0; i < 6; ++i) {
       const Frame& f = r.frames[i];
       Image a(f.width, f.height, 3), b(f.width, f.height, 3);

@@ -208,10 +208,7 @@ const Reprojection& Reflections::taaMotion(const FrameData& f, const Reprojectio
   if (!lobes_ && (glossy || none)) return specular_;
   if (!f.has(Buffer::Roughness)) return primary;
   const int w = f.width, h = f.height;
-  taa_.width = w;
-  taa_.height = h;
-  taa_.prevX.resize(w, h);
-  taa_.prevY.resize(w, h);
+  if (taa_.width != w || taa_.height != h) taa_.resize(w, h);
   const float* metal = lobes_ && f.has(Buffer::Metalness) ? f.plane(Buffer::Metalness).ptr() : nullptr;
   parallelRows(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
@@ -219,7 +216,13 @@ const Reprojection& Reflections::taaMotion(const FrameData& f, const Reprojectio
       const SurfaceClass c = SurfaceClass(cls_[i]);
       const bool takes = none ? isSpecular(c) : c == SurfaceClass::Mirror || (glossy && c == SurfaceClass::GlossyReflection);
       const bool follow = takes && (!metal || metal[i] >= 0.5f);
+      // The whole record, not only the position: TAA's Catmull-Rom fetch reads which taps the
+      // reprojection accepted (kind, base, weights).
       const Reprojection& r = follow ? specular_ : primary;
+      taa_.kind[i] = r.kind[i];
+      taa_.base[i] = r.base[i];
+      taa_.weights[i] = r.weights[i];
+      taa_.mask3x3[i] = r.mask3x3[i];
       taa_.prevX.data[i] = r.prevX.data[i];
       taa_.prevY.data[i] = r.prevY.data[i];
     }

@@ -11,6 +11,7 @@
 #include "core/frame_data.h"
 #include "methods/svgf/svgf_reflections.h"
 #include "passes/neighbourhood_clipping.h"
+#include "passes/taa.h"
 #include "passes/temporal_accumulation.h"
 #include "rtd/rtd.h"
 
@@ -204,6 +205,27 @@ TEST(VoorhuisTaa, FollowsTheReflectionMotionOnMirrorsAndNoHistoryForNoSpecReproj
       r.prepare(prev.f, nullptr, s, parts, false, first);
       r.prepare(cur.f, &prev.f, s, parts, false, primary);
       const Reprojection& taa = r.taaMotion(cur.f, primary, glossy);
+      // The whole record, not only the position (TAA's Catmull-Rom fetch reads it): where TAA
+      // follows the primary motion, the primary record; a constant frame through the
+      // Catmull-Rom TAA on this record stays constant.
+      ASSERT_EQ(taa.kind.size(), size_t(w) * h);
+      for (int x = 0; x < w; ++x)
+        if (taa.prevX(x, 0) == primary.prevX(x, 0) && taa.prevY(x, 0) == primary.prevY(x, 0)) {
+          EXPECT_EQ(taa.kind[size_t(x)], primary.kind[size_t(x)]) << x;
+          EXPECT_EQ(taa.base[size_t(x)], primary.base[size_t(x)]) << x;
+          EXPECT_EQ(taa.weights[size_t(x)], primary.weights[size_t(x)]) << x;
+        }
+      {
+        TaaSettings ts;
+        ts.taaHistoryFilter = TaaHistoryFilter::catmullRom;
+        Plane3 grey;
+        resize(grey, w, h, 0.5f);
+        Taa t;
+        t.run(taa, grey, ts);
+        const Plane3& out = t.run(taa, grey, ts);
+        for (int c = 0; c < 3; ++c)
+          for (float v : out[c].data) ASSERT_NEAR(v, 0.5f, 1e-6f) << variant;
+      }
       for (int x = shift; x < w - shift; ++x) {
         const float rough = float(x) / 100.0f, px = taa.prevX(x, 0);
         if (variant != std::string("voorhuis")) {

@@ -407,6 +407,65 @@ TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
   EXPECT_EQ(out.var.at(0, 0), 0.0f);  // len(0,0) = 1
 }
 
+// The spatial estimate on varied features against a double-precision evaluation written from
+// Schied Sec. 4.2 (weights w_z w_n, centre weight 1, taps outside the image left out), on every
+// CPU path: radius 2, 3 (the unrolled window) and 4 (rows of nine opposite pairs, more than
+// the seven the kernel takes at once), the series and the exact power of w_n, with and
+// without mesh ids.
+TEST(SvgfVariance, SpatialEstimateMatchesDoublePrecisionReferenceOnEveryPath) {
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
+    for (int radius : {2, 3, 4})
+      for (int e : {64, 5})
+        for (bool ids : {false, true}) {
+          Scene s(37, 21, 8);  // width not a multiple of 8 or 16: the tail tile is exercised
+          randomScene(s, uint32_t(11 * radius + e + ids));
+          Plane len(s.w, s.h);
+          PaddedPlane id, var;
+          id.resize(s.w, s.h, 8);
+          var.resize(s.w, s.h, 8);
+          for (int y = 0; y < s.h; ++y)
+            for (int x = 0; x < s.w; ++x) {
+              len(x, y) = float(1 + (3 * x + y) % 5);  // short where < 4
+              s.a.var.at(x, y) = s.a.lum.at(x, y) * s.a.lum.at(x, y) + 0.01f * s.a.color[1].at(x, y);  // "b"
+              id.at(x, y) = (x / 5 + y / 4) % 3 == 0 ? 2.0f : 1.0f;
+              var.at(x, y) = -1.0f;  // kept where the history is long
+            }
+          const float sigmaZ = 1.0f, epsZ = 1e-2f, epsRelZ = radius == 4 ? 2.5e-3f : 0.0f;
+          spatialVariance(s.guide, s.a.lum, s.a.var, len, 4.0f, radius, sigmaZ, epsZ, epsRelZ, e, var, ids ? &id : nullptr);
+          for (int y = 0; y < s.h; ++y)
+            for (int x = 0; x < s.w; ++x) {
+              if (len(x, y) >= 4) {
+                ASSERT_EQ(var.at(x, y), -1.0f);
+                continue;
+              }
+              double sw = 0, s1 = 0, s2 = 0;
+              const double zp = s.guide.depth.at(x, y), eps = epsZ + epsRelZ * std::abs(zp);
+              for (int dy = -radius; dy <= radius; ++dy)
+                for (int dx = -radius; dx <= radius; ++dx) {
+                  const int qx = x + dx, qy = y + dy;
+                  if (qx < 0 || qy < 0 || qx >= s.w || qy >= s.h) continue;
+                  double wt = 1.0;
+                  if (dx || dy) {
+                    double dot = 0;
+                    for (int c = 0; c < 3; ++c) dot += double(s.guide.normal[c].at(x, y)) * s.guide.normal[c].at(qx, qy);
+                    const double g = double(s.guide.gradX.at(x, y)) * dx + double(s.guide.gradY.at(x, y)) * dy;
+                    wt = std::pow(std::max(0.0, dot), e) *
+                         std::exp(-std::abs(zp - s.guide.depth.at(qx, qy)) / (sigmaZ * std::abs(g) + eps));
+                    if (ids && id.at(qx, qy) != id.at(x, y)) wt = 0.0;
+                  }
+                  sw += wt;
+                  s1 += wt * s.a.lum.at(qx, qy);
+                  s2 += wt * s.a.var.at(qx, qy);
+                }
+              const double ref = std::max(0.0, s2 / sw - (s1 / sw) * (s1 / sw));
+              ASSERT_NEAR(var.at(x, y), ref, 2e-5 + 1e-4 * ref)
+                  << x << "," << y << " radius " << radius << " e " << e << " ids " << ids << " " << cpuPathName(path);
+            }
+        }
+  }
+}
+
 // A static camera over one pixel value sequence: the moments must be exact averages for
 // short histories with momentsTrueAverage, and an EMA without.
 TEST(SvgfVariance, MomentsExactForShortHistories) {
