@@ -207,7 +207,9 @@ int run(const Options& o) {
     add("Ours, no per-class blend", "voorhuis", true, false, {{"materialAlpha", "off"}});
     add("Ours, TAA on glossy reflection motion", "voorhuis", true, false, {{"taaGlossyReflectionMotion", "true"}});
     add("Ours, no TAA", "voorhuis", false, false);
+    add("Ours, own-surface TAA box", "voorhuis", true, false, {{"taaOwnSurface", "true"}});
     add("Base, no TAA", "voorhuisBase", false, false);
+    add("Base, own-surface TAA box", "voorhuisBase", true, false, {{"taaOwnSurface", "true"}});
     add("NoSpecReproj", "voorhuisNoSpecReproj", true, false);
     add("Ours, primary motion, no TAA", "voorhuis", false, false, {{"specularMotion", "primary"}});
   } else if (supersampling) {
@@ -218,6 +220,11 @@ int run(const Options& o) {
     add("Base", "voorhuisBase", true, false);
     add("NoSpecReproj", "voorhuisNoSpecReproj", true, false);
     add("Ours", "voorhuis", true, false);
+    if (o.experiment == "quality" || o.experiment == "stability") {  // TAA's own-surface clamp box (taaOwnSurface, docs/methods/taa.md)
+      add("Base, own-surface TAA box", "voorhuisBase", true, false, {{"taaOwnSurface", "true"}});
+      add("NoSpecReproj, own-surface TAA box", "voorhuisNoSpecReproj", true, false, {{"taaOwnSurface", "true"}});
+      add("Ours, own-surface TAA box", "voorhuis", true, false, {{"taaOwnSurface", "true"}});
+    }
   }
 
   const bool still = o.experiment == "stability";

@@ -18,17 +18,19 @@ void Taa::resize(int w, int h) {
   valid_ = false;
 }
 
-const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, const TaaSettings& s) {
-  begin(color[0].width, color[0].height, s);
+const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, const TaaSettings& s,
+                       const PixelVector<uint32_t>* keys) {
+  begin(color[0].width, color[0].height, s, keys);
   tbb::parallel_for(tbb::blocked_range<int>(0, color[0].height, 8), [&](const tbb::blocked_range<int>& range) {
     runRows(rp, color, range.begin(), range.end());
   });
   return result();
 }
 
-void Taa::begin(int w, int h, const TaaSettings& s) {
+void Taa::begin(int w, int h, const TaaSettings& s, const PixelVector<uint32_t>* keys) {
   if (width_ != w || history_[0][0].height != h) resize(w, h);
   params_ = TaaParams::of(s);
+  keys_ = s.taaOwnSurface && keys && keys->size() == size_t(w) * h ? keys->data() : nullptr;
   if (params_.display && (linear_[0].width != w || linear_[0].height != h)) rtd::resize(linear_, w, h);
   cur_ ^= 1;
   first_ = !valid_ || display_ != params_.display;  // a history in the other domain is no history
@@ -54,8 +56,8 @@ void Taa::runRows(const Reprojection& rp, const Plane3& color, int rowBegin, int
     return;
   }
   Window& win = windows_.local();
-  if (win.rows.size() != size_t(3 * kTaaSlotRows + 3) * w) win.rows.assign(size_t(3 * kTaaSlotRows + 3) * w, 0.0f);
-  RTD_SIMD(taaRows)(rp, color, params_, rowBegin, rowEnd, history_[cur_ ^ 1], next, linear_, win.rows.data(), win.slotRow);
+  if (win.rows.size() != size_t(3 * kTaaSlotRows + 4) * w) win.rows.assign(size_t(3 * kTaaSlotRows + 4) * w, 0.0f);
+  RTD_SIMD(taaRows)(rp, color, params_, rowBegin, rowEnd, history_[cur_ ^ 1], next, linear_, win.rows.data(), win.slotRow, keys_);
 }
 
 }  // namespace rtd

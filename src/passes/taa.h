@@ -34,12 +34,17 @@ class Taa {
   /// `color` is the current remodulated output (linear); returns the result, linear, valid
   /// until the next run(). Uses the reprojected positions of `rp` (no consistency tests: the
   /// clamp rejects ghosts). `s.taa` is not looked at (the caller decides whether to run TAA).
-  const Plane3& run(const Reprojection& rp, const Plane3& color, const TaaSettings& s);
+  /// `keys`: the pixels' surface keys (taaSurfaceKeys(), passes/taa_keys.h), read with
+  /// s.taaOwnSurface: the clamp box of a pixel then takes only its neighbours of its key;
+  /// nullptr: the plain box.
+  const Plane3& run(const Reprojection& rp, const Plane3& color, const TaaSettings& s,
+                    const PixelVector<uint32_t>* keys = nullptr);
 
   /// run() in steps, for methods that run their passes on bands of rows: begin() once per
   /// frame, then runRows() once for every row, from any thread, each call once rows
   /// [rowBegin - 1, rowEnd] of `color` are final (the 3x3 box); the output is then result().
-  void begin(int width, int height, const TaaSettings& s);
+  /// `keys` as in run(); it must stay valid until the last runRows() of the frame.
+  void begin(int width, int height, const TaaSettings& s, const PixelVector<uint32_t>* keys = nullptr);
   void runRows(const Reprojection& rp, const Plane3& color, int rowBegin, int rowEnd);
   /// The linear output: the history itself in the linear domain, its decode in the display one.
   const Plane3& result() const { return params_.display ? linear_ : history_[cur_]; }
@@ -61,6 +66,7 @@ class Taa {
   Plane3 linear_;      // display domain: the decoded output
   int cur_ = 0;
   TaaParams params_{0.1f, false, 0.0f, false};
+  const uint32_t* keys_ = nullptr;  // this frame's surface keys (taaOwnSurface), or none
   bool display_ = false;  // the domain the history holds
   int width_ = 0;
   tbb::enumerable_thread_specific<Window> windows_;

@@ -11,9 +11,12 @@ constexpr int kTaaSlotRows = 10;
 }  // namespace rtd
 
 RTD_SIMD_DECLARE(
-/// Taa::runRows once there is history: `window` holds 3 * kTaaSlotRows + 3 rows of the width.
+/// Taa::runRows once there is history: `window` holds 3 * kTaaSlotRows + 4 rows of the width
+/// (the slots, the fetched history, the own-surface box's flags).
 /// `next` receives the clamped blend (the next frame's history); with p.display, `linearOut`
-/// receives its taaDecode (otherwise it is unused: `next` is the output).
+/// receives its taaDecode (otherwise it is unused: `next` is the output). `keys` (or nullptr):
+/// the surface keys of the own-surface box (TaaSettings::taaOwnSurface).
 void taaRows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd,
-             const Plane3& history, Plane3& next, Plane3& linearOut, float* window, int slotRow[3]);
+             const Plane3& history, Plane3& next, Plane3& linearOut, float* window, int slotRow[3],
+             const uint32_t* keys);
 )

@@ -164,7 +164,7 @@ void catmullRomFetch8(const Plane3& hist, const float* prevX, const float* prevY
 
 template <bool kDisplay>
 void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
-          Plane3& next, Plane3& linearOut, float* window, int slotRow[3]) {
+          Plane3& next, Plane3& linearOut, float* window, int slotRow[3], const uint32_t* keys) {
   const float alpha = p.alpha, cw = p.crossWeight;
   const int w = color[0].width, h = color[0].height;
   constexpr int kSlotRows = kTaaSlotRows;
@@ -291,6 +291,72 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       }
       for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);  // history: never subnormal (core/flush.h)
     }
+    // Own-surface box (TaaSettings::taaOwnSurface): where the 3x3 neighbourhood holds other
+    // keys than the pixel's, the pixel is redone with the box (and the cross, and the display
+    // bound) over the neighbours of its key only, the pixel itself always in. Not separable,
+    // so scalar; the loop above stays the fast path where all nine keys are equal.
+    if (keys) {
+      const int ya = std::max(y - 1, 0), yb = std::min(y + 1, h - 1);
+      const uint32_t* kr[3] = {keys + size_t(ya) * w, keys + size_t(y) * w, keys + size_t(yb) * w};
+      const float* slots[3] = {a, c, b};
+      const float* src[3][3] = {{color[0].row(ya), color[1].row(ya), color[2].row(ya)}, {r, g, bl},
+                                {color[0].row(yb), color[1].row(yb), color[2].row(yb)}};
+      // Which pixels have other keys in their 3x3: a column is uniform where its three keys are
+      // equal, a pixel's 3x3 where its three columns are and the row's three keys are
+      // (the first loop vectorized; the flags go in the window's last row,
+      // as floats 0 / 1: the window is float storage that the plane visitors scan).
+      float* mixed = window + size_t(3 * kSlotRows + 3) * w;
+#pragma GCC ivdep
+      for (int x = 0; x < w; ++x) mixed[x] = float((kr[0][x] != kr[1][x]) | (kr[2][x] != kr[1][x]));
+      float left = mixed[0];  // in place: the left column's own flag
+      for (int x = 0; x < w; ++x) {
+        const int xl = x > 0 ? x - 1 : 0, xr = x + 1 < w ? x + 1 : x;
+        const float cur = mixed[x];
+        const bool row = kr[1][xl] != kr[1][x] || kr[1][xr] != kr[1][x];
+        mixed[x] = row ? 1.0f : fmax(fmax(left, cur), mixed[xr]);
+        left = cur;
+      }
+      for (int x = 0; x < w; ++x) {
+        if (mixed[x] == 0.0f) continue;
+        const uint32_t own = kr[1][x];
+        const int xs[3] = {std::max(x - 1, 0), x, std::min(x + 1, w - 1)};
+        float boxLo[3], boxHi[3], crossLo[3], crossHi[3];
+        for (int k = 0; k < 3; ++k) boxLo[k] = boxHi[k] = crossLo[k] = crossHi[k] = c[k * w + x];
+        float top = 0.0f;
+        for (int j = 0; j < 3; ++j)
+          for (int i = 0; i < 3; ++i) {
+            const int q = xs[i];
+            if (kr[j][q] != own && !(j == 1 && i == 1)) continue;
+            const bool cross = j == 1 || i == 1;  // the 5-tap cross: the pixel and its 4-neighbours
+            for (int k = 0; k < 3; ++k) {
+              const float v = slots[j][k * w + q];
+              boxLo[k] = fmin(boxLo[k], v);
+              boxHi[k] = fmax(boxHi[k], v);
+              if (cross) {
+                crossLo[k] = fmin(crossLo[k], v);
+                crossHi[k] = fmax(crossHi[k], v);
+              }
+            }
+            if constexpr (kDisplay)
+              top = fmax(top, fmax(fmax(tonemap::taaEncode(src[j][0][q]), tonemap::taaEncode(src[j][1][q])),
+                                   tonemap::taaEncode(src[j][2][q])));
+          }
+        // The clamp and blend of the loop above, with these bounds.
+        float hc[3] = {0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x], 0.5f * hr[x] - 0.5f * hb[x],
+                       -0.25f * hr[x] + 0.5f * hg[x] - 0.25f * hb[x]};
+        for (int k = 0; k < 3; ++k) {
+          const float lo = boxLo[k] + cw * (crossLo[k] - boxLo[k]), hi = boxHi[k] + cw * (crossHi[k] - boxHi[k]);
+          hc[k] = fmin(fmax(hc[k], lo), hi);
+        }
+        const float by = alpha * c[x] + (1 - alpha) * hc[0];
+        const float bco = alpha * c[w + x] + (1 - alpha) * hc[1];
+        const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hc[2];
+        float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
+        if constexpr (kDisplay)
+          for (int k = 0; k < 3; ++k) rgb[k] = fmin(rgb[k], top);
+        for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);
+      }
+    }
     if constexpr (kDisplay) {
       for (int k = 0; k < 3; ++k) {
         const float* e = n[k];
@@ -307,9 +373,9 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
 }  // namespace
 
 void taaRows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
-             Plane3& next, Plane3& linearOut, float* window, int slotRow[3]) {
-  if (p.display) rows<true>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow);
-  else rows<false>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow);
+             Plane3& next, Plane3& linearOut, float* window, int slotRow[3], const uint32_t* keys) {
+  if (p.display) rows<true>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow, keys);
+  else rows<false>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow, keys);
 }
 
 }  // namespace rtd::RTD_SIMD_NS

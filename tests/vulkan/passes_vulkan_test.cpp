@@ -7,6 +7,7 @@
 #include "core/frame_data.h"
 #include "passes/reprojection.h"
 #include "passes/taa.h"
+#include "passes/taa_keys.h"
 #include "passes/temporal_accumulation.h"
 #include "vulkan_test_util.h"
 
@@ -314,6 +315,86 @@ TEST(VulkanPasses, TaaMatchesCpu) {
       prevGpu = std::move(g);
     }
   }
+}
+
+// The own-surface box (TaaSettings::taaOwnSurface): the keys of taa_keys.comp equal the CPU's
+// (object ids of the synthetic scene, emitters added here), and the keyed TAA matches the CPU
+// within TaaMatchesCpu's tolerance, in both domains and both neighbourhoods; the keys change
+// the result (the keyed CPU output differs from the plain one).
+TEST(VulkanPasses, TaaOwnSurfaceMatchesCpu) {
+  REQUIRE_CONTEXT();
+  auto frames = syntheticFrames(3);
+  EmitterSettings e;
+  e.excludeEmitters = true;
+  for (TaaDomain domain : {TaaDomain::linear, TaaDomain::display})
+    for (TaaNeighbourhood shape : {TaaNeighbourhood::box3x3, TaaNeighbourhood::boxCross}) {
+      TaaSettings s;
+      s.taaDomain = domain;
+      s.taaNeighbourhood = shape;
+      s.taaOwnSurface = true;
+      const std::string name = std::string(domain == TaaDomain::linear ? "linear" : "display") +
+                               (shape == TaaNeighbourhood::box3x3 ? " box3x3" : " boxCross");
+      Taa cpu, plain;
+      vk::GpuTaa gpu;
+      gpu.resize(ctx, kWidth, kHeight);
+      vk::Planes rp, color, keysGpu;
+      rp.allocate(ctx, kWidth, kHeight, 8);
+      FrameData prevCpu;
+      vk::GpuFrame prevGpu;
+      double keyedChange = 0;
+      for (int k = 0; k < 3; ++k) {
+        FrameData f = toCpu(frames[size_t(k)], true);
+        std::vector<Plane>& em = f.buffers[int(Buffer::Emission)];
+        em.assign(3, Plane{});
+        for (Plane& p : em) p.resize(kWidth, kHeight, 0.0f);
+        for (int y = 0; y < kHeight; ++y)
+          for (int x = 0; x < kWidth; ++x)
+            if ((x * 7 + y * 3 + k) % 11 == 0) em[1](x, y) = 5.0f;
+        PixelVector<uint32_t> keys;
+        ASSERT_TRUE(taaSurfaceKeys(f, &e, nullptr, keys));
+        Reprojection r;
+        reproject(f, k ? &prevCpu : nullptr, {}, r);
+        Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
+        const Plane3& cpuOut = cpu.run(r, c, s, &keys);
+        TaaSettings off = s;
+        off.taaOwnSurface = false;
+        const Plane3& plainOut = plain.run(r, c, off);
+
+        vk::GpuFrame g;
+        toGpu(ctx, f, g);
+        uploadPlanes(ctx, f.planes(Buffer::Color), color);
+        const vk::Planes* result = nullptr;
+        bool keyed = false;
+        recordAndRun(ctx, [&](vk::Recorder& rec) {
+          vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
+          keyed = vk::taaSurfaceKeys(rec, g, &e, nullptr, keysGpu);
+          rec.barrier();
+          result = &gpu.run(rec, rp, color, s, &keysGpu);
+        });
+        ASSERT_TRUE(keyed);
+        const std::vector<float> keyBits = download(ctx, keysGpu);
+        const size_t n = size_t(kWidth) * kHeight;
+        size_t keyMismatch = 0;
+        for (size_t i = 0; i < n; ++i) {
+          uint32_t v;
+          std::memcpy(&v, &keyBits[i], 4);
+          keyMismatch += v != keys[i];
+        }
+        EXPECT_EQ(keyMismatch, 0u) << name << ", frame " << k;
+        const std::vector<float> out = download(ctx, *result);
+        double maxErr = 0, maxRef = 0;
+        for (int p = 0; p < 3; ++p)
+          for (size_t i = 0; i < n; ++i) {
+            maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - cpuOut[p].data[i])));
+            maxRef = std::max(maxRef, double(std::abs(cpuOut[p].data[i])));
+            keyedChange = std::max(keyedChange, double(std::abs(cpuOut[p].data[i] - plainOut[p].data[i])));
+          }
+        EXPECT_LE(maxErr, 1e-5 * maxRef) << name << ", frame " << k;
+        prevCpu = std::move(f);
+        prevGpu = std::move(g);
+      }
+      EXPECT_GT(keyedChange, 1e-3) << name << ": the keys should change some pixel's box";
+    }
 }
 
 }  // namespace

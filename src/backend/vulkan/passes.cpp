@@ -233,7 +233,26 @@ void GpuTaa::resize(Context& ctx, int w, int h) {
   valid_ = false;
 }
 
-const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s) {
+bool taaSurfaceKeys(Recorder& rec, const GpuFrame& f, const EmitterSettings* emitters, const Planes* cls, Planes& out) {
+  const bool object = f.has(Buffer::ObjectId);
+  const bool emission = emitters && f.has(Buffer::Emission) && (emitters->excludeEmitters || f.has(Buffer::Albedo));
+  if (!object && !cls && !emission) return false;
+  if (out.width != f.width || out.height != f.height || out.count != 1) out.allocate(rec.context(), f.width, f.height, 1);
+  struct PC {
+    uint32_t width, height, hasCls, hasObject, emitters;
+    float threshold;
+  } pc{uint32_t(f.width), uint32_t(f.height), cls != nullptr, object,
+       emission ? (emitters->excludeEmitters ? 1u : 2u) : 0u, emitters ? emitters->emitterThreshold : 0.0f};
+  const Context& ctx = rec.context();
+  rec.dispatch("taa_keys",
+               {cls ? Binding(*cls) : Binding(ctx.dummy()), f.bindingOf(Buffer::ObjectId, ctx),
+                f.bindingOf(Buffer::Emission, ctx), f.bindingOf(Buffer::Albedo, ctx), out},
+               pc, f.width, f.height);
+  return true;
+}
+
+const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s,
+                          const Planes* keys) {
   const int prev = cur_;
   cur_ ^= 1;
   const TaaParams p = TaaParams::of(s);
@@ -243,9 +262,13 @@ const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, 
     float alpha;
     uint32_t valid, display;
     float crossWeight;
-    uint32_t catmullRom;
-  } pc{uint32_t(color.width), uint32_t(color.height), p.alpha, valid, p.display, p.crossWeight, p.catmullRom};
-  rec.dispatch("taa", {rp, color, history_[prev], history_[cur_], linear_}, pc, color.width, color.height);
+    uint32_t catmullRom, keyed;
+  } pc{uint32_t(color.width), uint32_t(color.height), p.alpha, valid, p.display, p.crossWeight, p.catmullRom,
+       s.taaOwnSurface && keys};
+  rec.dispatch("taa",
+               {rp, color, history_[prev], history_[cur_], linear_,
+                pc.keyed ? Binding(*keys) : Binding(rec.context().dummy())},
+               pc, color.width, color.height);
   valid_ = true;
   display_ = p.display;
   return p.display ? linear_ : history_[cur_];

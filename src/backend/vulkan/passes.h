@@ -135,13 +135,20 @@ void eyeReproject(Recorder& rec, const GpuFrame& target, const GpuFrame& source,
 void fxaa(Recorder& rec, const Planes& in, Planes& out, float edgeThreshold = 0.166f, float edgeThresholdMin = 0.0833f,
           float subpixel = 0.75f);
 
+/// taaSurfaceKeys (src/passes/taa_keys.h) on the device into `out` (1 plane of uint32, allocated
+/// here): `cls` the surface classes (1 plane, as float) or nullptr. Returns false (nothing
+/// dispatched) where the frame has nothing that tells surfaces apart.
+bool taaSurfaceKeys(Recorder& rec, const GpuFrame& f, const EmitterSettings* emitters, const Planes* cls, Planes& out);
+
 /// Karis TAA on the remodulated output; its result is the next frame's history.
 class GpuTaa {
  public:
   void resize(Context& ctx, int w, int h);
   void reset() { valid_ = false; }
   /// Taa::run (src/passes/taa.h) on the device: the linear output.
-  const Planes& run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s);
+  /// `keys` (1 plane of uint32, surfaceKeys()): read with s.taaOwnSurface, as Taa::run's.
+  const Planes& run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s,
+                    const Planes* keys = nullptr);
   uint64_t bytes() const {
     return uint64_t(history_[0].buffer.size() + history_[1].buffer.size() + linear_.buffer.size());
   }

@@ -14,6 +14,7 @@
 #include "passes/demodulation.h"
 #include "passes/reprojection.h"
 #include "passes/taa.h"
+#include "passes/taa_keys.h"
 #include "passes/temporal_accumulation.h"
 #include "rtd/methods/asvgf.h"
 
@@ -118,7 +119,9 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
     }
     if (!s.taa.taa) return result_;
     PassTimer t(stats, "taa");
-    return taa_.run(reprojection_, result_, s.taa);
+    // The own-surface box's keys: object id (A-SVGF excludes no emitters).
+    const bool keyed = s.taa.taaOwnSurface && taaSurfaceKeys(frame, nullptr, nullptr, taaKeys_);
+    return taa_.run(reprojection_, result_, s.taa, keyed ? &taaKeys_ : nullptr);
   }
 
  private:
@@ -131,6 +134,7 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
   TemporalAccumulator accumulator_;
   svgf::Filter filter_;
   Taa taa_;
+  PixelVector<uint32_t> taaKeys_;  // TaaSettings::taaOwnSurface
 };
 
 }  // namespace

@@ -32,6 +32,7 @@ std::vector<Buffer> requiredBuffers(const AsvgfSettings& s) {
 std::vector<Buffer> extraBuffers(const AsvgfSettings& s) {
   std::vector<Buffer> b{Buffer::DepthGradient};
   if (s.reflectedNormals) b.push_back(Buffer::ReflectedNormal);
+  if (s.taa.taaOwnSurface) b.push_back(Buffer::ObjectId);  // the own-surface box's keys (passes/taa_keys.h)
   return b;
 }
 

@@ -128,7 +128,9 @@ class AsvgfVulkan final : public vk::VulkanDenoiser<AsvgfSettings> {
     vk::remodulate(rec, filtered, albedo, output_);
     rec.pass("taa");
     if (!s.taa.taa) return output_;
-    return taa_.run(rec, reprojection_, output_, s.taa);
+    // The own-surface box's keys (as asvgf.cpp): object id.
+    const bool keyed = s.taa.taaOwnSurface && vk::taaSurfaceKeys(rec, frame, nullptr, nullptr, taaKeys_);
+    return taa_.run(rec, reprojection_, output_, s.taa, keyed ? &taaKeys_ : nullptr);
   }
 
  private:
@@ -140,6 +142,7 @@ class AsvgfVulkan final : public vk::VulkanDenoiser<AsvgfSettings> {
   vk::GpuTemporalAccumulator accumulator_;
   svgf::GpuFilter filter_;
   vk::GpuTaa taa_;
+  vk::Planes taaKeys_;  // TaaSettings::taaOwnSurface
 };
 
 }  // namespace

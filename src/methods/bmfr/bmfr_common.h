@@ -58,6 +58,7 @@ inline std::vector<Buffer> optionalBuffers(const BmfrSettings& s) {
   std::vector<Buffer> b;
   if (s.featureMaterialId) b.push_back(Buffer::MaterialId);
   if (s.featureRoughness) b.push_back(Buffer::Roughness);
+  if (s.taa.taaOwnSurface) b.push_back(Buffer::ObjectId);  // the own-surface box's keys (passes/taa_keys.h)
   return b;
 }
 

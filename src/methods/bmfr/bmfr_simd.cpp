@@ -21,6 +21,7 @@
 #include "passes/emitters.h"
 #include "passes/reprojection.h"
 #include "passes/taa.h"
+#include "passes/taa_keys.h"
 #include "passes/temporal_accumulation.h"
 #include "rtd/methods/bmfr.h"
 #include "core/simd.h"
@@ -198,7 +199,16 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     // the fit's reads of nine planes per block would otherwise come from memory.
     const std::vector<rtd::bmfr::RowBand> bands = rtd::bmfr::rowBands(grid_);
     BandPassTimes times({"reproject", "accumulateNoisy", "fit", s.fit ? "synthesize+accumulate+remodulate" : "accumulate+remodulate", "taa"});
-    if (s.taa.taa) taa_.begin(frame.width, frame.height, s.taa);
+    if (s.taa.taa) {
+      // The own-surface box's keys (TaaSettings::taaOwnSurface): object id and the emitters
+      // the fits leave out; computed before the bands, which read any row's neighbours.
+      bool keyed = false;
+      if (s.taa.taaOwnSurface) {
+        PassTimer t(stats, "taa keys");
+        keyed = taaSurfaceKeys(frame, &s.emitters, nullptr, taaKeys_);
+      }
+      taa_.begin(frame.width, frame.height, s.taa, keyed ? &taaKeys_ : nullptr);
+    }
     tbb::parallel_for(tbb::blocked_range<size_t>(0, bands.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
       Scratch& scratch = scratch_.local();
       for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -587,6 +597,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
   int frameIndex_ = 0;
   Reprojection reprojection_;
   Taa taa_;
+  PixelVector<uint32_t> taaKeys_;  // TaaSettings::taaOwnSurface
   rtd::bmfr::BlockGrid grid_;
   std::vector<Feature> features_;
   std::vector<BlockFit> fits_;

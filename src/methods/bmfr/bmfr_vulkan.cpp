@@ -100,7 +100,9 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
     ++frameIndex_;
     if (!s.taa.taa) return remodulated_;
     rec.pass("taa");
-    return taa_.run(rec, reprojection_, remodulated_, s.taa);
+    // The own-surface box's keys (as bmfr_simd.cpp): object id and the emitters the fits leave out.
+    const bool keyed = s.taa.taaOwnSurface && vk::taaSurfaceKeys(rec, frame, &s.emitters, nullptr, taaKeys_);
+    return taa_.run(rec, reprojection_, remodulated_, s.taa, keyed ? &taaKeys_ : nullptr);
   }
 
  private:
@@ -178,6 +180,7 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
   vk::DeviceBuffer fits_, scratch_;
   std::vector<bmfr::Feature> features_;
   vk::GpuTaa taa_;
+  vk::Planes taaKeys_;  // TaaSettings::taaOwnSurface
 };
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "passes/emitters.h"
 #include "passes/reprojection.h"
 #include "passes/taa.h"
+#include "passes/taa_keys.h"
 #include "passes/temporal_accumulation.h"
 #include "rtd/methods/svgf.h"
 
@@ -144,8 +145,16 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       remodulate(*shown, albedo);
     }
     if (!s.taa.taa) return *shown;
+    // The own-surface box's keys: object id, the Voorhuis classes where they were computed,
+    // the emitters excludeEmitters() took out of the filter.
+    bool keyed = false;
+    if (s.taa.taaOwnSurface) {
+      PassTimer t(stats, "taa keys");
+      keyed = taaSurfaceKeys(frame, &s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
+    }
     PassTimer t(stats, "taa");
-    return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion), *shown, s.taa);
+    return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion), *shown, s.taa,
+                    keyed ? &taaKeys_ : nullptr);
   }
 
  private:
@@ -252,6 +261,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   Stream streams_[kMaxStreams];
   Plane3 sum_, display_, lobeMedian_;
   Taa taa_;
+  PixelVector<uint32_t> taaKeys_;  // TaaSettings::taaOwnSurface
   std::unique_ptr<svgf::GersthoferEye> gersthofer_;  // components = composite
 };
 

@@ -72,6 +72,7 @@ inline std::vector<Buffer> extraBuffers(const SvgfSettings& s) {
                      Buffer::Position})
       b.push_back(g);
   if (s.useSampleMask) b.push_back(Buffer::SampleMask);
+  if (s.taa.taaOwnSurface) b.push_back(Buffer::ObjectId);  // the own-surface box's keys (passes/taa_keys.h)
   // Voorhuis' parts (svgf_reflections.h): pixel classes and the reflection buffers.
   const bool reflections = s.specularMotion != SvgfSpecularMotion::primary || s.reflectedFeatures != SvgfPart::off ||
                            s.glossyBandwidth != SvgfPart::off || s.neighbourhoodClipping != SvgfPart::off ||

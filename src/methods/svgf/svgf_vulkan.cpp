@@ -141,7 +141,11 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     notes_ = std::move(parts.notes);
     rec.pass("taa");
     if (!s.taa.taa) return remodulated_;
-    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_, s.taaGlossyReflectionMotion), remodulated_, s.taa);
+    // The own-surface box's keys (as svgf.cpp): object id, the classes where computed, emitters.
+    const bool keyed = s.taa.taaOwnSurface &&
+                       vk::taaSurfaceKeys(rec, frame, &s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
+    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_, s.taaGlossyReflectionMotion), remodulated_, s.taa,
+                    keyed ? &taaKeys_ : nullptr);
   }
 
  private:
@@ -183,6 +187,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   GpuStream streams_[kMaxStreams];
   svgf::GpuReflections reflections_;
   vk::GpuTaa taa_;
+  vk::Planes taaKeys_;  // TaaSettings::taaOwnSurface
   std::unique_ptr<svgf::GpuGersthoferEye> gersthofer_;  // components = composite
 };
 

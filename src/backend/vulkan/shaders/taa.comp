@@ -15,6 +15,7 @@ layout(std430, binding = 1) readonly buffer Color { float color[]; };
 layout(std430, binding = 2) readonly buffer Hist { float hist[]; };
 layout(std430, binding = 3) writeonly buffer Out { float outp[]; };        // next history
 layout(std430, binding = 4) writeonly buffer Linear { float linearOut[]; };   // display: decoded output
+layout(std430, binding = 5) readonly buffer Keys { uint keys[]; };            // keyed: surface keys (taa_keys.comp)
 
 layout(push_constant) uniform PC {
   uint width, height;
@@ -23,6 +24,7 @@ layout(push_constant) uniform PC {
   uint display;  // 1: clamp and blend taaEncode()d values (tonemap.h)
   float crossWeight;
   uint catmullRom;  // 1: 4x4 Catmull-Rom history fetch (TaaHistoryFilter)
+  uint keyed;       // 1: the box over the pixel's own surface (TaaSettings::taaOwnSurface)
 } pc;
 
 vec3 toYCoCg(vec3 c) {
@@ -98,6 +100,7 @@ bool accepted(uint i, float px, float py, uint plane) {
 
 shared vec3 tile[18][18];
 shared float tileMax[18][18];  // display: largest encoded channel
+shared uint tileKey[18][18];   // keyed: surface keys
 
 vec3 loadColor(ivec2 q, uint plane) {
   q = clamp(q, ivec2(0), ivec2(pc.width, pc.height) - 1);
@@ -115,6 +118,10 @@ void main() {
     if (display) c = encode(c);
     tile[t.y][t.x] = toYCoCg(c);
     tileMax[t.y][t.x] = max(max(c.r, c.g), c.b);
+    if (pc.keyed != 0u) {
+      const ivec2 q = clamp(origin + t, ivec2(0), ivec2(pc.width, pc.height) - 1);
+      tileKey[t.y][t.x] = keys[uint(q.y) * pc.width + uint(q.x)];
+    }
   }
   barrier();
 
@@ -133,8 +140,12 @@ void main() {
   const vec3 cur = tile[l.y][l.x];
   vec3 lo = cur, hi = cur;
   float top = 0.0;
+  const bool keyed = pc.keyed != 0u;
+  const uint own = keyed ? tileKey[l.y][l.x] : 0u;
+  // Keyed: only the neighbours of the pixel's own key (the pixel itself always in: own == own).
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
+      if (keyed && tileKey[l.y + dy][l.x + dx] != own) continue;
       const vec3 n = tile[l.y + dy][l.x + dx];
       lo = min(lo, n);
       hi = max(hi, n);
@@ -143,6 +154,7 @@ void main() {
   vec3 crossLo = cur, crossHi = cur;
   for (int k = 0; k < 4; ++k) {
     const ivec2 d = k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5);
+    if (keyed && tileKey[l.y + d.y][l.x + d.x] != own) continue;
     const vec3 n = tile[l.y + d.y][l.x + d.x];
     crossLo = min(crossLo, n);
     crossHi = max(crossHi, n);
