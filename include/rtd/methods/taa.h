@@ -34,6 +34,13 @@ struct TaaSettings {
   TaaDomain taaDomain = TaaDomain::display;
   TaaNeighbourhood taaNeighbourhood = TaaNeighbourhood::box3x3;
   TaaHistoryFilter taaHistoryFilter = TaaHistoryFilter::bilinear;
+  /// No TAA history where the method's reprojection found none: a pixel none of whose history
+  /// taps passed the reprojection's consistency tests (a disocclusion: SVGF's depth, normal and
+  /// object-id tests, BMFR's position test) keeps the current frame, as a pixel whose history
+  /// lies off the frame does. Karis's TAA takes the history at any reprojected position and
+  /// leaves ghosts to the clamp, which keeps them where the 3x3 box holds both surfaces (along
+  /// the silhouettes a moving camera uncovers; docs/methods/taa.md).
+  bool taaHistoryRejection = true;
 
   template <class V> void visit(V& v) {
     v("taa", taa, "final TAA with YCoCg 3x3 neighbourhood clamping (Karis 2014)");
@@ -48,6 +55,9 @@ struct TaaSettings {
       "resampling of the reprojected history: bilinear (2x2) or catmullRom (4x4 Catmull-Rom cubic, Jimenez's SMAA T2x; "
       "less blur under sub-pixel motion, overshoot clamped to the neighbourhood)",
       {"bilinear", "catmullRom"});
+    v("taaHistoryRejection", taaHistoryRejection,
+      "no TAA history where the reprojection's consistency tests rejected every history tap (disocclusions): the current "
+      "frame there");
   }
 };
 

@@ -243,8 +243,8 @@ const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, 
     float alpha;
     uint32_t valid, display;
     float crossWeight;
-    uint32_t catmullRom;
-  } pc{uint32_t(color.width), uint32_t(color.height), p.alpha, valid, p.display, p.crossWeight, p.catmullRom};
+    uint32_t catmullRom, rejection;
+  } pc{uint32_t(color.width), uint32_t(color.height), p.alpha, valid, p.display, p.crossWeight, p.catmullRom, p.rejection};
   rec.dispatch("taa", {rp, color, history_[prev], history_[cur_], linear_}, pc, color.width, color.height);
   valid_ = true;
   display_ = p.display;
