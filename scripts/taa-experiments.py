@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """The shared TAA pass's history filter and domain (issue 12): quality of every method that runs
 TAA with taaHistoryFilter=bilinear, =catmullRom and with taa=false (--compare filter), or with
-taaDomain=display, =linear and taa=false (--compare domain), or taaOwnSurface=false, =true and
-taa=false (--compare ownSurface), on the renderer's
+taaDomain=display, =linear and taa=false (--compare domain), taaOwnSurface=false, =true and
+taa=false (--compare ownSurface), or taaHistoryRejection off and on (--compare rejection), on the renderer's
 scenes and the committed Blender fixture with a reference; prints the Markdown tables of
 docs/methods/taa.md.
 
   scripts/taa-experiments.py [--build build/release] [--size 160x90] [--frames 16]
                              [--reference-spp 64] [--work /tmp/rtd-taa] [--scenes cornell,...]
-                             [--compare filter|domain|ownSurface]
+                             [--compare filter|domain|ownSurface|rejection]
 
 Each scene is rendered once into WORK/<scene> (1 spp, --reference-spp references, kept for
 re-runs), then one `rtdenoise compare` runs every configuration over it; the table holds the
@@ -28,6 +28,7 @@ COMPARISONS = {
     "filter": [("bilinear", ":taaHistoryFilter=bilinear"), ("catmullRom", ":taaHistoryFilter=catmullRom"), ("no TAA", ":taa=false")],
     "domain": [("display", ":taaDomain=display"), ("linear", ":taaDomain=linear"), ("no TAA", ":taa=false")],
     "ownSurface": [("plain", ":taaOwnSurface=false"), ("own", ":taaOwnSurface=true"), ("no TAA", ":taa=false")],
+    "rejection": [("off", ":taaHistoryRejection=false"), ("on", ":taaHistoryRejection=true")],
 }
 SCENES = ["cornell", "pillars", "dynamic", "corridorglossy", "mirrorfloor", "glossyfloor"]
 
@@ -61,7 +62,7 @@ def main():
     ap.add_argument("--json", help="also write every run's steady-state means here")
     ap.add_argument("--compare", choices=sorted(COMPARISONS), default="filter",
                     help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / linear / no TAA; "
-                    "ownSurface: taaOwnSurface off / on / no TAA")
+                    "ownSurface: taaOwnSurface off / on / no TAA; rejection: taaHistoryRejection off / on")
     a = ap.parse_args()
     TAA = COMPARISONS[a.compare]
     cli = os.path.join(a.build, "apps", "rtdenoise")

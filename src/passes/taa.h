@@ -21,9 +21,10 @@ struct TaaParams {
   bool display;       ///< clamp and blend taaEncode()d values; the history holds them too
   float crossWeight;  ///< bounds = box + crossWeight * (cross - box): 0 box3x3, 0.5 boxCross (BMFR)
   bool catmullRom;    ///< history fetch: 4x4 Catmull-Rom instead of bilinear (TaaHistoryFilter)
+  bool rejection;     ///< no history where the record's kind is None (TaaSettings::taaHistoryRejection)
   static TaaParams of(const TaaSettings& s) {
     return {s.taaAlpha, s.taaDomain == TaaDomain::display, s.taaNeighbourhood == TaaNeighbourhood::boxCross ? 0.5f : 0.0f,
-            s.taaHistoryFilter == TaaHistoryFilter::catmullRom};
+            s.taaHistoryFilter == TaaHistoryFilter::catmullRom, s.taaHistoryRejection};
   }
 };
 
@@ -32,8 +33,9 @@ class Taa {
   void resize(int w, int h);
   void reset() { valid_ = false; }
   /// `color` is the current remodulated output (linear); returns the result, linear, valid
-  /// until the next run(). Uses the reprojected positions of `rp` (no consistency tests: the
-  /// clamp rejects ghosts). `s.taa` is not looked at (the caller decides whether to run TAA).
+  /// until the next run(). Uses the reprojected positions of `rp` and, with
+  /// taaHistoryRejection or the Catmull-Rom filter, its record of accepted taps. `s.taa` is
+  /// not looked at (the caller decides whether to run TAA).
   /// `keys`: the pixels' surface keys (taaSurfaceKeys(), passes/taa_keys.h), read with
   /// s.taaOwnSurface: the clamp box of a pixel then takes only its neighbours of its key;
   /// nullptr: the plain box.
@@ -65,7 +67,7 @@ class Taa {
   Plane3 history_[2];  // in the frame's domain (display-encoded or linear)
   Plane3 linear_;      // display domain: the decoded output
   int cur_ = 0;
-  TaaParams params_{0.1f, false, 0.0f, false};
+  TaaParams params_{0.1f, false, 0.0f, false, false};
   const uint32_t* keys_ = nullptr;  // this frame's surface keys (taaOwnSurface), or none
   bool display_ = false;  // the domain the history holds
   int width_ = 0;

@@ -181,8 +181,9 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     const float* b = slot(std::min(y + 1, h - 1));
     // History fetch, bilinear (eight pixels at a time inside) or Catmull-Rom, with
     // clamp-to-edge. A pixel whose reprojected centre lies a pixel or more outside the frame
-    // has no history: its "history" is the current colour, which the blend then returns
-    // unchanged (with either filter).
+    // (or, with taaHistoryRejection, whose record accepted no tap) has no history: its
+    // "history" is the current colour, which the blend then returns unchanged (with either
+    // filter).
     const float *prevX = rp.prevX.row(y), *prevY = rp.prevY.row(y);
     const float *r = color[0].row(y), *g = color[1].row(y), *bl = color[2].row(y);
     // Catmull-Rom only where the reprojection accepted each 2x2 tap that bilinear weighs
@@ -201,9 +202,11 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
         if (plain[t] > 0.0f && !(rp.weights[row + x][t] > 0.0f)) return false;
       return true;
     };
+    // taaHistoryRejection: the reprojection accepted none of the pixel's history taps.
+    auto rejected = [&](int x) { return p.rejection && rp.kind[row + x] == Reprojection::None; };
     auto fetch = [&](int x) {
       const float px = prevX[x] - 0.5f, py = prevY[x] - 0.5f;
-      if (!(px > -1.0f && py > -1.0f && px < float(w) && py < float(h))) {
+      if (!(px > -1.0f && py > -1.0f && px < float(w) && py < float(h)) || rejected(x)) {
         if constexpr (kDisplay) {
           hr[x] = tonemap::taaEncode(r[x]); hg[x] = tonemap::taaEncode(g[x]); hb[x] = tonemap::taaEncode(bl[x]);
         } else {
@@ -254,8 +257,13 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     }
     // Bilinear eight pixels at a time where all eight footprints are inside the frame.
     Bilinear8 taps8;
+    auto anyRejected8 = [&](int x) {
+      for (int k = x; k < x + 8 && p.rejection; ++k)
+        if (rp.kind[row + k] == Reprojection::None) return true;
+      return false;
+    };
     for (; x + 8 <= w && !p.catmullRom; x += 8)
-      if (taps8.footprint(prevX + x, prevY + x, w, h)) {
+      if (!anyRejected8(x) && taps8.footprint(prevX + x, prevY + x, w, h)) {
         _mm256_storeu_ps(hr + x, taps8.gather(hist[0].ptr()));
         _mm256_storeu_ps(hg + x, taps8.gather(hist[1].ptr()));
         _mm256_storeu_ps(hb + x, taps8.gather(hist[2].ptr()));

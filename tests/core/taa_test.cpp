@@ -281,6 +281,40 @@ TEST(Taa, DisplayDomainDarkensTemporalNoiseByTheEncodingsConcavity) {
   EXPECT_LT(displayMean, 0.9);  // the test tells the domains apart
 }
 
+// taaHistoryRejection: where the reprojection's record accepted no history tap (kind None: a
+// disocclusion), the pixel keeps the current frame, whatever its reprojected position says;
+// elsewhere nothing changes. A white history under a 0/1 checkerboard, still camera: every
+// 3x3 box spans [0, 1], so the white history is kept and blended (a c + (1 - a)) except at the
+// rejected pixels (every fifth, so some 8-pixel groups of the avx2 path hold one), which
+// return c exactly with the setting and the blend without it. On every CPU path, both filters.
+TEST(Taa, HistoryRejectionKeepsTheCurrentFrameWhereTheReprojectionFoundNoHistory) {
+  const float alpha = 0.1f;
+  const Plane3 white = image([](int, int, int) { return 1.0f; });
+  const Plane3 checker = image([](int x, int y, int) { return (x + y) % 2 ? 1.0f : 0.0f; });
+  Reprojection rp = shifted(0.0f);
+  auto none = [](int x, int y) { return (x + 3 * y) % 5 == 0; };
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      if (none(x, y)) rp.kind[size_t(y) * kW + x] = Reprojection::None;
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
+    for (TaaHistoryFilter filter : kFilters)
+      for (bool rejection : {false, true}) {
+        TaaSettings s = settings(alpha, TaaDomain::linear, TaaNeighbourhood::box3x3, filter);
+        s.taaHistoryRejection = rejection;
+        Taa taa;
+        Plane3 out = taa.run(rp, white, s);
+        out = taa.run(rp, checker, s);
+        for (int y = 0; y < kH; ++y)
+          for (int x = 0; x < kW; ++x) {
+            const float c = checker[0](x, y), want = rejection && none(x, y) ? c : alpha * c + (1 - alpha);
+            for (int k = 0; k < 3; ++k)
+              ASSERT_NEAR(out[k](x, y), want, 1e-6f) << cpuPathName(path) << " " << name(filter) << " " << rejection << " " << x << "," << y;
+          }
+      }
+  }
+}
+
 // A pixel whose reprojected centre is outside the previous frame keeps its current colour.
 TEST(Taa, PixelsWithoutHistoryKeepTheCurrentColour) {
   for (TaaHistoryFilter filter : kFilters) {
@@ -332,9 +366,14 @@ TEST(Taa, CatmullRomReproducesAQuadraticAndFallsBackToBilinearOnRejectedTaps) {
   for (CpuPath path : test::supportedCpuPaths()) {
     test::ScopedCpuPath force(path);
     for (TaaHistoryFilter filter : kFilters) {
+      // The records without any tap (kind None) stand for a history that bilinear still
+      // fetches: taaHistoryRejection (which would keep the current frame there, tested in
+      // HistoryRejectionKeepsTheCurrentFrameWhereTheReprojectionFoundNoHistory) is off here.
+      TaaSettings s = settings(float(alpha), TaaDomain::linear, TaaNeighbourhood::box3x3, filter);
+      s.taaHistoryRejection = false;
       Taa taa;
-      Plane3 out = taa.run(rp, prev, settings(float(alpha), TaaDomain::linear, TaaNeighbourhood::box3x3, filter));
-      out = taa.run(rp, cur, settings(float(alpha), TaaDomain::linear, TaaNeighbourhood::box3x3, filter));
+      Plane3 out = taa.run(rp, prev, s);
+      out = taa.run(rp, cur, s);
       for (int y = 1; y < kH - 3; ++y)
         for (int x = 1; x < kW - 3; ++x)
           for (int c = 0; c < 3; ++c) {

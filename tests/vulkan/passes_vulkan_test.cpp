@@ -263,20 +263,33 @@ TEST(VulkanPasses, TaaMatchesCpu) {
     TaaDomain domain;
     TaaNeighbourhood shape;
     TaaHistoryFilter filter;
+    bool rejection = false;
   };
   for (const Config& config : {Config{TaaDomain::linear, TaaNeighbourhood::box3x3, TaaHistoryFilter::bilinear},
                                Config{TaaDomain::display, TaaNeighbourhood::box3x3, TaaHistoryFilter::bilinear},
                                Config{TaaDomain::display, TaaNeighbourhood::boxCross, TaaHistoryFilter::bilinear},
                                Config{TaaDomain::linear, TaaNeighbourhood::box3x3, TaaHistoryFilter::catmullRom},
                                Config{TaaDomain::display, TaaNeighbourhood::box3x3, TaaHistoryFilter::catmullRom},
-                               Config{TaaDomain::display, TaaNeighbourhood::boxCross, TaaHistoryFilter::catmullRom}}) {
+                               Config{TaaDomain::display, TaaNeighbourhood::boxCross, TaaHistoryFilter::catmullRom},
+                               Config{TaaDomain::display, TaaNeighbourhood::box3x3, TaaHistoryFilter::bilinear, true},
+                               Config{TaaDomain::linear, TaaNeighbourhood::boxCross, TaaHistoryFilter::catmullRom, true}}) {
     TaaSettings s;
     s.taaDomain = config.domain;
     s.taaNeighbourhood = config.shape;
     s.taaHistoryFilter = config.filter;
+    s.taaHistoryRejection = config.rejection;
+    // With rejection, a depth test tight enough that the synthetic scene's motion fails it at
+    // some pixels (it has no disocclusion of its own), without the 3x3 fallback.
+    ReprojectionSettings rs;
+    if (config.rejection) {
+      rs.depthTolerance = 1e-4f;
+      rs.depthGradientScale = 0.0f;
+      rs.fallback3x3 = false;
+    }
     const std::string name = std::string(config.domain == TaaDomain::linear ? "linear" : "display") +
                              (config.shape == TaaNeighbourhood::box3x3 ? " box3x3" : " boxCross") +
-                             (config.filter == TaaHistoryFilter::bilinear ? " bilinear" : " catmullRom");
+                             (config.filter == TaaHistoryFilter::bilinear ? " bilinear" : " catmullRom") +
+                             (config.rejection ? " rejection" : "");
     Taa cpu;
     cpu.resize(kWidth, kHeight);
     vk::GpuTaa gpu;
@@ -288,7 +301,7 @@ TEST(VulkanPasses, TaaMatchesCpu) {
     for (int k = 0; k < 3; ++k) {
       FrameData f = toCpu(frames[size_t(k)], true);
       Reprojection r;
-      reproject(f, k ? &prevCpu : nullptr, {}, r);
+      reproject(f, k ? &prevCpu : nullptr, rs, r);
       Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
       const Plane3& cpuOut = cpu.run(r, c, s);
 
@@ -297,7 +310,7 @@ TEST(VulkanPasses, TaaMatchesCpu) {
       uploadPlanes(ctx, f.planes(Buffer::Color), color);
       const vk::Planes* result = nullptr;
       recordAndRun(ctx, [&](vk::Recorder& rec) {
-        vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
+        vk::reproject(rec, g, k ? &prevGpu : nullptr, rs, rp);
         result = &gpu.run(rec, rp, color, s);
       });
       const std::vector<float> out = download(ctx, *result);
@@ -311,6 +324,7 @@ TEST(VulkanPasses, TaaMatchesCpu) {
         }
       EXPECT_LE(maxErr, 1e-5 * maxRef) << name << ", frame " << k;
       if (k > 0) { EXPECT_GT(changed, 0.1) << "TAA should blend history on frame " << k << " (" << name << ")"; }
+      if (k > 0 && config.rejection) { EXPECT_GT(r.counts()[Reprojection::None], 0u) << "no disocclusion to reject"; }
       prevCpu = std::move(f);
       prevGpu = std::move(g);
     }

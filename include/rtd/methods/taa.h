@@ -47,6 +47,13 @@ struct TaaSettings {
   /// +8 % on reflective pixels), costs BMFR 0.05 dB on corridorglossy and Dundr / BMFR 1 %
   /// temporal error on the Blender glossy fixture; the TAA pass takes about 25 % longer.
   bool taaOwnSurface = false;
+  /// No TAA history where the method's reprojection found none: a pixel none of whose history
+  /// taps passed the reprojection's consistency tests (a disocclusion: SVGF's depth, normal and
+  /// object-id tests, BMFR's position test) keeps the current frame, as a pixel whose history
+  /// lies off the frame does. Karis's TAA takes the history at any reprojected position and
+  /// leaves ghosts to the clamp, which keeps them where the 3x3 box holds both surfaces (along
+  /// the silhouettes a moving camera uncovers; docs/methods/taa.md).
+  bool taaHistoryRejection = true;
 
   template <class V> void visit(V& v) {
     v("taa", taa, "final TAA with YCoCg 3x3 neighbourhood clamping (Karis 2014)");
@@ -64,6 +71,9 @@ struct TaaSettings {
     v("taaOwnSurface", taaOwnSurface,
       "clamp box over the pixel's own surface only (neighbours with its object id, surface class and emitter bit; "
       "issues 12/13): off = the plain 3x3 box");
+    v("taaHistoryRejection", taaHistoryRejection,
+      "no TAA history where the reprojection's consistency tests rejected every history tap (disocclusions): the current "
+      "frame there");
   }
 };
 

@@ -25,6 +25,7 @@ layout(push_constant) uniform PC {
   float crossWeight;
   uint catmullRom;  // 1: 4x4 Catmull-Rom history fetch (TaaHistoryFilter)
   uint keyed;       // 1: the box over the pixel's own surface (TaaSettings::taaOwnSurface)
+  uint rejection;   // 1: no history where the record accepted no tap (taaHistoryRejection)
 } pc;
 
 vec3 toYCoCg(vec3 c) {
@@ -163,7 +164,8 @@ void main() {
   precise vec3 bHi = hi + pc.crossWeight * (crossHi - hi);
   precise float px = uintBitsToFloat(rp[6u * plane + i]) - 0.5, py = uintBitsToFloat(rp[7u * plane + i]) - 0.5;
   vec3 result = display ? encode(c) : c;
-  if (px > -1.0 && py > -1.0 && px < float(pc.width) && py < float(pc.height)) {
+  const bool rejected = pc.rejection != 0u && (rp[i] & 3u) == RP_NONE;
+  if (px > -1.0 && py > -1.0 && px < float(pc.width) && py < float(pc.height) && !rejected) {
     const int x0 = int(floor(px)), y0 = int(floor(py));
     precise float ax = px - float(x0), ay = py - float(y0);
     precise vec3 h = vec3(0.0);
