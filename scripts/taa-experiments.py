@@ -2,13 +2,13 @@
 """The shared TAA pass's history filter and domain (issue 12): quality of every method that runs
 TAA with taaHistoryFilter=bilinear, =catmullRom and with taa=false (--compare filter), or with
 taaDomain=display, =linear and taa=false (--compare domain), taaOwnSurface=false, =true and
-taa=false (--compare ownSurface), or taaHistoryRejection off and on (--compare rejection), on the renderer's
+taa=false (--compare ownSurface), taaHistoryRejection off and on (--compare rejection), or both (--compare combined), on the renderer's
 scenes and the committed Blender fixture with a reference; prints the Markdown tables of
 docs/methods/taa.md.
 
   scripts/taa-experiments.py [--build build/release] [--size 160x90] [--frames 16]
                              [--reference-spp 64] [--work /tmp/rtd-taa] [--scenes cornell,...]
-                             [--compare filter|domain|ownSurface|rejection]
+                             [--compare filter|domain|ownSurface|rejection|combined]
 
 Each scene is rendered once into WORK/<scene> (1 spp, --reference-spp references, kept for
 re-runs), then one `rtdenoise compare` runs every configuration over it; the table holds the
@@ -29,6 +29,10 @@ COMPARISONS = {
     "domain": [("display", ":taaDomain=display"), ("linear", ":taaDomain=linear"), ("no TAA", ":taa=false")],
     "ownSurface": [("plain", ":taaOwnSurface=false"), ("own", ":taaOwnSurface=true"), ("no TAA", ":taa=false")],
     "rejection": [("off", ":taaHistoryRejection=false"), ("on", ":taaHistoryRejection=true")],
+    # The two together against each alone and against no TAA (docs/methods/taa.md, "The defaults").
+    "combined": [("neither", ":taaOwnSurface=false:taaHistoryRejection=false"), ("rejection", ":taaOwnSurface=false:taaHistoryRejection=true"),
+                 ("ownSurface", ":taaOwnSurface=true:taaHistoryRejection=false"), ("both", ":taaOwnSurface=true:taaHistoryRejection=true"),
+                 ("no TAA", ":taa=false")],
 }
 SCENES = ["cornell", "pillars", "dynamic", "corridorglossy", "mirrorfloor", "glossyfloor"]
 
@@ -62,7 +66,8 @@ def main():
     ap.add_argument("--json", help="also write every run's steady-state means here")
     ap.add_argument("--compare", choices=sorted(COMPARISONS), default="filter",
                     help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / linear / no TAA; "
-                    "ownSurface: taaOwnSurface off / on / no TAA; rejection: taaHistoryRejection off / on")
+                    "ownSurface: taaOwnSurface off / on / no TAA; rejection: taaHistoryRejection off / on; "
+                    "combined: neither / rejection / ownSurface / both / no TAA")
     a = ap.parse_args()
     TAA = COMPARISONS[a.compare]
     cli = os.path.join(a.build, "apps", "rtdenoise")

@@ -41,18 +41,19 @@ struct TaaSettings {
   /// front of a darker wall) or next to a lamp whose filtered radiance is 0, the plain 3x3 box
   /// also spans the other surface, so history carried over from it is not clamped away
   /// (issues 12 and 13; docs/methods/taa.md, "Own-surface clamp box"). A frame without the
-  /// buffers the keys need (ObjectId, Emission) is clamped as with the option off. Off by
-  /// default: measured, it gains on every moving renderer scene for every method (pillars up
-  /// to +3.4 dB) but raises the still-camera temporal error of the Voorhuis variants (up to
-  /// +8 % on reflective pixels), costs BMFR 0.05 dB on corridorglossy and Dundr / BMFR 1 %
-  /// temporal error on the Blender glossy fixture; the TAA pass takes about 25 % longer.
-  bool taaOwnSurface = false;
+  /// buffers the keys need (ObjectId, Emission) is clamped as with the option off. On by
+  /// default since 2026-12-03 (with taaHistoryRejection): measured on every method and scene,
+  /// the two together gain up to +3.6 dB on moving renderer scenes (pillars), +1.4 to +1.6 dB
+  /// on the Cornell box, and lower temporal error; what they cost (BMFR -0.05 dB on
+  /// corridorglossy, +1-2 % temporal error on the Blender glossy fixture and on still Voorhuis
+  /// sequences, ~25 % more time in the TAA pass) is listed in docs/methods/taa.md, "The defaults".
+  bool taaOwnSurface = true;
   /// No TAA history where the method's reprojection found none: a pixel none of whose history
   /// taps passed the reprojection's consistency tests (a disocclusion: SVGF's depth, normal and
   /// object-id tests, BMFR's position test) keeps the current frame, as a pixel whose history
   /// lies off the frame does. Karis's TAA takes the history at any reprojected position and
   /// leaves ghosts to the clamp, which keeps them where the 3x3 box holds both surfaces (along
-  /// the silhouettes a moving camera uncovers; docs/methods/taa.md).
+  /// the silhouettes a moving camera uncovers; docs/methods/taa.md, "History rejection").
   bool taaHistoryRejection = true;
 
   template <class V> void visit(V& v) {
