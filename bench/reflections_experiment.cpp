@@ -207,9 +207,9 @@ int run(const Options& o) {
     add("Ours, no per-class blend", "voorhuis", true, false, {{"materialAlpha", "off"}});
     add("Ours, TAA on glossy reflection motion", "voorhuis", true, false, {{"taaGlossyReflectionMotion", "true"}});
     add("Ours, no TAA", "voorhuis", false, false);
-    add("Ours, own-surface TAA box", "voorhuis", true, false, {{"taaOwnSurface", "true"}});
+    add("Ours, plain TAA box", "voorhuis", true, false, {{"taaOwnSurface", "false"}, {"taaHistoryRejection", "false"}});
     add("Base, no TAA", "voorhuisBase", false, false);
-    add("Base, own-surface TAA box", "voorhuisBase", true, false, {{"taaOwnSurface", "true"}});
+    add("Base, plain TAA box", "voorhuisBase", true, false, {{"taaOwnSurface", "false"}, {"taaHistoryRejection", "false"}});
     add("NoSpecReproj", "voorhuisNoSpecReproj", true, false);
     add("Ours, primary motion, no TAA", "voorhuis", false, false, {{"specularMotion", "primary"}});
   } else if (supersampling) {
@@ -220,10 +220,12 @@ int run(const Options& o) {
     add("Base", "voorhuisBase", true, false);
     add("NoSpecReproj", "voorhuisNoSpecReproj", true, false);
     add("Ours", "voorhuis", true, false);
-    if (o.experiment == "quality" || o.experiment == "stability") {  // TAA's own-surface clamp box (taaOwnSurface, docs/methods/taa.md)
-      add("Base, own-surface TAA box", "voorhuisBase", true, false, {{"taaOwnSurface", "true"}});
-      add("NoSpecReproj, own-surface TAA box", "voorhuisNoSpecReproj", true, false, {{"taaOwnSurface", "true"}});
-      add("Ours, own-surface TAA box", "voorhuis", true, false, {{"taaOwnSurface", "true"}});
+    if (o.experiment == "quality" || o.experiment == "stability") {
+      // TAA as before 2026-12-03: the plain 3x3 box, no history rejection (the defaults now
+      // take the own-surface box and reject disoccluded history; docs/methods/taa.md).
+      add("Base, plain TAA box", "voorhuisBase", true, false, {{"taaOwnSurface", "false"}, {"taaHistoryRejection", "false"}});
+      add("NoSpecReproj, plain TAA box", "voorhuisNoSpecReproj", true, false, {{"taaOwnSurface", "false"}, {"taaHistoryRejection", "false"}});
+      add("Ours, plain TAA box", "voorhuis", true, false, {{"taaOwnSurface", "false"}, {"taaHistoryRejection", "false"}});
     }
   }
 
