@@ -12,6 +12,7 @@
 #include "passes/taa.h"
 #include "passes/tonemap.h"
 #include "support/cpu_paths.h"
+#include "support/taa_frames.h"
 
 namespace rtd {
 namespace {
@@ -42,24 +43,9 @@ void acceptAll(Reprojection& rp) {
       setBilinear(rp, size_t(y) * rp.width + x, rp.prevX(x, y), rp.prevY(x, y), [](int, int) { return true; });
 }
 
-// Every pixel's history comes from (x + shiftX, y): prev = p + 0.5 + shift.
-Reprojection shifted(float shiftX) {
-  Reprojection rp;
-  rp.resize(kW, kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) { rp.prevX(x, y) = x + 0.5f + shiftX; rp.prevY(x, y) = y + 0.5f; }
-  acceptAll(rp);
-  return rp;
-}
-
-template <class F> Plane3 image(F f) {
-  Plane3 p;
-  resize(p, kW, kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x)
-      for (int c = 0; c < 3; ++c) p[c](x, y) = f(x, y, c);
-  return p;
-}
+// Every pixel's history comes from (x + shiftX, y), every tap accepted.
+Reprojection shifted(float shiftX) { return test::shiftedReprojection(kW, kH, shiftX, 0.0f); }
+template <class F> Plane3 image(F f) { return test::imageOf(kW, kH, f); }
 
 // In both domains; HDR values (up to 20) in the display one, to the precision of the
 // encoding near 1 (tonemap.h: about 2^-23 (1 + x) relative).

@@ -13,42 +13,18 @@
 #include "passes/taa.h"
 #include "passes/taa_keys.h"
 #include "support/cpu_paths.h"
+#include "support/taa_frames.h"
 
 namespace rtd {
 namespace {
 
 constexpr int kW = 24, kH = 13;
 
-Reprojection still() {  // every pixel's history is its own pixel, every tap accepted
-  Reprojection rp;
-  rp.resize(kW, kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      rp.prevX(x, y) = x + 0.5f;
-      rp.prevY(x, y) = y + 0.5f;
-      setBilinear(rp, size_t(y) * kW + x, rp.prevX(x, y), rp.prevY(x, y), [](int, int) { return true; });
-    }
-  return rp;
-}
-Reprojection moving(float dx, float dy) {  // sub-pixel motion: the history is resampled
-  Reprojection rp;
-  rp.resize(kW, kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      rp.prevX(x, y) = x + 0.5f + dx;
-      rp.prevY(x, y) = y + 0.5f + dy;
-      setBilinear(rp, size_t(y) * kW + x, rp.prevX(x, y), rp.prevY(x, y), [](int, int) { return true; });
-    }
-  return rp;
-}
-template <class F> Plane3 image(F f) {
-  Plane3 p;
-  resize(p, kW, kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x)
-      for (int c = 0; c < 3; ++c) p[c](x, y) = f(x, y, c);
-  return p;
-}
+// Every pixel's history is its own pixel (still) or moved by a sub-pixel (dx, dy) (the history
+// is resampled); every tap accepted.
+Reprojection still() { return test::shiftedReprojection(kW, kH, 0.0f, 0.0f); }
+Reprojection moving(float dx, float dy) { return test::shiftedReprojection(kW, kH, dx, dy); }
+template <class F> Plane3 image(F f) { return test::imageOf(kW, kH, f); }
 TaaSettings settings(bool own, TaaDomain d, TaaNeighbourhood shape = TaaNeighbourhood::box3x3) {
   TaaSettings s;
   s.taaAlpha = 0.1f;
