@@ -141,7 +141,12 @@ TEST(TaaOwnSurface, AllEqualKeysAreThePlainBoxAndEveryCpuPathAgrees) {
         const Plane3 out = runAll(settings(true, d, shape), &mixed);
         for (int c = 0; c < 3; ++c)
           for (size_t i = 0; i < out[c].size(); ++i)
-            EXPECT_NEAR(out[c].data[i], scalar[c].data[i], 0x1p-20f * (1.0f + scalar[c].data[i])) << cpuPathName(path);
+            // 2^-20 of (1 + x)^2: in the display domain the paths' encodes and decodes (vector
+            // and scalar sqrt and division, and what each compiler contracts into FMAs) differ
+            // by a few roundings of the encoded value, which the decode x = e^2 / (1 - e^2)
+            // scales by about 2 (1 + x)^2 (clang's avx2 path: 3.8e-6 at x = 2.09).
+            EXPECT_NEAR(out[c].data[i], scalar[c].data[i], 0x1p-20f * (1.0f + scalar[c].data[i]) * (1.0f + scalar[c].data[i]))
+                << cpuPathName(path);
       }
     }
 }
