@@ -101,9 +101,7 @@ void surfaceKeys(const FrameData& f, const PixelVector<uint8_t>& cls, PixelVecto
   parallelRows(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
-      // Through int64: ids are integer-valued floats (validated on import), any sign.
-      const uint32_t object = id ? uint32_t(int64_t(id[i])) : 0u;
-      out[i] = object * 4u + cls[i];
+      out[i] = surfaceKey(id ? id[i] : 0.0f, cls[i]);
     }
   });
 }

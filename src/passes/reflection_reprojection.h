@@ -41,6 +41,9 @@ void classifySurfaces(const FrameData& f, const SurfaceClassThresholds& t, bool 
 /// One key per pixel that tells surfaces apart: its class and, where the frame has ObjectId,
 /// its object id (key = id * 4 + class, wrapping; ids are integer-valued). The clipping
 /// neighbourhood of a pixel is the pixels of its key (ClipBoxOptions, clipBox's `surface`).
+/// The key of one pixel: object id * 4 + class (ids are integer-valued floats, validated on
+/// import, of any sign: through int64). Also the base of TAA's keys (passes/taa_keys.h).
+inline uint32_t surfaceKey(float objectId, uint8_t cls) { return uint32_t(int64_t(objectId)) * 4u + cls; }
 void surfaceKeys(const FrameData& f, const PixelVector<uint8_t>& cls, PixelVector<uint32_t>& out);
 
 /// The buffers the reflection motion vectors read, per class: mirrors the reflected position;

@@ -2,6 +2,7 @@
 
 #include "core/parallel.h"
 #include "passes/emitters.h"
+#include "passes/reflection_reprojection.h"
 
 namespace rtd {
 
@@ -19,9 +20,7 @@ bool taaSurfaceKeys(const FrameData& f, const EmitterSettings* emitters, const P
   parallelRows(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
-      // Through int64: ids are integer-valued floats (validated on import), any sign.
-      const uint32_t object = id ? uint32_t(int64_t(id[i])) : 0u;
-      uint32_t key = (object * 4u + (cls ? (*cls)[i] : 0u)) & ~kTaaEmitterKey;
+      uint32_t key = surfaceKey(id ? id[i] : 0.0f, cls ? (*cls)[i] : uint8_t(0)) & ~kTaaEmitterKey;
       if (e && emitterPixel((*e)[0].ptr()[i], (*e)[1].ptr()[i], (*e)[2].ptr()[i], emitters->emitterThreshold) &&
           (!a || reflectanceless((*a)[0].ptr()[i], (*a)[1].ptr()[i], (*a)[2].ptr()[i])))
         key |= kTaaEmitterKey;
