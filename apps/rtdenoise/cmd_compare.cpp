@@ -12,7 +12,7 @@ namespace rtd::cli {
 namespace fs = std::filesystem;
 
 namespace {
-struct Options {
+struct CompareOptions {
   std::string input, reference, crop;
   OutputOptions output;
   std::vector<std::string> methods, settings;
@@ -22,7 +22,7 @@ struct Options {
   EvalOptions eval;
 };
 
-void run(const Options& o) {
+void runCompare(const CompareOptions& o) {
   eval::CompareSettings cs = compareSettings(o.methods, o.settings, o.device);
   const auto source = eval::directorySource(o.input, o.reference, framesToUse(o.frames, SequenceReader::open(o.input)->frameCount()));
   cs.eval = o.eval.settings(source.frameCount);
@@ -34,7 +34,7 @@ void run(const Options& o) {
 }  // namespace
 
 void addCompare(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<CompareOptions>();
   auto* cmd = addSubcommand(app, "compare", "run several configurations on one sequence; write an HTML report and JSON");
   cmd->add_option("--input,-i", o->input, "input sequence directory (native, per-buffer files or Blender)")->required();
   cmd->add_option("--reference,-r", o->reference, "reference directory (frame images or a sequence)")->required();
@@ -46,7 +46,7 @@ void addCompare(CLI::App& app) {
   cmd->add_option("--crop", o->crop, "enlarged crop X,Y,WIDTH,HEIGHT inside the image (default: centred)");
   cmd->add_option("--json", o->json, "FILE: write the metrics JSON to FILE (default: <output>/metrics.json)");
   o->eval.add(cmd);
-  cmd->callback([o] { run(*o); });
+  cmd->callback([o] { runCompare(*o); });
 }
 
 }  // namespace rtd::cli

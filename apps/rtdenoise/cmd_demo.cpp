@@ -123,7 +123,7 @@ eval::FrameSource demoScene(const DemoOptions& o) {
   return src;
 }
 
-void run(const DemoOptions& o) {
+void runDemo(const DemoOptions& o) {
   eval::CompareSettings cs = compareSettings(o.methods, o.settings, o.device);
   cs.eval = o.eval.settings(o.frames);
   o.output.prepare(kComparisonOutputs);
@@ -163,7 +163,7 @@ void addDemo(CLI::App& app) {
       throw UsageError("--scene synthetic has an exact reference: --reference-spp and --reference-cache do not apply");
     if (cmd->count("--reference-cache") && o->noCache)
       throw UsageError("--reference-cache and --no-reference-cache contradict each other");
-    run(*o);
+    runDemo(*o);
   });
 }
 

@@ -12,7 +12,7 @@
 namespace rtd::cli {
 
 namespace {
-struct Options {
+struct EvalCommandOptions {
   std::string reference, result, input, json;
   EvalOptions eval;
   // Reflections (docs/evaluation.md "Reflections"): both read the --input sequence.
@@ -21,7 +21,7 @@ struct Options {
 };
 
 // PSNR and SSIM of the result over the input's pixels of roughness < r (steady frames).
-nlohmann::json maskedMetrics(const Options& o, const eval::EvalSettings& settings) {
+nlohmann::json maskedMetrics(const EvalCommandOptions& o, const eval::EvalSettings& settings) {
   auto input = SequenceReader::open(o.input);
   auto result = eval::RgbSequence::open(o.result, "result");
   auto reference = eval::RgbSequence::open(o.reference, "reference");
@@ -50,7 +50,7 @@ nlohmann::json maskedMetrics(const Options& o, const eval::EvalSettings& setting
   return {{"maskRoughness", o.maskRoughness}, {"frames", n}, {"psnr", n ? psnr / n : NAN}, {"ssim", n ? ssim / n : NAN}};
 }
 
-nlohmann::json reflectionMotion(const Options& o) {
+nlohmann::json reflectionMotion(const EvalCommandOptions& o) {
   eval::ReflectionMotionSettings s;
   s.ldspScaling = !o.noLdspScaling;
   s.referenceOnRay = !o.lineReference;
@@ -80,7 +80,7 @@ nlohmann::json reflectionMotion(const Options& o) {
           {"missed", pixels ? double(missed) / double(pixels) : NAN}};
 }
 
-void run(const Options& o) {
+void runEval(const EvalCommandOptions& o) {
   const auto settings = o.eval.settings(eval::RgbSequence::open(o.result, "result")->frameCount());
   std::unique_ptr<Progress> bar;
   const auto streams = eval::evaluateDirectories(
@@ -106,7 +106,7 @@ void run(const Options& o) {
 }  // namespace
 
 void addEval(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<EvalCommandOptions>();
   auto* cmd = addSubcommand(app, "eval", "metrics of a result sequence against a reference (table, and JSON with --json)");
   cmd->add_option("--reference,-r", o->reference, "reference directory (frame images or a sequence)")->required();
   cmd->add_option("--result", o->result, "result directory (e.g. `rtdenoise denoise` output)")->required();
@@ -127,7 +127,7 @@ void addEval(CLI::App& app) {
                   "also PSNR / SSIM over the input's pixels of roughness below this (0.4: reflective pixels)")
       ->needs(input)
       ->check(CLI::Range(0.0f, 1.01f));
-  cmd->callback([o] { run(*o); });
+  cmd->callback([o] { runEval(*o); });
 }
 
 }  // namespace rtd::cli

@@ -19,7 +19,7 @@ namespace {
 // Search steps along the edge, in pixels (the quality preset's schedule).
 constexpr float kSteps[12] = {1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.5f, 2.0f, 2.0f, 2.0f, 2.0f, 4.0f, 8.0f};
 
-struct Image {
+struct FxaaImage {
   const Plane3& rgb;
   const Plane& luma;
   int w, h;
@@ -40,7 +40,7 @@ struct Image {
 };
 
 // The shift of pixel (x, y) in pixels along (sx, sy) (0 where it is not on an edge).
-void fxaaPixel(const Image& im, const FxaaParams& p, int x, int y, float& sx, float& sy) {
+void fxaaPixel(const FxaaImage& im, const FxaaParams& p, int x, int y, float& sx, float& sy) {
   sx = sy = 0.0f;
   const float m = im.l(x, y), n = im.l(x, y - 1), s = im.l(x, y + 1), e = im.l(x + 1, y), wv = im.l(x - 1, y);
   const float hi = std::max({m, n, s, e, wv}), lo = std::min({m, n, s, e, wv});
@@ -103,7 +103,7 @@ void fxaa(const Plane3& in, const FxaaParams& p, Plane& luma, Plane3& out) {
   parallelRows(h, [&](int y) {
     for (int x = 0; x < w; ++x) luma(x, y) = fxaaLuma(in[0](x, y), in[1](x, y), in[2](x, y));
   });
-  const Image im{in, luma, w, h};
+  const FxaaImage im{in, luma, w, h};
   parallelRows(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       float sx, sy;

@@ -10,18 +10,13 @@
 #include "rtd/rtd.h"
 #include "support/run_cli.h"
 #include "synthetic/synthetic.h"
+#include "support/files.h"
 
 using namespace rtd;
 using rtd::test::runCli;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rtd_cliconv_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 /// A native input sequence (the analytic scene) and its reference EXRs.
 void writeScene(const fs::path& dir, int frames, int w = 24, int h = 16) {
@@ -40,10 +35,6 @@ void writeScene(const fs::path& dir, int frames, int w = 24, int h = 16) {
   writer.finish();
 }
 
-nlohmann::json readJson(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 }  // namespace
@@ -99,19 +90,19 @@ TEST(CliConventions, PresetNeverOverridesASettingGivenWithIt) {
   EXPECT_EQ(d->getSettings<SvgfSettings>().sigmaNormal, SvgfSettings{}.sigmaNormal);  // nothing applied
 
   // The same through the CLI: the settings denoise used are in timings.json.
-  const fs::path dir = scratch("preset");
+  const fs::path dir = rtd::test::scratchDir("rtd_cliconv", "preset");
   writeScene(dir, 2);
   const auto r = runCli("denoise -m svgf -i " + (dir / "input").string() + " -o " + (dir / "out").string() +
                         " --set sigmaNormal=32 --set variant=dundr");
   ASSERT_EQ(r.code, 0) << r.output;
-  const auto t = readJson(dir / "out" / "timings.json");
+  const auto t = rtd::test::readJson(dir / "out" / "timings.json");
   EXPECT_EQ(t["settings"]["variant"], "dundr");
   EXPECT_EQ(t["settings"]["sigmaNormal"], "32");
   fs::remove_all(dir);
 }
 
 TEST(CliConventions, ReusedOutputFolderIsRefusedUnlessOverwrite) {
-  const fs::path dir = scratch("reuse");
+  const fs::path dir = rtd::test::scratchDir("rtd_cliconv", "reuse");
   writeScene(dir, 4);
   const std::string in = (dir / "input").string(), out = (dir / "out").string();
   ASSERT_EQ(runCli("denoise -m accumulate -i " + in + " -o " + out).code, 0);
@@ -136,7 +127,7 @@ TEST(CliConventions, ReusedOutputFolderIsRefusedUnlessOverwrite) {
 }
 
 TEST(CliConventions, EvalRefusesMixedOrMismatchedFrameLists) {
-  const fs::path dir = scratch("mixed");
+  const fs::path dir = rtd::test::scratchDir("rtd_cliconv", "mixed");
   writeScene(dir, 4);
   const std::string in = (dir / "input").string(), ref = (dir / "reference").string(), out = (dir / "out").string();
   ASSERT_EQ(runCli("denoise -m accumulate -i " + in + " -o " + out).code, 0);
@@ -160,7 +151,7 @@ TEST(CliConventions, EvalRefusesMixedOrMismatchedFrameLists) {
 }
 
 TEST(CliConventions, UnknownOrMeaninglessOptionsAreUsageErrors) {
-  const fs::path dir = scratch("usage");
+  const fs::path dir = rtd::test::scratchDir("rtd_cliconv", "usage");
   writeScene(dir, 4);
   const std::string io = " -i " + (dir / "input").string() + " -r " + (dir / "reference").string() + " -o " +
                          (dir / "cmp").string() + " --flip none";
@@ -197,13 +188,13 @@ TEST(CliConventions, UnknownOrMeaninglessOptionsAreUsageErrors) {
 }
 
 TEST(CliConventions, CompareRunsConfigurationsOfOneMethodAsLabelledRuns) {
-  const fs::path dir = scratch("configs");
+  const fs::path dir = rtd::test::scratchDir("rtd_cliconv", "configs");
   writeScene(dir, 3);
   const auto r = runCli("compare -i " + (dir / "input").string() + " -r " + (dir / "reference").string() + " -o " +
                         (dir / "cmp").string() +
                         " --flip none --warmup 1 --methods svgf,svgf:variant=dundr:sigmaNormal=32 -m bmfr:blockSize=64");
   ASSERT_EQ(r.code, 0) << r.output;
-  const auto j = readJson(dir / "cmp" / "metrics.json");
+  const auto j = rtd::test::readJson(dir / "cmp" / "metrics.json");
   ASSERT_EQ(j["runs"].size(), 4u);  // the input and three configurations
   EXPECT_EQ(j["runs"][1]["label"], "svgf");
   EXPECT_EQ(j["runs"][2]["label"], "svgf variant=dundr sigmaNormal=32");

@@ -14,18 +14,12 @@
 
 #include "rtd/rtd.h"
 #include "synthetic/synthetic.h"
+#include "support/files.h"
 
 namespace rtd {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path scratch(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("rtd_pipeline_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
 
 // Frames numbered 0, 1, 2, 4, 5, 6, ... (a gap before 4, which resets history) with a marked
 // cut at the second-to-last one: the loop's cut handling runs in both modes.
@@ -74,7 +68,7 @@ std::vector<std::string> entries(const fs::path& dir) {
 }
 
 TEST(DenoisePipeline, SameBytesWithAndWithoutThePipeline) {
-  const fs::path dir = scratch("same");
+  const fs::path dir = test::scratchDir("rtd_pipeline", "same");
   const std::vector<int> numbers = writeSequence(dir / "in", 7);
   // svgf carries history from frame to frame; --half and --preview take the other write paths.
   for (const std::string extra : {"", " --half --preview"}) {
@@ -98,7 +92,7 @@ TEST(DenoisePipeline, SameBytesWithAndWithoutThePipeline) {
 
 // A stereo input (left/, right/): both eyes go through the same pipeline.
 TEST(DenoisePipeline, StereoSameBytesWithAndWithoutThePipeline) {
-  const fs::path dir = scratch("stereo");
+  const fs::path dir = test::scratchDir("rtd_pipeline", "stereo");
   std::vector<int> numbers;
   for (const char* eye : {"left", "right"}) numbers = writeSequence(dir / "in" / eye, 4);
   std::string err;
@@ -115,7 +109,7 @@ TEST(DenoisePipeline, StereoSameBytesWithAndWithoutThePipeline) {
 }
 
 TEST(DenoisePipeline, AnUnreadableFrameStopsTheRunAfterTheEarlierFramesAreWritten) {
-  const fs::path dir = scratch("unreadable");
+  const fs::path dir = test::scratchDir("rtd_pipeline", "unreadable");
   const std::vector<int> numbers = writeSequence(dir / "in", 6);
   const size_t bad = 3;  // frame number 4
   const fs::path victim = dir / "in" / frameFile(numbers[bad]);
@@ -135,7 +129,7 @@ TEST(DenoisePipeline, AnUnreadableFrameStopsTheRunAfterTheEarlierFramesAreWritte
 }
 
 TEST(DenoisePipeline, AnOutputThatCannotBeWrittenFailsCleanly) {
-  const fs::path dir = scratch("unwritable");
+  const fs::path dir = test::scratchDir("rtd_pipeline", "unwritable");
   writeSequence(dir / "in", 4);
   // A file-size limit of 512 bytes (SIGXFSZ ignored, so the writes fail with EFBIG, as on a
   // full disk): every frame's write fails, on the writer thread.

@@ -168,7 +168,7 @@ TEST(Conventions, TypedConventionsAreCheckedLikeNamedOnes) {
 // and reversed-Z depth about 1e-6 of the peak; standard-Z depth 1e-5 (float depth buffers lose
 // precision away from the near plane); ignoring the convention 5-30%.
 
-synthetic::Scene scene() {
+synthetic::Scene conventionsScene() {
   synthetic::Scene s;
   s.gradientSamples = false;  // A-SVGF's; they do not follow the camera's yaw and jitter
   s.width = 64;
@@ -181,40 +181,40 @@ void expectSameOutput(const synthetic::Scene& s, const test::ToEngine& engine, d
   test::expectSameOutput(*device, s, engine, tolerance);
 }
 
-TEST(Conventions, MotionInUv) { expectSameOutput(scene(), test::motionAs(C::MotionUnits::Uv, false, false), 1e-5); }
+TEST(Conventions, MotionInUv) { expectSameOutput(conventionsScene(), test::motionAs(C::MotionUnits::Uv, false, false), 1e-5); }
 TEST(Conventions, MotionInNdcYUpPointingToCurrent) {
-  expectSameOutput(scene(), test::motionAs(C::MotionUnits::Ndc, true, true), 1e-5);
+  expectSameOutput(conventionsScene(), test::motionAs(C::MotionUnits::Ndc, true, true), 1e-5);
 }
 TEST(Conventions, MotionIncludingJitter) {
-  auto s = scene();
+  auto s = conventionsScene();
   s.jitter = true;
   expectSameOutput(s, test::jitteredMotion(s), 1e-5);
 }
 TEST(Conventions, JitteredCameraWithoutMotionVectors) {
-  auto s = scene();
+  auto s = conventionsScene();
   s.jitter = true;
   expectSameOutput(s, test::jitteredCameraOnly(s), 1e-5);
 }
 TEST(Conventions, ViewSpaceNormals) {
-  auto s = scene();
+  auto s = conventionsScene();
   s.cameraYawSpeed = 0.03f;
   expectSameOutput(s, test::viewSpaceNormals(), 1e-5);
 }
 TEST(Conventions, HardwareDepthZeroToOne) {
-  expectSameOutput(scene(), test::hardwareDepth(test::zeroToOneProjection(0.1, 100), C::DepthRange::ZeroToOne), 1e-4);
+  expectSameOutput(conventionsScene(), test::hardwareDepth(test::zeroToOneProjection(0.1, 100), C::DepthRange::ZeroToOne), 1e-4);
 }
 TEST(Conventions, HardwareDepthOpenGl) {
-  expectSameOutput(scene(), test::hardwareDepth(test::openGlProjection(0.1, 100), C::DepthRange::MinusOneToOne), 1e-4);
+  expectSameOutput(conventionsScene(), test::hardwareDepth(test::openGlProjection(0.1, 100), C::DepthRange::MinusOneToOne), 1e-4);
 }
 TEST(Conventions, HardwareDepthReversedInfinite) {
-  expectSameOutput(scene(), test::hardwareDepth(test::reversedInfiniteProjection(0.1), C::DepthRange::ZeroToOne), 1e-5);
+  expectSameOutput(conventionsScene(), test::hardwareDepth(test::reversedInfiniteProjection(0.1), C::DepthRange::ZeroToOne), 1e-5);
 }
 
 // A frame whose conventions cannot be applied is rejected before history changes.
 TEST(Conventions, ViewSpaceNormalsWithoutCameraAreRejectedAndLoseNothing) {
   auto device = Device::create();
   auto a = device->createDenoiser("svgf"), b = device->createDenoiser("svgf");
-  const auto s = scene();
+  const auto s = conventionsScene();
   Image outA(s.width, s.height, 3), outB(s.width, s.height, 3);
   for (int i = 0; i < 3; ++i) {
     const Frame f = synthetic::makeFrame(s, i);

@@ -41,7 +41,7 @@ ToEngine scaled(float s, bool cameraOnly) {
   };
 }
 
-synthetic::Scene scene() {
+synthetic::Scene unitScene() {
   synthetic::Scene sc;
   sc.width = 64;
   sc.height = 40;
@@ -51,7 +51,7 @@ synthetic::Scene scene() {
 
 // History decisions of frame 1 -> 2 at scale s.
 Reprojection decisions(const ReprojectionSettings& st, float s, bool cameraOnly = false) {
-  const synthetic::Scene sc = scene();
+  const synthetic::Scene sc = unitScene();
   Frame a = synthetic::makeFrame(sc, 1), b = synthetic::makeFrame(sc, 2);
   FrameConventions unused;
   for (Frame* f : {&a, &b}) scaled(s, cameraOnly)(0, *f, unused);
@@ -80,7 +80,7 @@ std::map<int, float> taps(const Reprojection& r, size_t i) {
 // over the others. Compared per previous pixel, not by the bilinear base: a position exactly on
 // a pixel centre row (no vertical motion) puts weight 1 on that row and 0 on its neighbour row,
 // which float rounding at another scale may pick as the row above with weight 1e-6.
-std::pair<size_t, float> compare(const Reprojection& a, const Reprojection& b) {
+std::pair<size_t, float> compareDecisions(const Reprojection& a, const Reprojection& b) {
   size_t differ = 0;
   float dw = 0;
   for (size_t i = 0; i < a.kind.size(); ++i) {
@@ -104,7 +104,7 @@ TEST(ScaleInvariance, HistoryDecisionsDoNotDependOnTheSceneScale) {
       EXPECT_GT(counts[Reprojection::Bilinear], unit.kind.size() * 8 / 10) << "most pixels keep their history";
       EXPECT_GT(counts[Reprojection::None] + counts[Reprojection::Fallback3x3], 0u) << "and some do not (disocclusions)";
       for (float s : {10.0f, 0.1f}) {
-        const auto [differ, dw] = compare(unit, decisions(*st, s, cameraOnly));
+        const auto [differ, dw] = compareDecisions(unit, decisions(*st, s, cameraOnly));
         EXPECT_EQ(differ, 0u) << (st == &svgf ? "svgf" : "bmfr") << " scale " << s << (cameraOnly ? " from the cameras" : "");
         EXPECT_LE(dw, 2e-4f);
       }
@@ -114,8 +114,8 @@ TEST(ScaleInvariance, HistoryDecisionsDoNotDependOnTheSceneScale) {
   absolute.positionTolerance = 0.04f;
   absolute.positionFootprints = 0.0f;
   const Reprojection unit = decisions(absolute, 1.0f);
-  EXPECT_GT(compare(unit, decisions(absolute, 10.0f)).first, unit.kind.size() / 20);
-  EXPECT_GT(compare(unit, decisions(absolute, 0.1f)).first, 0u);
+  EXPECT_GT(compareDecisions(unit, decisions(absolute, 10.0f)).first, unit.kind.size() / 20);
+  EXPECT_GT(compareDecisions(unit, decisions(absolute, 0.1f)).first, 0u);
 }
 
 // Largest value over a sequence.
@@ -127,7 +127,7 @@ double peakOf(const std::vector<Image>& seq) {
 }
 
 TEST(ScaleInvariance, OutputsDoNotDependOnTheSceneScale) {
-  const synthetic::Scene sc = scene();
+  const synthetic::Scene sc = unitScene();
   for (Backend backend : testBackends()) {
     Device* device = testDevice(backend);
     if (!device) continue;

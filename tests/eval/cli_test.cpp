@@ -9,15 +9,12 @@
 
 #include "rtd/rtd.h"
 #include "support/run_cli.h"
+#include "support/files.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 using rtd::test::runCli;
-nlohmann::json readJson(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
 }  // namespace
 
 TEST(EvalCli, DemoDenoiseEvalAndCompare) {
@@ -27,7 +24,7 @@ TEST(EvalCli, DemoDenoiseEvalAndCompare) {
   ASSERT_EQ(demo.code, 0) << demo.output;
   EXPECT_NE(demo.output.find("report: "), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "demo" / "report.html"));
-  const auto demoJson = readJson(dir / "demo" / "metrics.json");
+  const auto demoJson = rtd::test::readJson(dir / "demo" / "metrics.json");
   EXPECT_EQ(demoJson["frames"], 4);
 
   const fs::path scene = dir / "demo" / "scene";
@@ -38,7 +35,7 @@ TEST(EvalCli, DemoDenoiseEvalAndCompare) {
   ASSERT_EQ(ev.code, 0) << ev.output;
   EXPECT_NE(ev.output.find("PSNR"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "out" / "metrics.json"));  // nothing written into the result folder
-  const auto j = readJson(dir / "eval.json");
+  const auto j = rtd::test::readJson(dir / "eval.json");
   ASSERT_EQ(j["streams"].size(), 2u);
   EXPECT_EQ(j["streams"][0]["frames"].size(), 4u);
   // The denoised result is closer to the reference than the input; numbers agree with the demo's.

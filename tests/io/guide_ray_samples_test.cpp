@@ -15,35 +15,20 @@
 #include "rtd/guide_rays.h"
 #include "rtd/sequence.h"
 #include "support/run_cli.h"
+#include "support/files.h"
 
 namespace rtd {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("rtd_guide_samples_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-constexpr int kW = 6, kH = 4;
+constexpr int kGuideSamplesW = 6, kGuideSamplesH = 4;
 
 Image randomImage(int channels, std::mt19937& rng, float lo, float hi) {
   std::uniform_real_distribution<float> u(lo, hi);
-  Image img(kW, kH, channels);
+  Image img(kGuideSamplesW, kGuideSamplesH, channels);
   for (float& v : img.pixels) v = u(rng);
   return img;
 }
@@ -52,8 +37,8 @@ Image randomImage(int channels, std::mt19937& rng, float lo, float hi) {
 std::pair<Frame, GuideRaySamples> frameWithSamples(int number, int n, std::mt19937& rng) {
   Frame f;
   f.number = number;
-  f.width = kW;
-  f.height = kH;
+  f.width = kGuideSamplesW;
+  f.height = kGuideSamplesH;
   for (Buffer b : {Buffer::Color, Buffer::Diffuse, Buffer::Specular, Buffer::Albedo, Buffer::Normal})
     f[b] = randomImage(3, rng, 0.0f, 1.0f);
   f[Buffer::Depth] = randomImage(1, rng, 1.0f, 5.0f);
@@ -61,8 +46,8 @@ std::pair<Frame, GuideRaySamples> frameWithSamples(int number, int n, std::mt199
   for (int k = 0; k < n; ++k) {
     Frame sf;
     sf.number = number;
-    sf.width = kW;
-    sf.height = kH;
+    sf.width = kGuideSamplesW;
+    sf.height = kGuideSamplesH;
     for (Buffer b : {Buffer::Color, Buffer::Diffuse, Buffer::Specular, Buffer::Normal}) sf[b] = randomImage(3, rng, 0.0f, 1.0f);
     sf[Buffer::Depth] = randomImage(1, rng, 1.0f, 5.0f);
     s.samples.push_back(sf);
@@ -71,14 +56,10 @@ std::pair<Frame, GuideRaySamples> frameWithSamples(int number, int n, std::mt199
   return {f, s};
 }
 
-nlohmann::json readJson(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
 void writeJson(const fs::path& p, const nlohmann::json& j) { std::ofstream(p) << j.dump(1); }
 
 TEST(GuideRaySampleFiles, RoundTripBitExactlyWithTheirBuffersInSequenceJson) {
-  const fs::path dir = scratch("roundtrip");
+  const fs::path dir = test::scratchDir("rtd_guide_samples", "roundtrip");
   std::mt19937 rng(7);
   std::vector<std::pair<Frame, GuideRaySamples>> written;
   {
@@ -89,7 +70,7 @@ TEST(GuideRaySampleFiles, RoundTripBitExactlyWithTheirBuffersInSequenceJson) {
     }
     w.finish();
   }
-  const auto j = readJson(dir / "sequence.json");
+  const auto j = rtd::test::readJson(dir / "sequence.json");
   EXPECT_EQ(j["guideRays"]["samples"], 3);
   auto reader = SequenceReader::open(dir);
   ASSERT_EQ(reader->guideRaySampleCount(), 3);
@@ -108,7 +89,7 @@ TEST(GuideRaySampleFiles, RoundTripBitExactlyWithTheirBuffersInSequenceJson) {
     }
   }
   // A sequence without samples says so.
-  const fs::path plain = scratch("plain");
+  const fs::path plain = test::scratchDir("rtd_guide_samples", "plain");
   {
     SequenceWriter w(plain);
     w.write(written[0].first);
@@ -116,14 +97,14 @@ TEST(GuideRaySampleFiles, RoundTripBitExactlyWithTheirBuffersInSequenceJson) {
   }
   auto plainReader = SequenceReader::open(plain);
   EXPECT_EQ(plainReader->guideRaySampleCount(), 0);
-  EXPECT_FALSE(readJson(plain / "sequence.json").contains("guideRays"));
-  EXPECT_TRUE(has(errorOf([&] { plainReader->readGuideRaySamples(0); }), "no guide-ray samples"));
+  EXPECT_FALSE(rtd::test::readJson(plain / "sequence.json").contains("guideRays"));
+  EXPECT_TRUE(has(test::errorOf([&] { plainReader->readGuideRaySamples(0); }), "no guide-ray samples"));
   fs::remove_all(dir);
   fs::remove_all(plain);
 }
 
 TEST(GuideRaySampleFiles, WriterRefusesInconsistentSamples) {
-  const fs::path dir = scratch("writer");
+  const fs::path dir = test::scratchDir("rtd_guide_samples", "writer");
   std::mt19937 rng(8);
   SequenceWriter w(dir);
   // Named variables, not structured bindings: clang 14 (the asan build) cannot capture those.
@@ -134,27 +115,27 @@ TEST(GuideRaySampleFiles, WriterRefusesInconsistentSamples) {
   // sum of the lobes.
   GuideRaySamples noLobe = s1;
   for (Frame& sf : noLobe.samples) sf[Buffer::Specular] = Image();
-  EXPECT_TRUE(has(errorOf([&] { w.write(f1, &noLobe); }), "'specular'"));
+  EXPECT_TRUE(has(test::errorOf([&] { w.write(f1, &noLobe); }), "'specular'"));
   GuideRaySamples noDepth = s1;
   for (Frame& sf : noDepth.samples) sf[Buffer::Depth] = Image();
-  EXPECT_TRUE(has(errorOf([&] { w.write(f1, &noDepth); }), "'depth'"));
+  EXPECT_TRUE(has(test::errorOf([&] { w.write(f1, &noDepth); }), "'depth'"));
   GuideRaySamples fewOffsets = s1;
   fewOffsets.offsets.pop_back();
-  EXPECT_TRUE(has(errorOf([&] { w.write(f1, &fewOffsets); }), "offset images"));
+  EXPECT_TRUE(has(test::errorOf([&] { w.write(f1, &fewOffsets); }), "offset images"));
   w.write(f1, &s1);
   auto second = frameWithSamples(2, 3, rng);
   const Frame& f2 = second.first;
   GuideRaySamples& s2 = second.second;
-  const std::string msg = errorOf([&] { w.write(f2, &s2); });
+  const std::string msg = test::errorOf([&] { w.write(f2, &s2); });
   EXPECT_TRUE(has(msg, "frame 2") && has(msg, "differ from the first frame")) << msg;
-  EXPECT_TRUE(has(errorOf([&] { w.write(f2); }), "frame 2"));
+  EXPECT_TRUE(has(test::errorOf([&] { w.write(f2); }), "frame 2"));
   fs::remove_all(dir);
 }
 
 TEST(GuideRaySampleFiles, ReaderNamesTheFileFrameAndChannelOfBadSamples) {
   std::mt19937 rng(9);
   auto make = [&](const std::string& name, const std::function<void(GuideRaySamples&)>& spoil) {
-    const fs::path dir = scratch(name);
+    const fs::path dir = test::scratchDir("rtd_guide_samples", name);
     SequenceWriter w(dir);
     for (int i = 1; i <= 2; ++i) {
       auto [f, s] = frameWithSamples(i, 2, rng);
@@ -179,7 +160,7 @@ TEST(GuideRaySampleFiles, ReaderNamesTheFileFrameAndChannelOfBadSamples) {
                         Case{negative, "sample2.color.R", "(0, 0)", "negative"}}) {
     auto reader = SequenceReader::open(c.dir);
     EXPECT_NO_THROW(reader->readGuideRaySamples(0));
-    const std::string msg = errorOf([&] { reader->readGuideRaySamples(1); });
+    const std::string msg = test::errorOf([&] { reader->readGuideRaySamples(1); });
     for (const std::string& part : {std::string("frame 2"), std::string("frame_0002.exr"), std::string(c.channel),
                                    std::string(c.pixel), std::string(c.what)})
       EXPECT_TRUE(has(msg, part)) << part << " not in: " << msg;
@@ -194,19 +175,19 @@ TEST(GuideRaySampleFiles, ReaderNamesTheFileFrameAndChannelOfBadSamples) {
 
   // sequence.json claiming more samples than the files hold: the missing channel is named.
   const fs::path more = make("more", [](GuideRaySamples&) {});
-  nlohmann::json j = readJson(more / "sequence.json");
+  nlohmann::json j = rtd::test::readJson(more / "sequence.json");
   j["guideRays"]["samples"] = 3;
   writeJson(more / "sequence.json", j);
-  const std::string msg = errorOf([&] { SequenceReader::open(more)->readGuideRaySamples(0); });
+  const std::string msg = test::errorOf([&] { SequenceReader::open(more)->readGuideRaySamples(0); });
   EXPECT_TRUE(has(msg, "frame 1") && has(msg, "frame_0001.exr") && has(msg, "sample3.")) << msg;
 
   // Bad 'guideRays' fields are refused when the sequence is opened, naming the field.
-  const nlohmann::json original = readJson(more / "sequence.json");
+  const nlohmann::json original = rtd::test::readJson(more / "sequence.json");
   auto refused = [&](const std::function<void(nlohmann::json&)>& edit, const std::string& part) {
     nlohmann::json e = original;
     edit(e);
     writeJson(more / "sequence.json", e);
-    const std::string m = errorOf([&] { SequenceReader::open(more); });
+    const std::string m = test::errorOf([&] { SequenceReader::open(more); });
     EXPECT_TRUE(has(m, "sequence.json") && has(m, part)) << part << " not in: " << m;
   };
   refused([](nlohmann::json& e) { e["guideRays"]["samples"] = 0; }, "'guideRays.samples'");

@@ -20,6 +20,7 @@
 #include "rtd/rtd.h"
 #include "support/run_cli.h"
 #include "synthetic/synthetic.h"
+#include "support/files.h"
 
 namespace rtd {
 namespace {
@@ -28,14 +29,7 @@ namespace fs = std::filesystem;
 
 constexpr int kFrames = 3;
 
-fs::path scratch(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("rtd_perbuffer_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-synthetic::Scene scene() {
+synthetic::Scene perBufferScene() {
   synthetic::Scene s;
   s.width = 24;
   s.height = 16;
@@ -95,7 +89,7 @@ void oiiotool(const std::vector<Conversion>& conversions) {
 void writeCameras(const fs::path& dir) {
   nlohmann::json cams = nlohmann::json::array();
   for (int k = 0; k < kFrames; ++k) {
-    const Frame f = synthetic::makeFrame(scene(), k);
+    const Frame f = synthetic::makeFrame(perBufferScene(), k);
     cams.push_back({{"frame", f.number}, {"world_to_camera", f.camera.worldToCamera}, {"projection", f.camera.projection}});
   }
   std::ofstream(dir / "cameras.json") << nlohmann::json{{"cameras", cams}}.dump();
@@ -104,10 +98,10 @@ void writeCameras(const fs::path& dir) {
 /// The synthetic frames one file per buffer: `ext` "exr", "pfm" or "tif" (float TIFF from the
 /// EXR by oiiotool), and cameras.json.
 fs::path writePerBuffer(const std::string& ext) {
-  const fs::path dir = scratch(ext);
+  const fs::path dir = test::scratchDir("rtd_perbuffer", ext);
   std::vector<Conversion> tiffs;
   for (int k = 0; k < kFrames; ++k) {
-    const Frame f = synthetic::makeFrame(scene(), k);
+    const Frame f = synthetic::makeFrame(perBufferScene(), k);
     for (int b = 0; b < kBufferCount; ++b) {
       if (!f.has(Buffer(b))) continue;
       const fs::path exr = dir / fileName(Buffer(b), f.number, "exr");
@@ -128,9 +122,9 @@ fs::path writePerBuffer(const std::string& ext) {
 }
 
 fs::path writeNative() {
-  const fs::path dir = scratch("native");
+  const fs::path dir = test::scratchDir("rtd_perbuffer", "native");
   SequenceWriter writer(dir);
-  for (int k = 0; k < kFrames; ++k) writer.write(synthetic::makeFrame(scene(), k));
+  for (int k = 0; k < kFrames; ++k) writer.write(synthetic::makeFrame(perBufferScene(), k));
   writer.finish();
   return dir;
 }
@@ -154,15 +148,6 @@ std::vector<Image> denoiseAll(const fs::path& dir) {
 #else
 #define REQUIRE_OTHER_FORMATS() GTEST_SKIP() << "built without OpenImageIO (apt-get install libopenimageio-dev)"
 #endif
-
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
 
 class PerBufferLossless : public ::testing::TestWithParam<std::string> {};
 
@@ -200,7 +185,7 @@ TEST(PerBuffer, LossyFormatsWithinTheirQuantisation) {
   const fs::path dir = writePerBuffer("exr");
   std::vector<Conversion> conversions;
   for (int k = 0; k < kFrames; ++k) {
-    const Frame f = synthetic::makeFrame(scene(), k);
+    const Frame f = synthetic::makeFrame(perBufferScene(), k);
     const fs::path color = dir / fileName(Buffer::Color, f.number, "exr"), albedo = dir / fileName(Buffer::Albedo, f.number, "exr");
     conversions.push_back({color, "", dir / fileName(Buffer::Color, f.number, "hdr")});
     Image encoded = f[Buffer::Albedo];
@@ -212,7 +197,7 @@ TEST(PerBuffer, LossyFormatsWithinTheirQuantisation) {
   for (const auto& c : conversions) fs::remove(c.in);
   auto seq = SequenceReader::open(dir);
   for (int i = 0; i < kFrames; ++i) {
-    const Frame got = seq->read(i), want = synthetic::makeFrame(scene(), i);
+    const Frame got = seq->read(i), want = synthetic::makeFrame(perBufferScene(), i);
     const Image &c = got[Buffer::Color], &wc = want[Buffer::Color];
     for (int y = 0; y < c.height; ++y)
       for (int x = 0; x < c.width; ++x) {
@@ -229,16 +214,16 @@ TEST(PerBuffer, LossyFormatsWithinTheirQuantisation) {
 
 TEST(PerBuffer, RefusesMissingFilesDuplicatesAndIntegerDepth) {
   const fs::path dir = writePerBuffer("exr");
-  const int last = synthetic::makeFrame(scene(), kFrames - 1).number;
+  const int last = synthetic::makeFrame(perBufferScene(), kFrames - 1).number;
   fs::remove(dir / fileName(Buffer::Normal, last, "exr"));
-  std::string e = errorOf([&] { SequenceReader::open(dir); });
+  std::string e = test::errorOf([&] { SequenceReader::open(dir); });
   EXPECT_NE(e.find("frame " + std::to_string(last) + ": no file for buffer 'normal'"), std::string::npos) << e;
   fs::remove_all(dir);
 
   const fs::path dup = writePerBuffer("exr");
-  const int first = synthetic::makeFrame(scene(), 0).number;
+  const int first = synthetic::makeFrame(perBufferScene(), 0).number;
   fs::copy_file(dup / fileName(Buffer::Depth, first, "exr"), dup / fileName(Buffer::Depth, first, "pfm"));
-  e = errorOf([&] { SequenceReader::open(dup); });
+  e = test::errorOf([&] { SequenceReader::open(dup); });
   EXPECT_NE(e.find("are both buffer 'depth' of frame " + std::to_string(first)), std::string::npos) << e;
   fs::remove(dup / fileName(Buffer::Depth, first, "pfm"));
 
@@ -247,7 +232,7 @@ TEST(PerBuffer, RefusesMissingFilesDuplicatesAndIntegerDepth) {
     oiiotool({{depth, "-d uint8", dup / fileName(Buffer::Depth, first, "png")}});
     fs::remove(depth);
     auto seq = SequenceReader::open(dup);
-    e = errorOf([&] { seq->read(0); });
+    e = test::errorOf([&] { seq->read(0); });
     EXPECT_NE(e.find("buffer 'depth'"), std::string::npos) << e;
     EXPECT_NE(e.find("an integer image"), std::string::npos) << e;
   }
@@ -257,7 +242,7 @@ TEST(PerBuffer, RefusesMissingFilesDuplicatesAndIntegerDepth) {
 // pack turns the per-buffer files into a native sequence with the same frames and cameras, and
 // says what the methods need that the input lacks.
 TEST(PerBuffer, PackBuildsTheNativeSequenceAndNamesWhatIsMissing) {
-  const fs::path dir = writePerBuffer("exr"), out = scratch("packed");
+  const fs::path dir = writePerBuffer("exr"), out = test::scratchDir("rtd_perbuffer", "packed");
   fs::remove_all(out);
   const auto r = test::runCli("pack -i " + dir.string() + " -o " + out.string());
   ASSERT_EQ(r.code, 0) << r.output;
@@ -270,9 +255,9 @@ TEST(PerBuffer, PackBuildsTheNativeSequenceAndNamesWhatIsMissing) {
     EXPECT_EQ(a.camera.worldToCamera, b.camera.worldToCamera);
   }
   // Colour alone: pack names the buffers the methods need.
-  const fs::path colourOnly = scratch("colour_only"), out2 = scratch("packed2");
+  const fs::path colourOnly = test::scratchDir("rtd_perbuffer", "colour_only"), out2 = test::scratchDir("rtd_perbuffer", "packed2");
   for (int k = 0; k < kFrames; ++k) {
-    const int n = synthetic::makeFrame(scene(), k).number;
+    const int n = synthetic::makeFrame(perBufferScene(), k).number;
     fs::copy_file(dir / fileName(Buffer::Color, n, "exr"), colourOnly / fileName(Buffer::Color, n, "exr"));
   }
   fs::remove_all(out2);

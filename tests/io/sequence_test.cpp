@@ -14,53 +14,21 @@
 #include "io/exr.h"
 #include "support/test_frames.h"
 #include "synthetic/synthetic.h"
+#include "support/files.h"
+#include "support/run_cli.h"
 
 namespace rtd {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("rtd_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-void writeSynthetic(const fs::path& dir, int frames, int w = 24, int h = 16) {
-  synthetic::Scene scene;
-  scene.width = w;
-  scene.height = h;
-  SequenceWriter writer(dir);
-  for (int k = 0; k < frames; ++k) writer.write(synthetic::makeFrame(scene, k));
-  writer.finish();
-}
-
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 /// Runs the CLI; returns its exit status and what it printed on stderr.
-std::pair<int, std::string> runCli(const std::string& args) {
-  const fs::path log = fs::temp_directory_path() / ("rtd_cli_" + std::to_string(::getpid()) + ".log");
-  const int status = std::system((std::string(RTD_CLI) + " " + args + " > /dev/null 2> " + log.string()).c_str());
-  std::ifstream in(log);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  fs::remove(log);
-  return {WEXITSTATUS(status), text};
-}
-
 TEST(NativeSequence, RoundTripsEveryBufferAndTheCameras) {
-  const fs::path dir = scratch("roundtrip");
+  const fs::path dir = test::scratchDir("rtd_test", "roundtrip");
   synthetic::Scene scene;
   scene.width = 20;
   scene.height = 12;
-  writeSynthetic(dir, 3, scene.width, scene.height);
+  test::writeSyntheticSequence(dir, 3, scene.width, scene.height);
   auto seq = SequenceReader::open(dir);
   EXPECT_EQ(seq->kind(), SequenceKind::Native);
   ASSERT_EQ(seq->frameCount(), 3);
@@ -101,28 +69,28 @@ TEST(BadInput, MissingRequiredBufferOrMismatchedSizesThrowBeforeTouchingHistory)
   auto denoiser = Device::create()->createDenoiser("accumulate");
   Image out(6, 4, 3);
   FrameInputs empty;
-  EXPECT_NE(errorOf([&] { denoiser->denoise(empty, out.view()); }).find("color"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { denoiser->denoise(empty, out.view()); }).find("color"), std::string::npos);
   Frame f = test::flatFrame(6, 4, 0.5f);
   f[Buffer::Normal] = Image(5, 4, 3);
-  EXPECT_NE(errorOf([&] { denoiser->denoise(f.inputs(), out.view()); }).find("'normal' is 5x4"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { denoiser->denoise(f.inputs(), out.view()); }).find("'normal' is 5x4"), std::string::npos);
   Image small(3, 3, 3);
-  EXPECT_NE(errorOf([&] { denoiser->denoise(test::flatFrame(6, 4, 0.5f).inputs(), small.view()); }), "");
+  EXPECT_NE(test::errorOf([&] { denoiser->denoise(test::flatFrame(6, 4, 0.5f).inputs(), small.view()); }), "");
 }
 
 TEST(BadInput, SettingsAreCheckedByNameTypeAndRange) {
   auto d = Device::create()->createDenoiser("accumulate");
-  EXPECT_NE(errorOf([&] { d->set("nope", "1"); }).find("no setting 'nope'"), std::string::npos);
-  EXPECT_NE(errorOf([&] { d->set("alpha", "abc"); }).find("'alpha'"), std::string::npos);
-  EXPECT_NE(errorOf([&] { d->set("alpha", "2"); }).find("outside"), std::string::npos);
-  EXPECT_NE(errorOf([&] { d->set("demodulate", "maybe"); }), "");
+  EXPECT_NE(test::errorOf([&] { d->set("nope", "1"); }).find("no setting 'nope'"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { d->set("alpha", "abc"); }).find("'alpha'"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { d->set("alpha", "2"); }).find("outside"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { d->set("demodulate", "maybe"); }), "");
   d->set("alpha", "0.1");
   EXPECT_FLOAT_EQ(d->getSettings<AccumulateSettings>().alpha, 0.1f);
-  EXPECT_NE(errorOf([&] { Device::create()->createDenoiser("unknown"); }).find("unknown method"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { Device::create()->createDenoiser("unknown"); }).find("unknown method"), std::string::npos);
 }
 
 TEST(BadInput, MissingChannelNamesFileFrameAndChannel) {
-  const fs::path dir = scratch("missing");
-  writeSynthetic(dir, 3);
+  const fs::path dir = test::scratchDir("rtd_test", "missing");
+  test::writeSyntheticSequence(dir, 3);
   // Rewrite frame 2 without normal.Y.
   const fs::path victim = dir / "frame_0002.exr";
   exr::Header h = exr::readHeader(victim);
@@ -135,13 +103,13 @@ TEST(BadInput, MissingChannelNamesFileFrameAndChannel) {
   exr::writeChannels(victim, h.width, h.height, src);
 
   auto seq = SequenceReader::open(dir);
-  const std::string msg = errorOf([&] { seq->read(1); });
+  const std::string msg = test::errorOf([&] { seq->read(1); });
   EXPECT_NE(msg.find("frame 2"), std::string::npos) << msg;
   EXPECT_NE(msg.find("frame_0002.exr"), std::string::npos) << msg;
   EXPECT_NE(msg.find("normal.Y"), std::string::npos) << msg;
 
   const fs::path out = dir / "out";
-  auto [code, err] = runCli("denoise -m accumulate -i " + dir.string() + " -o " + out.string());
+  auto [code, err] = test::runCliStderr("denoise -m accumulate -i " + dir.string() + " -o " + out.string());
   EXPECT_NE(code, 0);
   EXPECT_NE(err.find("normal.Y"), std::string::npos) << err;
   // Frame 1 was written completely; frame 2 was never started; no temporary files remain.
@@ -152,17 +120,17 @@ TEST(BadInput, MissingChannelNamesFileFrameAndChannel) {
 }
 
 TEST(BadInput, FramesOfDifferentSizesAreRejectedNamingTheFile) {
-  const fs::path dir = scratch("sizes");
-  writeSynthetic(dir, 2);
+  const fs::path dir = test::scratchDir("rtd_test", "sizes");
+  test::writeSyntheticSequence(dir, 2);
   // Replace frame 2 by a frame of another size.
-  const fs::path other = scratch("sizes_other");
-  writeSynthetic(other, 2, 30, 10);
+  const fs::path other = test::scratchDir("rtd_test", "sizes_other");
+  test::writeSyntheticSequence(other, 2, 30, 10);
   fs::copy_file(other / "frame_0002.exr", dir / "frame_0002.exr", fs::copy_options::overwrite_existing);
   auto seq = SequenceReader::open(dir);
-  const std::string msg = errorOf([&] { seq->read(1); });
+  const std::string msg = test::errorOf([&] { seq->read(1); });
   EXPECT_NE(msg.find("frame_0002.exr"), std::string::npos) << msg;
   EXPECT_NE(msg.find("30x10"), std::string::npos) << msg;
-  auto [code, err] = runCli("denoise -m accumulate -i " + dir.string() + " -o " + (dir / "out").string());
+  auto [code, err] = test::runCliStderr("denoise -m accumulate -i " + dir.string() + " -o " + (dir / "out").string());
   EXPECT_NE(code, 0);
   EXPECT_NE(err.find("frame_0002.exr"), std::string::npos) << err;
   fs::remove_all(dir);
@@ -170,28 +138,28 @@ TEST(BadInput, FramesOfDifferentSizesAreRejectedNamingTheFile) {
 }
 
 TEST(BadInput, TruncatedFileIsReportedNotHalfRead) {
-  const fs::path dir = scratch("truncated");
-  writeSynthetic(dir, 2);
+  const fs::path dir = test::scratchDir("rtd_test", "truncated");
+  test::writeSyntheticSequence(dir, 2);
   const fs::path victim = dir / "frame_0002.exr";
   const auto size = fs::file_size(victim);
   fs::resize_file(victim, size / 2);
   auto seq = SequenceReader::open(dir);
-  const std::string msg = errorOf([&] { seq->read(1); });
+  const std::string msg = test::errorOf([&] { seq->read(1); });
   EXPECT_NE(msg.find("frame_0002.exr"), std::string::npos) << msg;
   EXPECT_NE(msg.find("frame 2"), std::string::npos) << msg;
-  auto [code, err] = runCli("denoise -m accumulate -i " + dir.string() + " -o " + (dir / "out").string());
+  auto [code, err] = test::runCliStderr("denoise -m accumulate -i " + dir.string() + " -o " + (dir / "out").string());
   EXPECT_NE(code, 0);
   EXPECT_NE(err.find("frame_0002.exr"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(dir / "out" / "frame_0002.exr"));
   // A corrupt first file (garbage bytes) is reported too.
   std::ofstream(dir / "frame_0001.exr", std::ios::binary) << "not an exr";
-  EXPECT_NE(errorOf([&] { SequenceReader::open(dir)->read(0); }).find("frame_0001.exr"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { SequenceReader::open(dir)->read(0); }).find("frame_0001.exr"), std::string::npos);
   fs::remove_all(dir);
 }
 
 TEST(Cli, DenoisesTheBlenderFixtureWithTheSameNumberingAndTimings) {
-  const fs::path out = scratch("cli_blender");
-  auto [code, err] = runCli("denoise -m accumulate -i " + std::string(RTD_SOURCE_DIR) + "/tests/fixtures/blender -o " +
+  const fs::path out = test::scratchDir("rtd_test", "cli_blender");
+  auto [code, err] = test::runCliStderr("denoise -m accumulate -i " + std::string(RTD_SOURCE_DIR) + "/tests/fixtures/blender -o " +
                             out.string());
   ASSERT_EQ(code, 0) << err;
   for (int n = 1; n <= 5; ++n) {
@@ -205,7 +173,7 @@ TEST(Cli, DenoisesTheBlenderFixtureWithTheSameNumberingAndTimings) {
   const auto j = nlohmann::json::parse(in);
   ASSERT_EQ(j["frames"].size(), 5u);
   EXPECT_TRUE(j["frames"][0]["passes"].contains("accumulate"));
-  auto [badCode, badErr] = runCli("denoise -m accumulate -i " + out.string() + "/nonexistent -o " + out.string());
+  auto [badCode, badErr] = test::runCliStderr("denoise -m accumulate -i " + out.string() + "/nonexistent -o " + out.string());
   EXPECT_NE(badCode, 0);
   EXPECT_NE(badErr.find("nonexistent"), std::string::npos);
   fs::remove_all(out);

@@ -18,7 +18,7 @@
 namespace rtd {
 namespace {
 
-constexpr int kW = 64, kH = 48;
+constexpr int kEmittersW = 64, kEmittersH = 48;
 // The lamp: a screen rectangle (over the wall and the sphere of the synthetic scene: the
 // exclusion does not care which surface it is on).
 bool lamp(int x, int y) { return x >= 22 && x < 38 && y >= 8 && y < 18; }
@@ -29,8 +29,8 @@ bool lamp(int x, int y) { return x >= 22 && x < 38 && y >= 8 && y < 18; }
 std::vector<Frame> stillFramesWithLamp(int count, float lampLight, float restScale, bool emissionBuffer = true,
                                        float lampAlbedo = 0.0f) {
   synthetic::Scene scene;
-  scene.width = kW;
-  scene.height = kH;
+  scene.width = kEmittersW;
+  scene.height = kEmittersH;
   scene.cameraSpeed = 0.0f;
   scene.gradientSamples = false;
   std::vector<Frame> frames;
@@ -38,10 +38,10 @@ std::vector<Frame> stillFramesWithLamp(int count, float lampLight, float restSca
     Frame f = synthetic::makeFrame(scene, i);
     // Exactly still: the scene's motion of a still camera is 0 only to rounding, and sub-pixel
     // reprojection taps would mix a little history across the lamp's border (not excluded).
-    f[Buffer::Motion] = Image(kW, kH, 2, 0.0f);
-    if (emissionBuffer) f[Buffer::Emission] = Image(kW, kH, 3, 0.0f);
-    for (int y = 0; y < kH; ++y)
-      for (int x = 0; x < kW; ++x)
+    f[Buffer::Motion] = Image(kEmittersW, kEmittersH, 2, 0.0f);
+    if (emissionBuffer) f[Buffer::Emission] = Image(kEmittersW, kEmittersH, 3, 0.0f);
+    for (int y = 0; y < kEmittersH; ++y)
+      for (int x = 0; x < kEmittersW; ++x)
         for (int c = 0; c < 3; ++c) {
           float& v = f[Buffer::Color].at(x, y, c);
           if (!emissionBuffer || !lamp(x, y)) {
@@ -63,7 +63,7 @@ Image run(const std::string& method, const std::vector<std::string>& settings, c
     const auto eq = s.find('=');
     d->set(s.substr(0, eq), s.substr(eq + 1));
   }
-  Image out(kW, kH, 3);
+  Image out(kEmittersW, kEmittersH, 3);
   for (const Frame& f : frames) d->denoise(f.inputs(), out.view());
   return out;
 }
@@ -71,8 +71,8 @@ Image run(const std::string& method, const std::vector<std::string>& settings, c
 // Pixels (inside or outside the lamp) whose outputs differ in any bit.
 int differing(const Image& a, const Image& b, bool insideLamp) {
   int n = 0;
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
+  for (int y = 0; y < kEmittersH; ++y)
+    for (int x = 0; x < kEmittersW; ++x) {
       if (lamp(x, y) != insideLamp) continue;
       bool same = true;
       for (int c = 0; c < 3; ++c) {
@@ -148,13 +148,13 @@ TEST(EmitterExclusion, SvgfLeavesEmittersWithoutAReflectanceOut) {
 // no emitter). A moving camera, TAA on.
 TEST(EmitterExclusion, WithoutEmittersTheOutputIsBitIdentical) {
   synthetic::Scene scene;
-  scene.width = kW;
-  scene.height = kH;
+  scene.width = kEmittersW;
+  scene.height = kEmittersH;
   std::vector<Frame> plain, zero;
   for (int i = 0; i < 5; ++i) {
     plain.push_back(synthetic::makeFrame(scene, i));
     zero.push_back(plain.back());
-    zero.back()[Buffer::Emission] = Image(kW, kH, 3, 0.0f);
+    zero.back()[Buffer::Emission] = Image(kEmittersW, kEmittersH, 3, 0.0f);
   }
   const auto lampAtThreshold = stillFramesWithLamp(5, 0.1f, 1.0f);
   for (const char* method : {"svgf", "bmfr"}) {

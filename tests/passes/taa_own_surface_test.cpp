@@ -18,14 +18,14 @@
 namespace rtd {
 namespace {
 
-constexpr int kW = 24, kH = 13;
+constexpr int kOwnSurfaceW = 24, kOwnSurfaceH = 13;
 
 // Every pixel's history is its own pixel (still) or moved by a sub-pixel (dx, dy) (the history
 // is resampled); every tap accepted.
-Reprojection still() { return test::shiftedReprojection(kW, kH, 0.0f, 0.0f); }
-Reprojection moving(float dx, float dy) { return test::shiftedReprojection(kW, kH, dx, dy); }
-template <class F> Plane3 image(F f) { return test::imageOf(kW, kH, f); }
-TaaSettings settings(bool own, TaaDomain d, TaaNeighbourhood shape = TaaNeighbourhood::box3x3) {
+Reprojection still() { return test::shiftedReprojection(kOwnSurfaceW, kOwnSurfaceH, 0.0f, 0.0f); }
+Reprojection moving(float dx, float dy) { return test::shiftedReprojection(kOwnSurfaceW, kOwnSurfaceH, dx, dy); }
+template <class F> Plane3 ownSurfaceImage(F f) { return test::imageOf(kOwnSurfaceW, kOwnSurfaceH, f); }
+TaaSettings ownSurfaceSettings(bool own, TaaDomain d, TaaNeighbourhood shape = TaaNeighbourhood::box3x3) {
   TaaSettings s;
   s.taaAlpha = 0.1f;
   s.taaDomain = d;
@@ -46,20 +46,20 @@ const char* name(TaaDomain d) { return d == TaaDomain::linear ? "linear" : "disp
 // that holds the ghost, so it stays (alpha + (1 - alpha) * 0.5 in the linear domain), while
 // A's inner columns clamp it to 1 with either box. B's pixels (history 0 = B's value) are 0.
 TEST(TaaOwnSurface, GhostNextToAnotherSurfaceIsClampedToItsOwnSurface) {
-  const int split = kW / 2;
-  PixelVector<uint32_t> keys(size_t(kW) * kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) keys[size_t(y) * kW + x] = x < split ? 7u : 9u;
-  const Plane3 ghost = image([&](int x, int, int) { return x < split ? 0.5f : 0.0f; });
-  const Plane3 two = image([&](int x, int, int) { return x < split ? 1.0f : 0.0f; });
+  const int split = kOwnSurfaceW / 2;
+  PixelVector<uint32_t> keys(size_t(kOwnSurfaceW) * kOwnSurfaceH);
+  for (int y = 0; y < kOwnSurfaceH; ++y)
+    for (int x = 0; x < kOwnSurfaceW; ++x) keys[size_t(y) * kOwnSurfaceW + x] = x < split ? 7u : 9u;
+  const Plane3 ghost = ownSurfaceImage([&](int x, int, int) { return x < split ? 0.5f : 0.0f; });
+  const Plane3 two = ownSurfaceImage([&](int x, int, int) { return x < split ? 1.0f : 0.0f; });
   for (TaaDomain d : {TaaDomain::linear, TaaDomain::display})
     for (TaaNeighbourhood shape : {TaaNeighbourhood::box3x3, TaaNeighbourhood::boxCross})
       for (bool own : {true, false}) {
         Taa taa;
-        taa.run(still(), ghost, settings(own, d, shape), &keys);
-        const Plane3& out = taa.run(still(), two, settings(own, d, shape), &keys);
-        for (int y = 0; y < kH; ++y)
-          for (int x = 0; x < kW; ++x)
+        taa.run(still(), ghost, ownSurfaceSettings(own, d, shape), &keys);
+        const Plane3& out = taa.run(still(), two, ownSurfaceSettings(own, d, shape), &keys);
+        for (int y = 0; y < kOwnSurfaceH; ++y)
+          for (int x = 0; x < kOwnSurfaceW; ++x)
             for (int c = 0; c < 3; ++c) {
               const float v = out[c](x, y);
               const std::string at = std::string(name(d)) + (own ? " own" : " plain") + " x=" + std::to_string(x) +
@@ -86,14 +86,14 @@ TEST(TaaOwnSurface, GhostNextToAnotherSurfaceIsClampedToItsOwnSurface) {
 // A constant image stays a fixed point with random keys (every box over any subset of the
 // neighbours is the constant), under sub-pixel motion, in both domains and both shapes.
 TEST(TaaOwnSurface, ConstantImageIsAFixedPointWithRandomKeys) {
-  PixelVector<uint32_t> keys(size_t(kW) * kH);
+  PixelVector<uint32_t> keys(size_t(kOwnSurfaceW) * kOwnSurfaceH);
   for (size_t i = 0; i < keys.size(); ++i) keys[i] = hash(uint32_t(i)) % 3u;
-  const Plane3 in = image([](int, int, int c) { return 0.2f + 0.3f * c; });
+  const Plane3 in = ownSurfaceImage([](int, int, int c) { return 0.2f + 0.3f * c; });
   for (TaaDomain d : {TaaDomain::linear, TaaDomain::display})
     for (TaaNeighbourhood shape : {TaaNeighbourhood::box3x3, TaaNeighbourhood::boxCross}) {
       Taa taa;
       Plane3 out;
-      for (int f = 0; f < 4; ++f) out = taa.run(moving(0.37f, -0.21f), in, settings(true, d, shape), &keys);
+      for (int f = 0; f < 4; ++f) out = taa.run(moving(0.37f, -0.21f), in, ownSurfaceSettings(true, d, shape), &keys);
       for (int c = 0; c < 3; ++c)
         for (size_t i = 0; i < out[c].size(); ++i) EXPECT_NEAR(out[c].data[i], in[c].data[i], 4e-6f) << name(d);
     }
@@ -104,11 +104,11 @@ TEST(TaaOwnSurface, ConstantImageIsAFixedPointWithRandomKeys) {
 // scalar (sse2) path's result within 2^-20 relative (the bilinear fetch's vector and scalar
 // sums round differently) and differs from the plain box.
 TEST(TaaOwnSurface, AllEqualKeysAreThePlainBoxAndEveryCpuPathAgrees) {
-  PixelVector<uint32_t> equal(size_t(kW) * kH, 5u), mixed(size_t(kW) * kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) mixed[size_t(y) * kW + x] = (x + y / 2 < 13 ? 1u : 2u) | (hash(x * 97 + y) % 11 == 0 ? 0x80000000u : 0u);
+  PixelVector<uint32_t> equal(size_t(kOwnSurfaceW) * kOwnSurfaceH, 5u), mixed(size_t(kOwnSurfaceW) * kOwnSurfaceH);
+  for (int y = 0; y < kOwnSurfaceH; ++y)
+    for (int x = 0; x < kOwnSurfaceW; ++x) mixed[size_t(y) * kOwnSurfaceW + x] = (x + y / 2 < 13 ? 1u : 2u) | (hash(x * 97 + y) % 11 == 0 ? 0x80000000u : 0u);
   auto frame = [](int f) {
-    return image([f](int x, int y, int c) {
+    return ownSurfaceImage([f](int x, int y, int c) {
       return 0.05f + 0.9f * float(hash(uint32_t((x + f) * 131 + y * 7 + c * 1013)) % 1000) / 1000.0f * (c == 1 ? 4.0f : 1.0f);
     });
   };
@@ -120,9 +120,9 @@ TEST(TaaOwnSurface, AllEqualKeysAreThePlainBoxAndEveryCpuPathAgrees) {
   };
   for (TaaDomain d : {TaaDomain::linear, TaaDomain::display})
     for (TaaNeighbourhood shape : {TaaNeighbourhood::box3x3, TaaNeighbourhood::boxCross}) {
-      const Plane3 plain = runAll(settings(false, d, shape), nullptr);
-      const Plane3 same = runAll(settings(true, d, shape), &equal);
-      const Plane3 off = runAll(settings(false, d, shape), &mixed);  // option off: keys not read
+      const Plane3 plain = runAll(ownSurfaceSettings(false, d, shape), nullptr);
+      const Plane3 same = runAll(ownSurfaceSettings(true, d, shape), &equal);
+      const Plane3 off = runAll(ownSurfaceSettings(false, d, shape), &mixed);  // option off: keys not read
       for (int c = 0; c < 3; ++c) {
         EXPECT_EQ(same[c].data, plain[c].data) << name(d);
         EXPECT_EQ(off[c].data, plain[c].data) << name(d);
@@ -130,7 +130,7 @@ TEST(TaaOwnSurface, AllEqualKeysAreThePlainBoxAndEveryCpuPathAgrees) {
       Plane3 scalar;
       {
         test::ScopedCpuPath force(CpuPath::Sse2);
-        scalar = runAll(settings(true, d, shape), &mixed);
+        scalar = runAll(ownSurfaceSettings(true, d, shape), &mixed);
       }
       double differs = 0;
       for (int c = 0; c < 3; ++c)
@@ -138,7 +138,7 @@ TEST(TaaOwnSurface, AllEqualKeysAreThePlainBoxAndEveryCpuPathAgrees) {
       EXPECT_GT(differs, 0.01) << name(d);  // the keys change the result
       for (CpuPath path : test::supportedCpuPaths()) {
         test::ScopedCpuPath force(path);
-        const Plane3 out = runAll(settings(true, d, shape), &mixed);
+        const Plane3 out = runAll(ownSurfaceSettings(true, d, shape), &mixed);
         for (int c = 0; c < 3; ++c)
           for (size_t i = 0; i < out[c].size(); ++i)
             // 2^-20 of (1 + x)^2: in the display domain the paths' encodes and decodes (vector

@@ -16,27 +16,12 @@
 
 #include "rtd/rtd.h"
 #include "synthetic/synthetic.h"
+#include "support/files.h"
 
 namespace rtd {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path scratch(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("rtd_interrupt_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-void writeSequence(const fs::path& dir, int frames) {
-  synthetic::Scene scene;
-  scene.width = 24;
-  scene.height = 16;
-  SequenceWriter writer(dir);
-  for (int k = 0; k < frames; ++k) writer.write(synthetic::makeFrame(scene, k));
-  writer.finish();
-}
 
 std::vector<std::string> tempFiles(const fs::path& dir) {
   std::vector<std::string> out;
@@ -58,8 +43,8 @@ int runCli(const std::string& env, const std::string& args, std::string* stderrT
 }
 
 TEST(InterruptedRun, SignalsRemoveTheTemporaryFile) {
-  const fs::path dir = scratch("signal");
-  writeSequence(dir / "in", 3);
+  const fs::path dir = test::scratchDir("rtd_interrupt", "signal");
+  test::writeSyntheticSequence(dir / "in", 3);
   for (int sig : {SIGINT, SIGTERM}) {
     const fs::path out = dir / ("out" + std::to_string(sig));
     const int status = runCli("RTD_TEST_RAISE_BEFORE_RENAME=" + std::to_string(sig),
@@ -76,8 +61,8 @@ TEST(InterruptedRun, SignalsRemoveTheTemporaryFile) {
 }
 
 TEST(InterruptedRun, StaleTemporaryFilesOfDeadProcessesAreRemovedAtTheNextStart) {
-  const fs::path dir = scratch("stale");
-  writeSequence(dir / "in", 2);
+  const fs::path dir = test::scratchDir("rtd_interrupt", "stale");
+  test::writeSyntheticSequence(dir / "in", 2);
   const fs::path out = dir / "out";
   fs::create_directories(out);
   // A pid that no longer exists: a child that has exited and been reaped.
@@ -103,7 +88,7 @@ TEST(InterruptedRun, StaleTemporaryFilesOfDeadProcessesAreRemovedAtTheNextStart)
 // timings.json and the summary line say which buffer each sanitized value came from (NaN
 // depths used to be reported as "NaN/Inf/negative radiance values").
 TEST(CliReport, SanitizedValuesArePerBuffer) {
-  const fs::path dir = scratch("report");
+  const fs::path dir = test::scratchDir("rtd_interrupt", "report");
   synthetic::Scene scene;
   scene.width = 24;
   scene.height = 16;
@@ -138,8 +123,8 @@ TEST(CliReport, SanitizedValuesArePerBuffer) {
 // Exit codes: bad input 1 (an rtd::Error: here a corrupt file), usage 2 (an unknown option, or
 // a bad value on the command line such as --set alpha=nan: docs/cli.md).
 TEST(CliReport, ErrorsMapToTheDocumentedExitCodes) {
-  const fs::path dir = scratch("codes");
-  writeSequence(dir / "in", 2);
+  const fs::path dir = test::scratchDir("rtd_interrupt", "codes");
+  test::writeSyntheticSequence(dir / "in", 2);
   std::ofstream(dir / "in" / "frame_0002.exr", std::ios::binary) << "garbage";
   std::string err;
   int status = runCli("", "denoise -m accumulate -i " + (dir / "in").string() + " -o " + (dir / "out").string(), &err);

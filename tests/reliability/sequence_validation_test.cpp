@@ -16,19 +16,14 @@
 #include "rtd/rtd.h"
 #include "support/test_frames.h"
 #include "synthetic/synthetic.h"
+#include "support/files.h"
+#include "support/run_cli.h"
 
 namespace rtd {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-fs::path scratch(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("rtd_seqval_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
 
 // A native sequence of synthetic frames numbered `numbers`.
 void writeSequence(const fs::path& dir, const std::vector<int>& numbers, int w = 24, int h = 16) {
@@ -50,36 +45,16 @@ json readManifest(const fs::path& dir) {
 }
 void writeManifest(const fs::path& dir, const json& j) { std::ofstream(dir / "sequence.json") << j.dump(1); }
 
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    return std::string("NOT AN rtd::Error: ") + e.what();
-  }
-  return "";
-}
-
-std::pair<int, std::string> runCli(const std::string& args) {
-  const fs::path log = fs::temp_directory_path() / ("rtd_seqval_cli_" + std::to_string(::getpid()) + ".log");
-  const int status = std::system((std::string(RTD_CLI) + " " + args + " > /dev/null 2> " + log.string()).c_str());
-  std::ifstream in(log);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  fs::remove(log);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text};
-}
-
 TEST(SequenceValidation, DuplicateFrameNumbersAreRefused) {
-  const fs::path dir = scratch("dup");
+  const fs::path dir = test::scratchDir("rtd_seqval", "dup");
   writeSequence(dir, {1, 2, 3, 4});
   json j = readManifest(dir);
   j["frames"][2]["number"] = 2;  // two frames 2: the second would overwrite the first's output
   writeManifest(dir, j);
-  const std::string msg = errorOf([&] { SequenceReader::open(dir); });
+  const std::string msg = test::errorOf([&] { SequenceReader::open(dir); });
   EXPECT_NE(msg.find("frame 2"), std::string::npos) << msg;
   EXPECT_NE(msg.find("twice"), std::string::npos) << msg;
-  auto [code, err] = runCli("denoise -m accumulate -i " + dir.string() + " -o " + (dir / "out").string());
+  auto [code, err] = test::runCliStderr("denoise -m accumulate -i " + dir.string() + " -o " + (dir / "out").string());
   EXPECT_EQ(code, 1) << err;
   EXPECT_FALSE(fs::exists(dir / "out" / "frame_0002.exr"));
   // The writer refuses a number written twice as well.
@@ -87,18 +62,18 @@ TEST(SequenceValidation, DuplicateFrameNumbersAreRefused) {
   Frame f = test::flatFrame(4, 4, 1.0f);
   f.number = 7;
   writer.write(f);
-  EXPECT_NE(errorOf([&] { writer.write(f); }).find("already written"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { writer.write(f); }).find("already written"), std::string::npos);
   fs::remove_all(dir);
 }
 
 TEST(SequenceValidation, FrameNumbersOutOfRangeAreRefused) {
-  const fs::path dir = scratch("range");
+  const fs::path dir = test::scratchDir("rtd_seqval", "range");
   writeSequence(dir, {1, 2});
   for (const json& bad : {json(2147483648LL), json(-1), json(1.5), json("3")}) {
     json j = readManifest(dir);
     j["frames"][1]["number"] = bad;
     writeManifest(dir, j);
-    const std::string msg = errorOf([&] { SequenceReader::open(dir); });
+    const std::string msg = test::errorOf([&] { SequenceReader::open(dir); });
     EXPECT_NE(msg.find("sequence.json"), std::string::npos) << bad << ": " << msg;
     EXPECT_NE(msg.find("frame number " + bad.dump()), std::string::npos) << bad << ": " << msg;
   }
@@ -106,14 +81,14 @@ TEST(SequenceValidation, FrameNumbersOutOfRangeAreRefused) {
 }
 
 TEST(SequenceValidation, ImageSizesAreCheckedBeforeAnythingIsAllocated) {
-  const fs::path dir = scratch("size");
+  const fs::path dir = test::scratchDir("rtd_seqval", "size");
   writeSequence(dir, {1, 2});
   for (const auto& [w, h] : std::vector<std::pair<long long, long long>>{{-24, 16}, {0, 16}, {24, 1000000}, {200000, 200000}}) {
     json j = readManifest(dir);
     j["width"] = w;
     j["height"] = h;
     writeManifest(dir, j);
-    const std::string msg = errorOf([&] { SequenceReader::open(dir); });
+    const std::string msg = test::errorOf([&] { SequenceReader::open(dir); });
     EXPECT_NE(msg.find("sequence.json"), std::string::npos) << msg;
     EXPECT_NE(msg.find(std::to_string(w) + "x" + std::to_string(h)), std::string::npos) << msg;
   }
@@ -121,21 +96,21 @@ TEST(SequenceValidation, ImageSizesAreCheckedBeforeAnythingIsAllocated) {
 }
 
 TEST(SequenceValidation, OutOfRangeIndicesAreRtdErrors) {
-  const fs::path dir = scratch("index");
+  const fs::path dir = test::scratchDir("rtd_seqval", "index");
   writeSequence(dir, {1, 2});
   auto seq = SequenceReader::open(dir);
   for (int i : {-1, 2, 1000}) {
-    EXPECT_NE(errorOf([&] { seq->read(i); }).find("out of range"), std::string::npos) << i;
-    EXPECT_NE(errorOf([&] { seq->framePath(i); }).find("out of range"), std::string::npos) << i;
-    EXPECT_NE(errorOf([&] { seq->frameNumber(i); }).find("out of range"), std::string::npos) << i;
+    EXPECT_NE(test::errorOf([&] { seq->read(i); }).find("out of range"), std::string::npos) << i;
+    EXPECT_NE(test::errorOf([&] { seq->framePath(i); }).find("out of range"), std::string::npos) << i;
+    EXPECT_NE(test::errorOf([&] { seq->frameNumber(i); }).find("out of range"), std::string::npos) << i;
   }
   fs::remove_all(dir);
 }
 
 TEST(SequenceValidation, HugeFrameNumbersInFileNamesNameTheFile) {
-  const fs::path dir = scratch("bigname");
+  const fs::path dir = test::scratchDir("rtd_seqval", "bigname");
   fs::copy_file(fs::path(RTD_SOURCE_DIR) / "tests/fixtures/blender/frame_0001.exr", dir / "frame_99999999999.exr");
-  const std::string msg = errorOf([&] { SequenceReader::open(dir); });
+  const std::string msg = test::errorOf([&] { SequenceReader::open(dir); });
   EXPECT_NE(msg.find("frame_99999999999.exr"), std::string::npos) << msg;
   EXPECT_NE(msg.find("out of range"), std::string::npos) << msg;
   fs::remove_all(dir);
@@ -145,7 +120,7 @@ TEST(SequenceValidation, HugeFrameNumbersInFileNamesNameTheFile) {
 // numbering continuous; `cut` marks a cut explicitly. A frame at which history is reset gives
 // exactly what a fresh denoiser gives for it.
 TEST(SequenceValidation, GapsAndMarkedCutsResetHistory) {
-  const fs::path dir = scratch("gaps");
+  const fs::path dir = test::scratchDir("rtd_seqval", "gaps");
   writeSequence(dir, {1, 2, 5, 6, 7});
   auto cuts = [](const SequenceReader& r) {
     std::vector<int> out;
@@ -187,7 +162,7 @@ TEST(SequenceValidation, GapsAndMarkedCutsResetHistory) {
 // frame numbers, are refused.
 TEST(SequenceValidation, BlenderCameraListIsKeyedByFrame) {
   const fs::path fixture = fs::path(RTD_SOURCE_DIR) / "tests/fixtures/blender";
-  const fs::path dir = scratch("cameras");
+  const fs::path dir = test::scratchDir("rtd_seqval", "cameras");
   for (int n = 1; n <= 3; ++n) {
     const std::string name = "frame_000" + std::to_string(n) + ".exr";
     fs::copy_file(fixture / name, dir / name);
@@ -216,9 +191,9 @@ TEST(SequenceValidation, BlenderCameraListIsKeyedByFrame) {
   }
   list[1].erase("frame");
   std::ofstream(dir / "cameras.json") << json{{"cameras", list}}.dump();
-  EXPECT_NE(errorOf([&] { SequenceReader::open(dir); }).find("'frame'"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { SequenceReader::open(dir); }).find("'frame'"), std::string::npos);
   std::ofstream(dir / "cameras.json") << json{{"cameras", {{"one", cams["cameras"]["1"]}}}}.dump();
-  EXPECT_NE(errorOf([&] { SequenceReader::open(dir); }).find("camera key 'one'"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { SequenceReader::open(dir); }).find("camera key 'one'"), std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -226,8 +201,8 @@ TEST(SequenceValidation, BlenderCameraListIsKeyedByFrame) {
 // the cut frame is denoised from fresh history.
 TEST(SequenceValidation, CliCutOptionResetsHistory) {
   const fs::path fixture = fs::path(RTD_SOURCE_DIR) / "tests/fixtures/blender";
-  const fs::path out = scratch("cli_cut");
-  auto [code, err] = runCli("denoise -m accumulate --threads 1 --cut 3 -i " + fixture.string() + " -o " + out.string());
+  const fs::path out = test::scratchDir("rtd_seqval", "cli_cut");
+  auto [code, err] = test::runCliStderr("denoise -m accumulate --threads 1 --cut 3 -i " + fixture.string() + " -o " + out.string());
   ASSERT_EQ(code, 0) << err;
   std::ifstream in(out / "timings.json");
   const json t = json::parse(in);

@@ -14,20 +14,14 @@
 
 #include "io/exr_limits.h"
 #include "rtd/rtd.h"
+#include "support/files.h"
 
 namespace rtd {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("rtd_untrusted_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-std::vector<char> bytesOf(const fs::path& p) {
+std::vector<char> fileBytes(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
@@ -61,22 +55,11 @@ void insertAttribute(std::vector<char>& b, const std::string& name, const std::s
   b.insert(b.begin() + 8, a.begin(), a.end());
 }
 
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    return std::string("NOT AN rtd::Error: ") + e.what();
-  }
-  return "";
-}
-
 // A valid RGB EXR of 64x36 to mutate.
 std::vector<char> validExr(const fs::path& dir) {
   Image img(64, 36, 3, 0.25f);
   writeRgbExr(dir / "valid.exr", img);
-  return bytesOf(dir / "valid.exr");
+  return fileBytes(dir / "valid.exr");
 }
 
 struct Crafted {
@@ -151,7 +134,7 @@ std::vector<Crafted> craftedFiles() {
 }
 
 TEST(UntrustedFiles, CraftedHeadersFailFastNamingFileAndProblem) {
-  const fs::path dir = scratch("crafted");
+  const fs::path dir = test::scratchDir("rtd_untrusted", "crafted");
   const std::vector<char> valid = validExr(dir);
   for (const Crafted& c : craftedFiles()) {
     std::vector<char> b = valid;
@@ -161,7 +144,7 @@ TEST(UntrustedFiles, CraftedHeadersFailFastNamingFileAndProblem) {
     for (const auto& [reader, call] : std::vector<std::pair<const char*, std::function<void()>>>{
              {"readRgbExr", [&] { readRgbExr(file); }},
              {"checkHeader", [&] { exr::checkHeader(file); }}}) {
-      const std::string msg = errorOf(call);
+      const std::string msg = test::errorOf(call);
       EXPECT_NE(msg.find("crafted.exr"), std::string::npos) << c.what << ", " << reader << ": " << msg;
       EXPECT_NE(msg.find(c.expect), std::string::npos) << c.what << ", " << reader << ": " << msg;
     }
@@ -175,36 +158,36 @@ TEST(UntrustedFiles, CraftedHeadersFailFastNamingFileAndProblem) {
 // The same through the sequence readers, named with the frame: a Blender frame with a huge
 // attribute, and a native sequence whose second frame is crafted.
 TEST(UntrustedFiles, SequenceReadersNameTheFrameAndFile) {
-  const fs::path dir = scratch("blender");
+  const fs::path dir = test::scratchDir("rtd_untrusted", "blender");
   const fs::path fixture = fs::path(RTD_SOURCE_DIR) / "tests/fixtures/blender";
   for (int n = 1; n <= 2; ++n) fs::copy_file(fixture / ("frame_000" + std::to_string(n) + ".exr"), dir / ("frame_000" + std::to_string(n) + ".exr"));
-  std::vector<char> b = bytesOf(dir / "frame_0002.exr");
+  std::vector<char> b = fileBytes(dir / "frame_0002.exr");
   putInt(b, attributeValue(b, "dataWindow", "box2i") - 4, 840000000);
   writeBytes(dir / "frame_0002.exr", b);
   auto seq = SequenceReader::open(dir);
-  const std::string msg = errorOf([&] { seq->read(1); });
+  const std::string msg = test::errorOf([&] { seq->read(1); });
   EXPECT_NE(msg.find("frame_0002.exr"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'dataWindow' claims 840000000 bytes"), std::string::npos) << msg;
   fs::remove_all(dir);
 }
 
 TEST(UntrustedFiles, NonRegularFilesAreRefusedWithoutBlocking) {
-  const fs::path dir = scratch("fifo");
+  const fs::path dir = test::scratchDir("rtd_untrusted", "fifo");
   ASSERT_EQ(::mkfifo((dir / "frame_0001.exr").c_str(), 0600), 0);  // reading it would block for ever
-  const std::string msg = errorOf([&] { readRgbExr(dir / "frame_0001.exr"); });
+  const std::string msg = test::errorOf([&] { readRgbExr(dir / "frame_0001.exr"); });
   EXPECT_NE(msg.find("not a regular file"), std::string::npos) << msg;
   fs::create_directories(dir / "d.exr");
-  EXPECT_NE(errorOf([&] { readRgbExr(dir / "d.exr"); }).find("not a regular file"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { readRgbExr(dir / "d.exr"); }).find("not a regular file"), std::string::npos);
   fs::remove_all(dir);
 }
 
 // Reading stops at the deadline (a zero limit here) with the file's name.
 TEST(UntrustedFiles, ReadDeadlineNamesTheFile) {
   const exr::ReadDeadline deadline("file 'slow.exr'", std::chrono::seconds(-1));
-  const std::string msg = errorOf([&] { deadline.check(); });
+  const std::string msg = test::errorOf([&] { deadline.check(); });
   EXPECT_NE(msg.find("slow.exr"), std::string::npos) << msg;
   EXPECT_NE(msg.find("longer than"), std::string::npos) << msg;
-  EXPECT_EQ(errorOf([] { exr::ReadDeadline("file 'fast.exr'").check(); }), "");
+  EXPECT_EQ(test::errorOf([] { exr::ReadDeadline("file 'fast.exr'").check(); }), "");
 }
 
 }  // namespace

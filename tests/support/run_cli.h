@@ -12,14 +12,22 @@ struct CliResult {
   std::string output;  ///< standard output and standard error together
 };
 
-inline CliResult runCli(const std::string& args) {
-  const std::string cmd = std::string(RTD_CLI) + " " + args + " 2>&1";
+/// Runs the shell command line `cmd` and captures its standard output.
+inline CliResult runCommand(const std::string& cmd) {
   FILE* p = ::popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
   while (size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
   const int status = ::pclose(p);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+/// `rtdenoise <args>`: its exit status, and standard output and error together.
+inline CliResult runCli(const std::string& args) { return runCommand(std::string(RTD_CLI) + " " + args + " 2>&1"); }
+
+/// `rtdenoise <args>`: its exit status and standard error (standard output is discarded).
+inline CliResult runCliStderr(const std::string& args) {
+  return runCommand(std::string(RTD_CLI) + " " + args + " 2>&1 > /dev/null");
 }
 
 }  // namespace rtd::test

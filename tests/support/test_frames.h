@@ -56,4 +56,18 @@ inline bool allFinite(const Image& img) {
   return true;
 }
 
+/// `d` run on frame `f`: its RGB output.
+inline Image denoised(Denoiser& d, const Frame& f) {
+  Image out(f.width, f.height, 3);
+  d.denoise(f.inputs(), out.view());
+  return out;
+}
+
+/// Root mean square difference over every float of two images of the same size and channels.
+inline double rmse(const Image& a, const Image& b) {
+  double e = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) e += (double(a.pixels[i]) - b.pixels[i]) * (double(a.pixels[i]) - b.pixels[i]);
+  return std::sqrt(e / double(a.pixels.size()));
+}
+
 }  // namespace rtd::test

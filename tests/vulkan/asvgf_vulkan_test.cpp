@@ -7,12 +7,10 @@
 namespace rtd::test {
 namespace {
 
-// As SVGF's (svgf_vulkan_test.cpp): the shared filter's weights differ by ~1e-6 relative
+// Tolerance: SVGF's (kSvgfMaxRel, kSvgfMeanRel in vulkan_test_util.h): the shared filter's weights differ by ~1e-6 relative
 // between the backends' exp() and division, and the feedback loop carries that on; the gradient
 // passes add float sums in a different order (historyAntilag) and pow() by squaring on both.
 // Measured on lavapipe: max 3e-6 absolute (5e-7 of max|ref| = 5.7), mean below 1e-6.
-constexpr double kMaxRel = 1e-4, kMeanRel = 2e-6;
-
 void runBoth(const std::vector<std::string>& settings, const std::string& what, bool gradientSamples = true,
              bool reflectedNormals = false) {
   auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
@@ -38,7 +36,7 @@ void runBoth(const std::vector<std::string>& settings, const std::string& what, 
     Image a(f.width, f.height, 3), b(f.width, f.height, 3);
     cpu->denoise(f.inputs(), a.view());
     gpu->denoise(f.inputs(), b.view());
-    expectClose(b, a, kMaxRel, kMeanRel, what + ", frame " + std::to_string(i));
+    expectClose(b, a, kSvgfMaxRel, kSvgfMeanRel, what + ", frame " + std::to_string(i));
   }
 }
 

@@ -12,8 +12,8 @@
 namespace rtd::test {
 namespace {
 
-// Tolerances, per frame and channel, relative to max|ref|: max abs error <= kMaxRel * max|ref|,
-// mean abs error <= kMeanRel * max|ref|.
+// Tolerances, per frame and channel, relative to max|ref|: max abs error <= kBmfrMaxRel * max|ref|,
+// mean abs error <= kBmfrMeanRel * max|ref|.
 //
 // The GPU fit sums its reductions (feature ranges, column norms, dot products) in another order
 // than the CPU (a tree over 256 threads against the CPU's 8-wide vectors over 256-row tiles,
@@ -27,7 +27,7 @@ namespace {
 // Without regularization (noiseAmount = 0) rank-deficient blocks make the fit ill-conditioned
 // and the backends differ by up to 1e-2 relative: that case is checked analytically instead
 // (VulkanBmfr.ReproducesAFeatureLinearImageWithoutRegularization).
-constexpr double kMaxRel = 5e-5, kMeanRel = 2e-6;
+constexpr double kBmfrMaxRel = 5e-5, kBmfrMeanRel = 2e-6;
 
 BmfrSettings settingsFrom(const std::vector<std::string>& list) {
   auto cpu = Device::create({.backend = Backend::Cpu, .threads = 1})->createDenoiser("bmfr");
@@ -71,7 +71,7 @@ Worst runBoth(const BmfrSettings& s, const std::vector<Frame>& seq, const std::s
       worst.maxRel = std::max(worst.maxRel, e.maxAbs[c] / e.maxRef);
       worst.meanRel = std::max(worst.meanRel, e.meanAbs[c] / e.maxRef);
     }
-    if (check) expectClose(b, a, kMaxRel, kMeanRel, label);
+    if (check) expectClose(b, a, kBmfrMaxRel, kBmfrMeanRel, label);
   }
   if (check) std::printf("[ bmfr vulkan ] %s: max %.2e mean %.2e (relative to max|ref|)\n", what.c_str(), worst.maxRel, worst.meanRel);
   return worst;
@@ -206,7 +206,7 @@ TEST(VulkanBmfr, MatchesCpuWithEmitters) {
 }
 
 // The tolerance would catch real bugs: the CPU against itself with one thing wrong differs by
-// far more than kMaxRel / kMeanRel.
+// far more than kBmfrMaxRel / kBmfrMeanRel.
 TEST(VulkanBmfr, ToleranceCatchesRealBugs) {
   const auto seq = frames(3, 100, 70, false);
   auto run = [&](const BmfrSettings& s) {
@@ -233,8 +233,8 @@ TEST(VulkanBmfr, ToleranceCatchesRealBugs) {
       maxRel = std::max(maxRel, e.maxAbs[c] / e.maxRef);
       meanRel = std::max(meanRel, e.meanAbs[c] / e.maxRef);
     }
-    EXPECT_GT(maxRel, 10 * kMaxRel) << what << ": " << describe(e);
-    EXPECT_GT(meanRel, 10 * kMeanRel) << what << ": " << describe(e);
+    EXPECT_GT(maxRel, 10 * kBmfrMaxRel) << what << ": " << describe(e);
+    EXPECT_GT(meanRel, 10 * kBmfrMeanRel) << what << ": " << describe(e);
   }
 }
 

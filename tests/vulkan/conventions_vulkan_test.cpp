@@ -15,7 +15,7 @@ namespace {
 
 using C = FrameConventions;
 
-synthetic::Scene scene() {
+synthetic::Scene conventionsVulkanScene() {
   synthetic::Scene s;
   s.gradientSamples = false;  // A-SVGF's; they do not follow the camera's yaw and jitter
   s.width = kWidth;
@@ -26,31 +26,31 @@ synthetic::Scene scene() {
 // Tolerances as on the CPU (tests/core/conventions_test.cpp).
 TEST(VulkanConventions, MotionInNdcYUpPointingToCurrent) {
   RTD_REQUIRE_VULKAN();
-  expectSameOutput(*vulkanDevice(), scene(), motionAs(C::MotionUnits::Ndc, true, true), 1e-5, 4);
+  expectSameOutput(*vulkanDevice(), conventionsVulkanScene(), motionAs(C::MotionUnits::Ndc, true, true), 1e-5, 4);
 }
 TEST(VulkanConventions, MotionIncludingJitter) {
   RTD_REQUIRE_VULKAN();
-  auto s = scene();
+  auto s = conventionsVulkanScene();
   s.jitter = true;
   expectSameOutput(*vulkanDevice(), s, jitteredMotion(s), 1e-5, 4);
 }
 TEST(VulkanConventions, JitteredCameraWithoutMotionVectors) {
   RTD_REQUIRE_VULKAN();
-  auto s = scene();
+  auto s = conventionsVulkanScene();
   s.jitter = true;
   expectSameOutput(*vulkanDevice(), s, jitteredCameraOnly(s), 1e-5, 4);
 }
 TEST(VulkanConventions, ViewSpaceNormals) {
   RTD_REQUIRE_VULKAN();
-  auto s = scene();
+  auto s = conventionsVulkanScene();
   s.cameraYawSpeed = 0.03f;
   expectSameOutput(*vulkanDevice(), s, viewSpaceNormals(), 1e-5, 4);
 }
 TEST(VulkanConventions, HardwareDepthOpenGlAndReversedInfinite) {
   RTD_REQUIRE_VULKAN();
-  expectSameOutput(*vulkanDevice(), scene(), hardwareDepth(openGlProjection(0.1, 100), C::DepthRange::MinusOneToOne),
+  expectSameOutput(*vulkanDevice(), conventionsVulkanScene(), hardwareDepth(openGlProjection(0.1, 100), C::DepthRange::MinusOneToOne),
                    1e-4, 4);
-  expectSameOutput(*vulkanDevice(), scene(), hardwareDepth(reversedInfiniteProjection(0.1), C::DepthRange::ZeroToOne),
+  expectSameOutput(*vulkanDevice(), conventionsVulkanScene(), hardwareDepth(reversedInfiniteProjection(0.1), C::DepthRange::ZeroToOne),
                    1e-5, 4);
 }
 
@@ -58,7 +58,7 @@ TEST(VulkanConventions, HardwareDepthOpenGlAndReversedInfinite) {
 // agreement for SVGF (docs/vulkan.md): the conventions pass is the CPU's conversion.
 TEST(VulkanConventions, AllConventionsAtOnceMatchTheCpu) {
   RTD_REQUIRE_VULKAN();
-  auto s = scene();
+  auto s = conventionsVulkanScene();
   s.jitter = true;
   s.cameraYawSpeed = 0.02f;
   const ToEngine steps[] = {jitteredMotion(s), motionAs(C::MotionUnits::Uv, true, false), viewSpaceNormals(),
@@ -91,7 +91,7 @@ TEST(VulkanHalf, HostHalfInputsAndOutputsMatchFloatOnes) {
   RTD_REQUIRE_VULKAN();
   auto asFloat = vulkanDevice()->createDenoiser("svgf"), asHalf = vulkanDevice()->createDenoiser("svgf");
   for (int i = 0; i < 3; ++i) {
-    Frame f = synthetic::makeFrame(scene(), i);
+    Frame f = synthetic::makeFrame(conventionsVulkanScene(), i);
     HalfFrame h(f);
     FrameInputs in = f.inputs();
     for (int b = 0; b < kBufferCount; ++b)
@@ -113,7 +113,7 @@ TEST(VulkanHalf, ExternalHalfBuffersMatchFloatOnes) {
   auto asFloat = device->createDenoiser("svgf"), asHalf = device->createDenoiser("svgf");
   vk::DeviceBuffer out(ctx, size_t(kWidth) * kHeight * 16, true);
   for (int i = 0; i < 3; ++i) {
-    Frame f = synthetic::makeFrame(scene(), i);
+    Frame f = synthetic::makeFrame(conventionsVulkanScene(), i);
     HalfFrame h(f);
     std::vector<vk::DeviceBuffer> storage;
     VulkanFrameInputs in{.width = kWidth, .height = kHeight};

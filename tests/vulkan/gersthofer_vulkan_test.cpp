@@ -16,9 +16,6 @@
 namespace rtd::test {
 namespace {
 
-// The tolerance of tests/vulkan/svgf_vulkan_test.cpp (docs/vulkan.md).
-constexpr double kMaxRel = 1e-4, kMeanRel = 2e-6;
-
 // Synthetic frames with Gersthofer's inputs: indirect diffuse 40 % of the colour, an indirect
 // ray length, metal on the right half; frame 1 with an all-ones sample mask, frames 2-3 traced
 // at a quarter of the pixels (the others black); a hidden border of 4 pixels.
@@ -70,8 +67,8 @@ void compareComposite(const std::vector<std::string>& settings, bool decisions, 
     cpu->denoise(f.inputs(), a.view());
     gpu->denoise(f.inputs(), b.view());
     const std::string label = what + ", frame " + std::to_string(i);
-    if (decisions) expectCloseExceptFlips(b, a, kMaxRel, kMeanRel, 0.01, label);  // FXAA decisions (svgf_vulkan_test.cpp)
-    else expectClose(b, a, kMaxRel, kMeanRel, label);
+    if (decisions) expectCloseExceptFlips(b, a, kSvgfMaxRel, kSvgfMeanRel, 0.01, label);  // FXAA decisions (svgf_vulkan_test.cpp)
+    else expectClose(b, a, kSvgfMaxRel, kSvgfMeanRel, label);
     EXPECT_EQ(b.at(1, 1, 0), 0.0f) << "hidden area";
   }
 }
@@ -242,8 +239,8 @@ TEST(VulkanGersthofer, StereoMatchesCpuWithAndWithoutEyeReprojection) {
       cpu->denoise(in, a0.view(), a1.view());
       gpu->denoise(in, b0.view(), b1.view());
       const std::string what = std::string(share ? "shared" : "apart") + ", frame " + std::to_string(i);
-      expectClose(b0, a0, kMaxRel, kMeanRel, "left, " + what);
-      expectClose(b1, a1, kMaxRel, kMeanRel, "right, " + what);
+      expectClose(b0, a0, kSvgfMaxRel, kSvgfMeanRel, "left, " + what);
+      expectClose(b1, a1, kSvgfMaxRel, kSvgfMeanRel, "right, " + what);
     }
     const auto names = [&] {
       std::vector<std::string> n;

@@ -31,7 +31,7 @@ struct GuideRayFrame {
   Frame guides;
   GuideRaySamples samples;
 };
-const std::vector<GuideRayFrame>& rendered() {
+const std::vector<GuideRayFrame>& guideRayFrames() {
   static const std::vector<GuideRayFrame> frames = [] {
     render::RenderSettings rs;
     rs.width = kWidth;
@@ -52,7 +52,7 @@ TEST(VulkanGuideRays, PremixAndResolveMatchCpu) {
   // fused multiply-add; measured on lavapipe: identical. Bound: 1e-6 of the largest value.
   RTD_REQUIRE_VULKAN();
   auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
-  const GuideRayFrame& f = rendered()[0];
+  const GuideRayFrame& f = guideRayFrames()[0];
   GuideRays cpuRays, gpuRays;
   const Frame mixed = cpuRays.premix(f.guides, f.samples);
   Image filtered(f.guides.width, f.guides.height, 3);
@@ -112,7 +112,7 @@ TEST(VulkanGuideRays, MalformedSamplesAreRefusedBeforeTheDenoiserRuns) {
   // The same checks as premix(): a sample without its normal is an error naming it, and the
   // denoiser's history is untouched (its next frame equals a fresh denoiser's).
   RTD_REQUIRE_VULKAN();
-  const GuideRayFrame& f = rendered()[1];
+  const GuideRayFrame& f = guideRayFrames()[1];
   GuideRaySamples bad = f.samples;
   bad.samples[1][Buffer::Normal] = Image();
   auto d = vulkanDevice()->createDenoiser("svgf");
@@ -143,7 +143,7 @@ TEST(VulkanGuideRays, VoorhuisWithGuideRaysMatchesCpu) {
   }
   GuideRays cpuRays, gpuRays;
   for (int i = 0; i < 4; ++i) {
-    const GuideRayFrame& f = rendered()[size_t(i)];
+    const GuideRayFrame& f = guideRayFrames()[size_t(i)];
     const Image a = cpuRays.denoise(*cpu, f.guides, f.samples);
     const Image b = gpuRays.denoise(*gpu, f.guides, f.samples);
     EXPECT_EQ(cpu->stats().notes, gpu->stats().notes);

@@ -9,6 +9,7 @@
 #include "passes/taa.h"
 #include "passes/taa_keys.h"
 #include "passes/temporal_accumulation.h"
+#include "download_planes.h"
 #include "vulkan_test_util.h"
 
 namespace rtd::test {
@@ -31,12 +32,6 @@ void uploadPlanes(vk::Context& ctx, const std::vector<Plane>& planes, vk::Planes
   std::vector<float> all;
   for (const auto& p : planes) all.insert(all.end(), p.data.begin(), p.data.end());
   ctx.upload(out.buffer, all.data(), all.size() * 4);
-}
-
-std::vector<float> download(vk::Context& ctx, const vk::Planes& p) {
-  std::vector<float> v(p.planeSize() * size_t(p.count));
-  ctx.download(p.buffer, v.data(), v.size() * 4);
-  return v;
 }
 
 // The GPU twin of a CPU FrameData.

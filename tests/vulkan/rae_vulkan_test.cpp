@@ -7,15 +7,10 @@
 
 #include "methods/rae/rae_fixture.h"
 #include "vulkan_test_util.h"
+#include "support/test_frames.h"
 
 namespace rtd {
 namespace {
-
-Image denoise(Denoiser& d, const Frame& f) {
-  Image out(f.width, f.height, 3);
-  d.denoise(f.inputs(), out.view());
-  return out;
-}
 
 /// The synthetic scene's frames with an albedo (the built-in weights read it).
 std::vector<Frame> framesWithAlbedo(int count, int w, int h) {
@@ -35,7 +30,7 @@ TEST(RaeVulkan, MatchesPyTorchOverThreeFrames) {
     auto d = test::vulkanDevice()->createDenoiser("rae");
     d->set("weights", f.weights);
     for (size_t t = 0; t < f.frames.size(); ++t)
-      EXPECT_LT(test::maxRelativeError(denoise(*d, f.frames[t]), f.expected[t]), 1e-5) << inputs << ", frame " << t;
+      EXPECT_LT(test::maxRelativeError(test::denoised(*d, f.frames[t]), f.expected[t]), 1e-5) << inputs << ", frame " << t;
   }
 }
 
@@ -49,7 +44,7 @@ TEST(RaeVulkan, MatchesCpuAtAnySize) {
     auto gpu = test::vulkanDevice()->createDenoiser("rae");
     const std::vector<Frame> frames = framesWithAlbedo(count, w, h);
     for (size_t t = 0; t < frames.size(); ++t) {
-      const Image a = denoise(*cpu, frames[t]), b = denoise(*gpu, frames[t]);
+      const Image a = test::denoised(*cpu, frames[t]), b = test::denoised(*gpu, frames[t]);
       ASSERT_EQ(b.width, w);
       ASSERT_EQ(b.height, h);
       EXPECT_TRUE(test::allFinite(b));
@@ -65,19 +60,19 @@ TEST(RaeVulkan, HiddenStateChangesTheOutputAndResetClearsIt) {
   const test::RaeFixture f = test::loadRaeFixture("color_albedo_normal");
   auto d = test::vulkanDevice()->createDenoiser("rae");
   d->set("weights", f.weights);
-  const Image first = denoise(*d, f.frames[1]);
-  const Image second = denoise(*d, f.frames[1]);
+  const Image first = test::denoised(*d, f.frames[1]);
+  const Image second = test::denoised(*d, f.frames[1]);
   EXPECT_GT(test::compare(first, second).maxAbs[0], 1e-3) << "identical inputs, different hidden states";
   d->reset();
-  EXPECT_EQ(test::compare(denoise(*d, f.frames[1]), first).maxAbs[0], 0.0) << "after reset()";
+  EXPECT_EQ(test::compare(test::denoised(*d, f.frames[1]), first).maxAbs[0], 0.0) << "after reset()";
   FrameInputs cut = f.frames[1].inputs();
   cut.cameraCut = true;
   Image out(f.frames[1].width, f.frames[1].height, 3);
   d->denoise(cut, out.view());
   EXPECT_EQ(test::compare(out, first).maxAbs[0], 0.0) << "on a camera cut";
   d->set("recurrent", "false");
-  denoise(*d, f.frames[0]);
-  EXPECT_EQ(test::compare(denoise(*d, f.frames[1]), first).maxAbs[0], 0.0) << "recurrent = false";
+  test::denoised(*d, f.frames[0]);
+  EXPECT_EQ(test::compare(test::denoised(*d, f.frames[1]), first).maxAbs[0], 0.0) << "recurrent = false";
 }
 
 // New weights mid-sequence rebuild the network (another architecture: the built-in 4 levels,
@@ -86,10 +81,10 @@ TEST(RaeVulkan, NewWeightsRebuildTheNetwork) {
   RTD_REQUIRE_VULKAN();
   const test::RaeFixture f = test::loadRaeFixture("color_albedo_normal");
   auto d = test::vulkanDevice()->createDenoiser("rae");
-  denoise(*d, f.frames[0]);
-  denoise(*d, f.frames[1]);
+  test::denoised(*d, f.frames[0]);
+  test::denoised(*d, f.frames[1]);
   d->set("weights", f.weights);
-  EXPECT_LT(test::maxRelativeError(denoise(*d, f.frames[0]), f.expected[0]), 1e-5);
+  EXPECT_LT(test::maxRelativeError(test::denoised(*d, f.frames[0]), f.expected[0]), 1e-5);
 }
 
 // The bad-input classes the import sanitizes (NaN, +-Inf, +-1e30 in colour, albedo and
@@ -107,7 +102,7 @@ TEST(RaeVulkan, BadInputStaysFiniteAndMatchesCpu) {
   auto cpu = Device::create()->createDenoiser("rae");
   auto gpu = test::vulkanDevice()->createDenoiser("rae");
   for (size_t t = 0; t < frames.size(); ++t) {
-    const Image a = denoise(*cpu, frames[t]), b = denoise(*gpu, frames[t]);
+    const Image a = test::denoised(*cpu, frames[t]), b = test::denoised(*gpu, frames[t]);
     ASSERT_TRUE(test::allFinite(b)) << "frame " << t;
     EXPECT_LT(test::maxRelativeError(b, a), 1e-5) << "frame " << t;
   }

@@ -10,6 +10,7 @@
 #include "methods/svgf/svgf_reflections_vulkan.h"
 #include "passes/neighbourhood_clipping.h"
 #include "rtd/render/render.h"
+#include "download_planes.h"
 #include "vulkan_test_util.h"
 
 namespace rtd::test {
@@ -27,7 +28,7 @@ struct Rendered {
     for (int i = 0; i < 6; ++i) frames[i] = r.render(20 + i);
   }
 };
-const Rendered& rendered() {
+const Rendered& reflectionFrames() {
   static const Rendered r;
   return r;
 }
@@ -61,16 +62,10 @@ template <class F> void record(vk::Context& ctx, F&& body) {
   });
 }
 
-std::vector<float> download(vk::Context& ctx, const vk::Planes& p) {
-  std::vector<float> v(p.planeSize() * size_t(p.count));
-  ctx.download(p.buffer, v.data(), v.size() * 4);
-  return v;
-}
-
 TEST(VulkanReflections, ClassesAndSpecularReprojectionMatchCpu) {
   RTD_REQUIRE_VULKAN();
   vk::Context ctx{DeviceDesc{.backend = Backend::Vulkan}};
-  const Rendered& r = rendered();
+  const Rendered& r = reflectionFrames();
   FrameData prev, cur;
   importFrame(r.frames[0].inputs(), {Buffer::Color}, prev);
   importFrame(r.frames[1].inputs(), {Buffer::Color}, cur);
@@ -139,7 +134,7 @@ TEST(VulkanReflections, ClassesAndSpecularReprojectionMatchCpu) {
 TEST(VulkanReflections, ClipBoxMatchesCpu) {
   RTD_REQUIRE_VULKAN();
   vk::Context ctx{DeviceDesc{.backend = Backend::Vulkan}};
-  const Rendered& r = rendered();
+  const Rendered& r = reflectionFrames();
   FrameData f;
   importFrame(r.frames[2].inputs(), {Buffer::Color}, f);
   const int w = f.width, h = f.height;
@@ -199,7 +194,7 @@ TEST(VulkanReflections, ClipBoxMatchesCpu) {
 // history, which reads the accepted taps of the record TAA follows (voorhuis_taa_motion).
 TEST(VulkanReflections, VoorhuisMatchesCpuOnARenderedSequence) {
   RTD_REQUIRE_VULKAN();
-  const Rendered& r = rendered();
+  const Rendered& r = reflectionFrames();
   for (const char* variant : {"voorhuis", "voorhuisNoSpecReproj", "voorhuis+catmullRom"}) {
     auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
     auto cpu = cpuDevice->createDenoiser("svgf");

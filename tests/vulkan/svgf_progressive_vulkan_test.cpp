@@ -7,9 +7,6 @@
 namespace rtd::test {
 namespace {
 
-// The tolerance of the dense SVGF comparisons (svgf_vulkan_test.cpp, docs/vulkan.md).
-constexpr double kMaxRel = 1e-4, kMeanRel = 2e-6;
-
 // Pixel (x, y) is sampled in frame f when its position in a 2x2 block comes up: (x & 1) +
 // 2 (y & 1) == f mod 4. Unsampled pixels get colour 0 and sampleMask 0, as the renderer writes
 // them; features stay complete (docs/renderer.md).
@@ -50,7 +47,7 @@ std::unique_ptr<Denoiser> make(Device& device, const std::vector<std::string>& s
 
 // Runs the CPU and the GPU on the masked sequence, checks every frame against the stated
 // tolerance and returns the GPU's last frame.
-Image runBoth(const std::vector<std::string>& settings, bool split, int frames, const std::string& what) {
+Image runBothProgressive(const std::vector<std::string>& settings, bool split, int frames, const std::string& what) {
   auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto cpu = make(*cpuDevice, settings);
   auto gpu = make(*vulkanDevice(), settings);
@@ -61,23 +58,23 @@ Image runBoth(const std::vector<std::string>& settings, bool split, int frames, 
     b = Image(kWidth, kHeight, 3);
     cpu->denoise(seq[i].inputs(), a.view());
     gpu->denoise(seq[i].inputs(), b.view());
-    expectClose(b, a, kMaxRel, kMeanRel, what + ", frame " + std::to_string(i));
+    expectClose(b, a, kSvgfMaxRel, kSvgfMeanRel, what + ", frame " + std::to_string(i));
   }
   return b;
 }
 
 TEST(VulkanSvgfProgressive, MatchesCpuSchied) {
   RTD_REQUIRE_VULKAN();
-  runBoth({}, false, 6, "schied, sample mask");
+  runBothProgressive({}, false, 6, "schied, sample mask");
 }
 TEST(VulkanSvgfProgressive, MatchesCpuDundr) {
   RTD_REQUIRE_VULKAN();
-  runBoth({"variant=dundr"}, false, 6, "dundr, sample mask");
+  runBothProgressive({"variant=dundr"}, false, 6, "dundr, sample mask");
 }
 TEST(VulkanSvgfProgressive, MatchesCpuVoorhuisWithSplitComponents) {
   // Two streams share the validity planes; feedback level 2, no variance filtering of indirect.
   RTD_REQUIRE_VULKAN();
-  runBoth({"variant=voorhuisRobustness", "feedbackLevel=2"}, true, 5, "voorhuis, diffuse/specular, sample mask");
+  runBothProgressive({"variant=voorhuisRobustness", "feedbackLevel=2"}, true, 5, "voorhuis, diffuse/specular, sample mask");
 }
 
 // The mask is really used: the same sequence with useSampleMask off (every pixel taken as
@@ -85,8 +82,8 @@ TEST(VulkanSvgfProgressive, MatchesCpuVoorhuisWithSplitComponents) {
 // and that dense result also matches the CPU with the setting off.
 TEST(VulkanSvgfProgressive, MaskChangesTheResult) {
   RTD_REQUIRE_VULKAN();
-  const Image masked = runBoth({}, false, 5, "sample mask");
-  const Image dense = runBoth({"useSampleMask=false"}, false, 5, "sample mask ignored");
+  const Image masked = runBothProgressive({}, false, 5, "sample mask");
+  const Image dense = runBothProgressive({"useSampleMask=false"}, false, 5, "sample mask ignored");
   const ErrorStats s = compare(dense, masked);
   // Treating empty pixels as black samples darkens the image by about the unsampled share.
   for (int c = 0; c < 3; ++c) EXPECT_GT(s.meanAbs[c], 0.05 * s.maxRef) << describe(s);

@@ -6,13 +6,7 @@
 namespace rtd::test {
 namespace {
 
-// Per frame, per channel: max abs error <= maxRel * max|ref|, mean abs error <= meanRel * max|ref|.
-// The CPU a-trous evaluates exp() with a polynomial and 1/x with a refined estimate (~1e-7
-// relative), the GPU with its own exp and division, and the CPU's spatial variance sums in double:
-// the filter's weights differ by ~1e-6 relative, which five levels and the feedback loop carry on.
-// Measured on lavapipe: max 2e-6 relative (1.1e-5 absolute with max|ref| ~6); the tolerance
-// leaves room for GPUs whose exp and division are less exact.
-constexpr double kMaxRel = 1e-4, kMeanRel = 2e-6;
+// Tolerance: kSvgfMaxRel, kSvgfMeanRel (vulkan_test_util.h).
 
 // FXAA (the gersthofer preset) flips a few edge decisions on inputs that differ by ~1e-6:
 // up to 1 % of the pixels may differ more (measured on lavapipe: at most 9 of 2747, 0.33 %), the others
@@ -55,8 +49,8 @@ void runBoth(const std::vector<std::string>& settings, bool split, int frames, c
     Image a(f.width, f.height, 3), b(f.width, f.height, 3);
     cpu->denoise(f.inputs(), a.view());
     gpu->denoise(f.inputs(), b.view());
-    if (decisions) expectCloseExceptFlips(b, a, kMaxRel, kMeanRel, kFlippedShare, what + ", frame " + std::to_string(i));
-    else expectClose(b, a, kMaxRel, kMeanRel, what + ", frame " + std::to_string(i));
+    if (decisions) expectCloseExceptFlips(b, a, kSvgfMaxRel, kSvgfMeanRel, kFlippedShare, what + ", frame " + std::to_string(i));
+    else expectClose(b, a, kSvgfMaxRel, kSvgfMeanRel, what + ", frame " + std::to_string(i));
   }
 }
 

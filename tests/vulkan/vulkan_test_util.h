@@ -121,4 +121,13 @@ inline std::vector<Frame> syntheticFrames(int count, int width = kWidth, int hei
   return frames;
 }
 
+// The SVGF family's Vulkan-against-CPU tolerance (svgf, its variants, A-SVGF's filter), per
+// frame and channel: max abs error <= kSvgfMaxRel * max|ref|, mean abs error <= kSvgfMeanRel *
+// max|ref|. The CPU a-trous evaluates exp() with a polynomial and 1/x with a refined estimate
+// (~1e-7 relative), the GPU with its own exp and division, and the CPU's spatial variance sums in
+// double: the filter's weights differ by ~1e-6 relative, which five levels and the feedback loop
+// carry on. Measured on lavapipe: max 2e-6 relative (1.1e-5 absolute with max|ref| ~6); the
+// tolerance leaves room for GPUs whose exp and division are less exact.
+inline constexpr double kSvgfMaxRel = 1e-4, kSvgfMeanRel = 2e-6;
+
 }  // namespace rtd::test

@@ -239,12 +239,6 @@ std::vector<Image> denoiseSequence(Denoiser& d, const std::vector<Frame>& frames
   return out;
 }
 
-double rmse(const Image& a, const Image& b) {
-  double s = 0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) s += double(a.pixels[i] - b.pixels[i]) * (a.pixels[i] - b.pixels[i]);
-  return std::sqrt(s / double(a.pixels.size()));
-}
-
 TEST(AsvgfEndToEnd, ConstantInputIsAFixedPoint) {
   // Constant radiance on two surfaces (a depth edge between them), still camera, albedo 1;
   // gradient samples in every stratum, unchanged in most frames and "changed" (G = 1) in some:
@@ -315,7 +309,7 @@ Recovery run(const std::string& method, const LightSwitch& ls,
   Recovery r;
   for (size_t i = 0; i < out.size(); ++i) {
     EXPECT_TRUE(test::allFinite(out[i])) << method << " frame " << i;
-    r.rmse.push_back(rmse(out[i], ls.references[i]));
+    r.rmse.push_back(test::rmse(out[i], ls.references[i]));
     double err = 0, ref = 0;
     for (size_t k = 0; k < out[i].pixels.size(); ++k) {
       err += out[i].pixels[k] - ls.references[i].pixels[k];
@@ -438,7 +432,7 @@ TEST(AsvgfReflectedNormals, KeepTheReflectedEdgeAndScoreAtLeastAsWell) {
     auto d = device->createDenoiser("asvgf");
     d->set("reflectedNormals", on ? "true" : "false");
     last[on] = denoiseSequence(*d, frames).back();
-    err[on] = rmse(last[on], ref);
+    err[on] = test::rmse(last[on], ref);
   }
   // With the toggle the edge between the reflected surfaces survives: the column next to it
   // keeps its side's level; without it the filter blurs across.

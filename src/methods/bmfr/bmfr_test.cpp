@@ -399,12 +399,6 @@ TEST(Bmfr, ImagesSmallerThanABlockAreFinite) {
   }
 }
 
-double rmse(const Image& a, const Image& b) {
-  double e = 0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) e += (double(a.pixels[i]) - b.pixels[i]) * (a.pixels[i] - b.pixels[i]);
-  return std::sqrt(e / double(a.pixels.size()));
-}
-
 // Mean RMSE to the reference of the input and the output over frames 12-19 of a moving camera.
 std::pair<double, double> movingCameraErrors(BmfrSettings s) {
   const auto scene = smallScene(192, 112, 0.02f, 1.0f);
@@ -419,8 +413,8 @@ std::pair<double, double> movingCameraErrors(BmfrSettings s) {
     d->denoise(f.inputs(), out.view());
     EXPECT_TRUE(allFinite(out)) << "frame " << t;
     if (t >= 12) {
-      inputError += rmse(f[Buffer::Color], reference);
-      outputError += rmse(out, reference);
+      inputError += test::rmse(f[Buffer::Color], reference);
+      outputError += test::rmse(out, reference);
     }
   }
   return {inputError / 8, outputError / 8};
@@ -496,6 +490,7 @@ TEST(Bmfr, NoBlockPatternOnAStaticSceneAfter16Frames) {
 
 #ifdef HAVE_RTDENOISE_RENDER
 #include "rtd/render/render.h"
+#include "support/test_frames.h"
 
 namespace rtd {
 namespace {
@@ -521,7 +516,7 @@ TEST(Bmfr, EndToEndOnAPathTracedSequence) {
     ASSERT_TRUE(allFinite(out)) << "frame " << t;
   }
   const Image reference = renderer.renderReference(kFrames - 1, 128);
-  const double input = rmse(f[Buffer::Color], reference), output = rmse(out, reference);
+  const double input = test::rmse(f[Buffer::Color], reference), output = test::rmse(out, reference);
   std::printf("pillars 128x72, frame %d: RMSE input %.4f, output %.4f\n", kFrames - 1, input, output);
   // Blocks of 32 pixels cover a quarter of this small image's height and only 12 frames are
   // accumulated, so the gain is smaller than at 720p (measured: about 2x).

@@ -24,12 +24,6 @@ namespace {
 using test::loadRaeFixture;
 using test::RaeFixture;
 
-Image denoise(Denoiser& d, const Frame& f) {
-  Image out(f.width, f.height, 3);
-  d.denoise(f.inputs(), out.view());
-  return out;
-}
-
 double maxAbsDifference(const Image& a, const Image& b) {
   double m = 0;
   for (size_t i = 0; i < a.pixels.size(); ++i) m = std::max(m, double(std::abs(a.pixels[i] - b.pixels[i])));
@@ -45,7 +39,7 @@ TEST(Rae, CpuMatchesPyTorchOverThreeFrames) {
     auto d = device->createDenoiser("rae");
     d->set("weights", f.weights);
     for (size_t t = 0; t < f.frames.size(); ++t)
-      EXPECT_LT(test::maxRelativeError(denoise(*d, f.frames[t]), f.expected[t]), 1e-4) << inputs << ", frame " << t;
+      EXPECT_LT(test::maxRelativeError(test::denoised(*d, f.frames[t]), f.expected[t]), 1e-4) << inputs << ", frame " << t;
   }
 }
 
@@ -58,19 +52,19 @@ TEST(Rae, HiddenStateChangesTheOutputAndResetClearsIt) {
   auto device = Device::create();
   auto d = device->createDenoiser("rae");
   d->set("weights", f.weights);
-  const Image first = denoise(*d, f.frames[1]);  // frame 1's input as a first frame
-  const Image second = denoise(*d, f.frames[1]);
+  const Image first = test::denoised(*d, f.frames[1]);  // frame 1's input as a first frame
+  const Image second = test::denoised(*d, f.frames[1]);
   EXPECT_GT(maxAbsDifference(first, second), 1e-3) << "identical inputs, different hidden states";
   d->reset();
-  EXPECT_EQ(maxAbsDifference(denoise(*d, f.frames[1]), first), 0.0) << "after reset()";
+  EXPECT_EQ(maxAbsDifference(test::denoised(*d, f.frames[1]), first), 0.0) << "after reset()";
   FrameInputs cut = f.frames[1].inputs();
   cut.cameraCut = true;
   Image out(f.frames[1].width, f.frames[1].height, 3);
   d->denoise(cut, out.view());
   EXPECT_EQ(maxAbsDifference(out, first), 0.0) << "on a camera cut";
   d->set("recurrent", "false");
-  denoise(*d, f.frames[0]);
-  EXPECT_EQ(maxAbsDifference(denoise(*d, f.frames[1]), first), 0.0) << "recurrent = false";
+  test::denoised(*d, f.frames[0]);
+  EXPECT_EQ(maxAbsDifference(test::denoised(*d, f.frames[1]), first), 0.0) << "recurrent = false";
 }
 
 // Checklist 27: any input size, including sizes below and between multiples of 2^(L-1) = 8
@@ -84,7 +78,7 @@ TEST(Rae, AnyInputSize) {
     scene.width = w;
     scene.height = h;
     const Frame f = synthetic::makeFrame(scene, 0);
-    const Image out = denoise(*d, f);
+    const Image out = test::denoised(*d, f);
     ASSERT_EQ(out.width, w);
     ASSERT_EQ(out.height, h);
     EXPECT_TRUE(test::allFinite(out)) << w << "x" << h;
@@ -106,7 +100,7 @@ TEST(Rae, BadInputReachesNeitherOutputNorHiddenState) {
   auto device = Device::create();
   auto d = device->createDenoiser("rae");
   for (int t = 0; t < 3; ++t) {
-    const Image out = denoise(*d, f);
+    const Image out = test::denoised(*d, f);
     ASSERT_TRUE(test::allFinite(out)) << "frame " << t;
   }
   auto* inspect = dynamic_cast<const PlaneInspection*>(d.get());
@@ -168,7 +162,7 @@ TEST(Rae, OneThreadDeviceStartsNoOpenMpThread) {
   synthetic::Scene scene;
   scene.width = 64;
   scene.height = 48;
-  for (int t = 0; t < 2; ++t) denoise(*d, synthetic::makeFrame(scene, t));
+  for (int t = 0; t < 2; ++t) test::denoised(*d, synthetic::makeFrame(scene, t));
   EXPECT_LE(threads(), before);
 }
 

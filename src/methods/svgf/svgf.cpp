@@ -24,8 +24,6 @@ namespace rtd {
 
 namespace {
 
-constexpr int kMaxStreams = 2;
-
 // One radiance stream (Color, or one half of a split) and its history.
 struct Stream {
   svgf::StreamPlan plan{Buffer::Color, "color", true, false};  // which buffer, and how it is filtered
@@ -258,7 +256,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   svgf::Reflections reflections_;
   svgf::Filter filter_;
   const Plane* mask_ = nullptr;
-  Stream streams_[kMaxStreams];
+  Stream streams_[svgf::kMaxStreams];
   Plane3 sum_, display_, lobeMedian_;
   Taa taa_;
   PixelVector<uint32_t> taaKeys_;  // TaaSettings::taaOwnSurface

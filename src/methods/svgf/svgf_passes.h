@@ -88,6 +88,9 @@ inline std::vector<Buffer> extraBuffers(const SvgfSettings& s) {
 /// (Color, Direct, Indirect), or one BSDF lobe (Diffuse, Specular).
 enum class Lobe : uint8_t { all, diffuse, specular };
 
+/// At most two radiance streams (direct and indirect, or diffuse and specular) per view.
+inline constexpr int kMaxStreams = 2;
+
 /// One radiance stream SVGF filters separately (Schied et al. 2017: direct and indirect).
 struct StreamPlan {
   Buffer buffer;

@@ -596,7 +596,7 @@ TEST(SvgfSettingsTest, VariantPresetsAndToggles) {
 
 // ---------------------------------------------------------------- end to end
 
-double rmse(const Image& a, const Image& b) {
+double rmseRgb(const Image& a, const Image& b) {
   double s = 0;
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x)
@@ -607,7 +607,7 @@ double rmse(const Image& a, const Image& b) {
   return std::sqrt(s / (3.0 * a.width * a.height));
 }
 
-bool allFinite(const Image& a) {
+bool allFiniteRgb(const Image& a) {
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x)
       for (int c = 0; c < 3; ++c)
@@ -634,10 +634,10 @@ SeqRun runSequence(Denoiser* d, const synthetic::Scene& scene, bool splitDirect 
     if (d) d->denoise(f.inputs(), out.view());
     else out = f[Buffer::Color];
   }
-  return {rmse(out, ref), out};
+  return {rmseRgb(out, ref), out};
 }
 
-synthetic::Scene smallScene() {
+synthetic::Scene svgfScene() {
   synthetic::Scene s;
   s.width = 128;
   s.height = 72;
@@ -646,13 +646,13 @@ synthetic::Scene smallScene() {
 
 TEST(SvgfEndToEnd, MuchCloserToReferenceThanInputAndAccumulation) {
   auto device = Device::create();
-  const auto scene = smallScene();
+  const auto scene = svgfScene();
   const double input = runSequence(nullptr, scene).rmse;
   auto acc = device->createDenoiser("accumulate");
   const double accumulated = runSequence(acc.get(), scene).rmse;
   auto svgf = device->createDenoiser("svgf");
   const SeqRun r = runSequence(svgf.get(), scene);
-  ASSERT_TRUE(allFinite(r.last));
+  ASSERT_TRUE(allFiniteRgb(r.last));
   std::printf("RMSE after %d frames: input %.4f, accumulate %.4f, svgf %.4f\n", kFrames, input, accumulated, r.rmse);
   // Measured (128x72, 12 frames): input 0.678, accumulate 0.188, svgf 0.082, i.e. svgf is at
   // 0.12x the input and 0.44x plain accumulation; asserted with some room.
@@ -662,7 +662,7 @@ TEST(SvgfEndToEnd, MuchCloserToReferenceThanInputAndAccumulation) {
 
 TEST(SvgfEndToEnd, EachVariantRunsAndDiffers) {
   auto device = Device::create();
-  const auto scene = smallScene();
+  const auto scene = svgfScene();
   auto base = device->createDenoiser("svgf");
   const SeqRun ref = runSequence(base.get(), scene);
   const double input = runSequence(nullptr, scene).rmse;
@@ -670,22 +670,22 @@ TEST(SvgfEndToEnd, EachVariantRunsAndDiffers) {
     auto d = device->createDenoiser("svgf");
     d->set("variant", v);
     const SeqRun r = runSequence(d.get(), scene);
-    ASSERT_TRUE(allFinite(r.last)) << v;
+    ASSERT_TRUE(allFiniteRgb(r.last)) << v;
     std::printf("variant %-10s RMSE %.4f (schied %.4f)\n", v, r.rmse, ref.rmse);
     // Measured: dundr 0.078, gersthofer 0.081, voorhuis 0.083 (input 0.678).
     EXPECT_LT(r.rmse, 0.4 * input) << v;
-    EXPECT_GT(rmse(r.last, ref.last), 1e-4) << v;  // differs from the default
+    EXPECT_GT(rmseRgb(r.last, ref.last), 1e-4) << v;  // differs from the default
   }
 }
 
 TEST(SvgfEndToEnd, SplitStreamWithZeroIndirectEqualsColorStream) {
   auto device = Device::create();
-  const auto scene = smallScene();
+  const auto scene = svgfScene();
   auto a = device->createDenoiser("svgf");
   a->set("components", "color");
   auto b = device->createDenoiser("svgf");  // auto: Direct + Indirect found
   const SeqRun ra = runSequence(a.get(), scene, true), rb = runSequence(b.get(), scene, true);
-  EXPECT_LT(rmse(ra.last, rb.last), 1e-6);
+  EXPECT_LT(rmseRgb(ra.last, rb.last), 1e-6);
   const auto names = [&] {
     std::vector<std::string> n;
     for (const auto& p : b->stats().passes) n.push_back(p.name);
@@ -725,7 +725,7 @@ TEST(SvgfSettingsTest, PresetsChooseTheirPapersStreams) {
 // accumulated nor filtered; TAA off, which is not additive).
 TEST(SvgfEndToEnd, DiffuseComponentAddsTheSpecularLobeUnfiltered) {
   auto device = Device::create();
-  const auto scene = smallScene();
+  const auto scene = svgfScene();
   Image out[2] = {Image(scene.width, scene.height, 3), Image(scene.width, scene.height, 3)};
   Image specular(scene.width, scene.height, 3);
   std::mt19937 rng(3);
@@ -757,7 +757,7 @@ TEST(SvgfEndToEnd, ProgressiveQuarterSampleRate) {
   auto device = Device::create();
   auto d = device->createDenoiser("svgf");
   d->set("variant", "dundr");
-  auto scene = smallScene();
+  auto scene = svgfScene();
   scene.cameraSpeed = 0.0f;  // progressive rendering of a still view
   Image ref, out(scene.width, scene.height, 3), sparse;
   std::mt19937 rng(5);
@@ -776,8 +776,8 @@ TEST(SvgfEndToEnd, ProgressiveQuarterSampleRate) {
     d->denoise(f.inputs(), out.view());
     if (i == 0) sparse = f[Buffer::Color];
   }
-  ASSERT_TRUE(allFinite(out));
-  const double first = rmse(sparse, ref), result = rmse(out, ref);
+  ASSERT_TRUE(allFiniteRgb(out));
+  const double first = rmseRgb(sparse, ref), result = rmseRgb(out, ref);
   std::printf("progressive 1/4 spp: RMSE sparse frame %.4f, svgf after 16 frames %.4f\n", first, result);
   // Measured: 0.704 for one sparse frame, 0.050 after 16 frames (0.07x).
   EXPECT_LT(result, 0.15 * first);
@@ -791,7 +791,7 @@ TEST(SvgfEndToEnd, MissingSplitBufferIsAnError) {
   auto device = Device::create();
   auto d = device->createDenoiser("svgf");
   d->set("components", "diffuseSpecular");
-  auto scene = smallScene();
+  auto scene = svgfScene();
   Frame f = synthetic::makeFrame(scene, 0);
   Image out(scene.width, scene.height, 3);
   EXPECT_THROW(d->denoise(f.inputs(), out.view()), Error);

@@ -14,8 +14,6 @@ namespace rtd {
 
 namespace {
 
-constexpr int kMaxStreams = 2;
-
 // One radiance stream and its history, as in svgf.cpp.
 struct GpuStream {
   svgf::StreamPlan plan{Buffer::Color, "color", true, false};  // which buffer, and how it is filtered
@@ -184,7 +182,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
   vk::Planes reprojection_, gradient_, guideNormal_, sum_, display_, remodulated_;
   svgf::GpuFilter filter_;
   const vk::Planes* mask_ = nullptr;     // this frame's sample mask, or null (dense)
-  GpuStream streams_[kMaxStreams];
+  GpuStream streams_[svgf::kMaxStreams];
   svgf::GpuReflections reflections_;
   vk::GpuTaa taa_;
   vk::Planes taaKeys_;  // TaaSettings::taaOwnSurface
