@@ -33,6 +33,10 @@ COMPARISONS = {
     "combined": [("neither", ":taaOwnSurface=false:taaHistoryRejection=false"), ("rejection", ":taaOwnSurface=false:taaHistoryRejection=true"),
                  ("ownSurface", ":taaOwnSurface=true:taaHistoryRejection=false"), ("both", ":taaOwnSurface=true:taaHistoryRejection=true"),
                  ("no TAA", ":taa=false")],
+    # rtdenoise before issue 12 (linear domain, plain box, no rejection), the defaults now, the defaults with the
+    # Catmull-Rom history, and no TAA.
+    "history": [("before issue 12", ":taaDomain=linear:taaOwnSurface=false:taaHistoryRejection=false"), ("defaults", ""),
+                ("catmullRom", ":taaHistoryFilter=catmullRom"), ("no TAA", ":taa=false")],
 }
 SCENES = ["cornell", "pillars", "dynamic", "corridorglossy", "mirrorfloor", "glossyfloor"]
 
@@ -67,7 +71,8 @@ def main():
     ap.add_argument("--compare", choices=sorted(COMPARISONS), default="filter",
                     help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / linear / no TAA; "
                     "ownSurface: taaOwnSurface off / on / no TAA; rejection: taaHistoryRejection off / on; "
-                    "combined: neither / rejection / ownSurface / both / no TAA")
+                    "combined: neither / rejection / ownSurface / both / no TAA; "
+                    "history: before issue 12 / defaults / defaults with catmullRom / no TAA")
     a = ap.parse_args()
     TAA = COMPARISONS[a.compare]
     cli = os.path.join(a.build, "apps", "rtdenoise")

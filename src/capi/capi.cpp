@@ -26,6 +26,11 @@ struct CError {
   std::string message;
 };
 
+}  // namespace
+
+// Outside the anonymous namespace: RTDDeviceImpl, which the C header declares, holds one.
+namespace rtd::capi {
+
 // The first unqueried error and the message last handed out (which must outlive the query).
 struct ErrorState {
   RTDError code = RTD_ERROR_NONE;
@@ -45,6 +50,11 @@ struct ErrorState {
     return c;
   }
 };
+
+}  // namespace rtd::capi
+
+namespace {
+using rtd::capi::ErrorState;
 
 // Errors of calls without a device to report to (a null handle, rtdNewDevice, the lists).
 thread_local ErrorState threadErrors;

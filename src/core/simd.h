@@ -135,6 +135,43 @@ inline vf vround(vf x) {
   return (x + 12582912.0f) - 12582912.0f;  // 1.5 * 2^23
 #endif
 }
+/// The largest integer <= x, for |x| < 2^22.
+inline vf vfloor(vf x) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_roundscale_ps(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+#elif defined(RTD_SIMD_AVX2)
+  return _mm256_floor_ps(x);
+#else
+  const vf r = vround(x);
+  return r - keepIf(r > x, splat(1.0f));
+#endif
+}
+/// base[index[k]] in lane k.
+inline vf vgather(const float* base, vi index) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_i32gather_ps((__m512i)index, base, 4);
+#elif defined(RTD_SIMD_AVX2)
+  return _mm256_i32gather_ps(base, (__m256i)index, 4);
+#else
+  vf v;
+  for (int k = 0; k < kLanes; ++k) v[k] = base[index[k]];
+  return v;
+#endif
+}
+/// Whether every lane of a comparison's result is true.
+inline bool allTrue(vi mask) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_movepi32_mask((__m512i)mask) == 0xffff;
+#elif defined(RTD_SIMD_AVX2)
+  return _mm256_movemask_ps((__m256)asFloat(mask)) == 0xff;
+#elif defined(RTD_SIMD_X86)
+  return _mm_movemask_ps((__m128)asFloat(mask)) == 0xf;
+#else
+  for (int k = 0; k < kLanes; ++k)
+    if (!mask[k]) return false;
+  return true;
+#endif
+}
 /// c - a * b rounded once where the path has FMA (AVX2, AVX-512), whatever the compiler's
 /// contraction rules: code whose small products must not underflow on their own (the weight
 /// exponents of passes/atrous_simd.cpp) says so with this instead of relying on

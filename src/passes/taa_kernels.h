@@ -8,6 +8,14 @@ namespace rtd {
 /// Rows of a thread's window slot: Y Co Cg, min Y Co Cg, max Y Co Cg, and (display domain) the
 /// horizontal max of the largest encoded channel (Taa::Window).
 constexpr int kTaaSlotRows = 10;
+/// Catmull-Rom takes a pixel's history only where the reprojection accepted every texel of the
+/// plain 2x2 bilinear footprint weighted above this (taa_simd.cpp, `consistent`; taa.comp,
+/// `accepted`). A position on a pixel centre line weighs the neighbour line 0, or ~1e-6 after
+/// a rounding at another scene scale or camera convention: that texel does not decide between
+/// the cubic and bilinear (which differ along the other axis). The cubic's own weights on a
+/// line this close are below ~kTaaNegligibleTap / 2, so a rejected texel there brings at most
+/// that much of another surface's history.
+constexpr float kTaaNegligibleTap = 1.0f / 256.0f;
 }  // namespace rtd
 
 RTD_SIMD_DECLARE(

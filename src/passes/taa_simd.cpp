@@ -1,5 +1,5 @@
-// TAA's rows for one CPU path (core/simd.h): the history fetch (bilinear: Bilinear8;
-// Catmull-Rom: catmullRomFetch8) eight pixels at a time with AVX2 on the avx2 and avx512 paths,
+// TAA's rows for one CPU path (core/simd.h): the history fetch (bilinear: Bilinear8, eight
+// pixels at a time; Catmull-Rom: catmullRomFetchLanes, 8 or 16) on the avx2 and avx512 paths,
 // pixel by pixel on sse2 and at the frame's border; the clamp and blend loop is vectorized by
 // the compiler for each path's width.
 #include <algorithm>
@@ -115,50 +115,62 @@ template <bool kDisplay> void buildSlot(const Plane3& color, int y, int w, float
 }
 
 #ifdef RTD_SIMD_AVX2
-// The eight-pixel twin of catmullRomFetch for footprints wholly inside the frame (the caller
-// checks): the same weights, flushes and summation order, taps as vector loads where the eight
-// footprints are consecutive (locally uniform motion), gathers otherwise.
-inline __m256 flush8(__m256 v, float below) {
-  const __m256 magnitude = _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
-  return _mm256_and_ps(v, _mm256_cmp_ps(magnitude, _mm256_set1_ps(below), _CMP_GE_OQ));
+// The kLanes-pixel twin of catmullRomFetch (8 on avx2, 16 on avx512) for footprints wholly
+// inside the frame (the caller checks): the same weights, flushes and summation order, taps as
+// vector loads where the footprints are consecutive (locally uniform motion), gathers otherwise.
+// catmullRomWeights for kLanes fractions.
+inline void catmullRomWeightsLanes(vf t, vf w[4]) {
+  w[0] = 0.5f * t * ((2.0f - t) * t - 1.0f);
+  w[1] = 0.5f * (t * t * (3.0f * t - 5.0f) + 2.0f);
+  w[2] = 0.5f * t * ((4.0f - 3.0f * t) * t + 1.0f);
+  w[3] = 0.5f * t * t * (t - 1.0f);
+  for (int k = 0; k < 4; ++k) w[k] = keepIf(vabs(w[k]) >= 0x1p-24f, w[k]);
 }
-inline void catmullRomWeights8(__m256 t, __m256 w[4]) {
-  const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f), tt = _mm256_mul_ps(t, t);
-  w[0] = _mm256_mul_ps(_mm256_mul_ps(half, t), _mm256_sub_ps(_mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(2.0f), t), t), one));
-  w[1] = _mm256_mul_ps(half, _mm256_add_ps(_mm256_mul_ps(tt, _mm256_sub_ps(_mm256_mul_ps(_mm256_set1_ps(3.0f), t), _mm256_set1_ps(5.0f))),
-                                           _mm256_set1_ps(2.0f)));
-  w[2] = _mm256_mul_ps(_mm256_mul_ps(half, t),
-                       _mm256_add_ps(_mm256_mul_ps(_mm256_sub_ps(_mm256_set1_ps(4.0f), _mm256_mul_ps(_mm256_set1_ps(3.0f), t)), t), one));
-  w[3] = _mm256_mul_ps(_mm256_mul_ps(half, tt), _mm256_sub_ps(t, one));
-  for (int k = 0; k < 4; ++k) w[k] = flush8(w[k], 0x1p-24f);
-}
-void catmullRomFetch8(const Plane3& hist, const float* prevX, const float* prevY, int w, float* out[3]) {
-  const __m256 qx = _mm256_sub_ps(_mm256_loadu_ps(prevX), _mm256_set1_ps(0.5f));
-  const __m256 qy = _mm256_sub_ps(_mm256_loadu_ps(prevY), _mm256_set1_ps(0.5f));
-  const __m256 fx = _mm256_floor_ps(qx), fy = _mm256_floor_ps(qy);
-  __m256 wx[4], wy[4];
-  catmullRomWeights8(_mm256_sub_ps(qx, fx), wx);
-  catmullRomWeights8(_mm256_sub_ps(qy, fy), wy);
-  const __m256i one = _mm256_set1_epi32(1);
-  const __m256i base = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_sub_epi32(_mm256_cvttps_epi32(fy), one), _mm256_set1_epi32(w)),
-                                        _mm256_sub_epi32(_mm256_cvttps_epi32(fx), one));
-  const int first = _mm256_extract_epi32(base, 0);
-  const bool consecutive =
-      _mm256_movemask_epi8(_mm256_cmpeq_epi32(base, _mm256_add_epi32(_mm256_set1_epi32(first), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)))) == -1;
+void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* prevY, int w, float* out[3]) {
+  const vf qx = load(prevX) - 0.5f, qy = load(prevY) - 0.5f;
+  const vf fx = vfloor(qx), fy = vfloor(qy);
+  vf wx[4], wy[4];
+  catmullRomWeightsLanes(qx - fx, wx);
+  catmullRomWeightsLanes(qy - fy, wy);
+  const vi base = (__builtin_convertvector(fy, vi) - 1) * w + (__builtin_convertvector(fx, vi) - 1);
+  vi lane;
+  for (int k = 0; k < kLanes; ++k) lane[k] = k;
+  const int first = base[0];
+  const bool consecutive = allTrue(base == first + lane);
   for (int c = 0; c < 3; ++c) {
     const float* hp = hist[c].ptr();
-    __m256 sum = _mm256_setzero_ps();
+    vf sum = splat(0.0f);
     for (int j = 0; j < 4; ++j) {
       const float* row = hp + size_t(j) * w;
-      auto tap = [&](int i) { return consecutive ? _mm256_loadu_ps(row + first + i) : _mm256_i32gather_ps(row + i, base, 4); };
-      __m256 r = _mm256_mul_ps(wx[0], tap(0));
-      r = _mm256_add_ps(r, _mm256_mul_ps(wx[1], tap(1)));
-      r = _mm256_add_ps(r, _mm256_mul_ps(wx[2], tap(2)));
-      r = _mm256_add_ps(r, _mm256_mul_ps(wx[3], tap(3)));
-      sum = _mm256_add_ps(sum, _mm256_mul_ps(wy[j], flush8(r, kTiny)));
+      auto tap = [&](int i) { return consecutive ? load(row + first + i) : vgather(row + i, base); };
+      const vf r = wx[0] * tap(0) + wx[1] * tap(1) + wx[2] * tap(2) + wx[3] * tap(3);
+      sum += wy[j] * vflush(r);
     }
-    _mm256_storeu_ps(out[c], flush8(sum, kTiny));
+    store(out[c], vflush(sum));
   }
+}
+
+// rows()'s test for catmullRomFetchLanes, for the eight pixels i..i+7 of the frame at once: each
+// 4x4 footprint inside the frame, and each pixel `consistent` (Bilinear, every tap of the plain
+// bilinear footprint weighted above kTaaNegligibleTap accepted). A record whose footprint was
+// slid is left to the scalar test (false here).
+bool catmullRomReady8(const Reprojection& rp, size_t i, const float* prevX, const float* prevY, int w, int h) {
+  const __m256 qx = _mm256_sub_ps(_mm256_loadu_ps(prevX), _mm256_set1_ps(0.5f));
+  const __m256 qy = _mm256_sub_ps(_mm256_loadu_ps(prevY), _mm256_set1_ps(0.5f));
+  const __m256 one = _mm256_set1_ps(1.0f);
+  const __m256 inside =
+      _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(qx, one, _CMP_GE_OQ), _mm256_cmp_ps(qx, _mm256_set1_ps(float(w - 2)), _CMP_LT_OQ)),
+                    _mm256_and_ps(_mm256_cmp_ps(qy, one, _CMP_GE_OQ), _mm256_cmp_ps(qy, _mm256_set1_ps(float(h - 2)), _CMP_LT_OQ)));
+  if (_mm256_movemask_ps(inside) != 0xff) return false;
+  Bilinear8 record, plain;
+  if (!record.load(rp, i) || !plain.footprint(prevX, prevY, w, h)) return false;
+  if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(record.base, plain.base)) != -1) return false;
+  const __m256 zero = _mm256_setzero_ps(), negligible = _mm256_set1_ps(kTaaNegligibleTap);
+  __m256 dropped = zero;  // a tap the plain footprint weighs and the record does not
+  for (int t = 0; t < 4; ++t)
+    dropped = _mm256_or_ps(dropped, _mm256_andnot_ps(_mm256_cmp_ps(record.weight[t], zero, _CMP_GT_OQ),
+                                                     _mm256_cmp_ps(plain.weight[t], negligible, _CMP_GT_OQ)));
+  return _mm256_movemask_ps(dropped) == 0;
 }
 #endif
 
@@ -186,20 +198,24 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     // filter).
     const float *prevX = rp.prevX.row(y), *prevY = rp.prevY.row(y);
     const float *r = color[0].row(y), *g = color[1].row(y), *bl = color[2].row(y);
-    // Catmull-Rom only where the reprojection accepted each 2x2 tap that bilinear weighs
-    // (Bilinear, not slid at the border, no tap dropped by its consistency tests): at a
-    // disocclusion or an object's edge the wider 4x4 footprint would carry more of the other
-    // surface's history into the pixel than the 2x2 one, so such pixels fall back to bilinear.
-    // (Requiring it of the four neighbours too changed the scores by <= 0.02 dB.)
+    // Catmull-Rom only where the reprojection accepted each 2x2 texel that bilinear weighs
+    // (above kTaaNegligibleTap; the record Bilinear, its texel kept by its consistency tests,
+    // wherever a slide at the border put it in the record's footprint): at a disocclusion or
+    // an object's edge the wider 4x4 footprint would carry more of the other surface's history
+    // into the pixel than the 2x2 one, so such pixels fall back to bilinear. (Requiring it of
+    // the four neighbours too changed the scores by <= 0.02 dB.)
     const size_t row = size_t(y) * w;
     auto consistent = [&](int x, float px, float py) {
       if (rp.kind[row + x] != Reprojection::Bilinear) return false;
       const float fx = std::floor(px), fy = std::floor(py);
-      if (rp.base[row + x] != int(fy) * w + int(fx)) return false;
       const float ax = px - fx, ay = py - fy;
       const float plain[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
-      for (int t = 0; t < 4; ++t)
-        if (plain[t] > 0.0f && !(rp.weights[row + x][t] > 0.0f)) return false;
+      const int b = rp.base[row + x], bx = b % w, by = b / w;
+      for (int t = 0; t < 4; ++t) {
+        if (!(plain[t] > kTaaNegligibleTap)) continue;
+        const int dx = int(fx) + (t & 1) - bx, dy = int(fy) + (t >> 1) - by;
+        if (dx < 0 || dx > 1 || dy < 0 || dy > 1 || !(rp.weights[row + x][dy * 2 + dx] > 0.0f)) return false;
+      }
       return true;
     };
     // taaHistoryRejection: the reprojection accepted none of the pixel's history taps.
@@ -240,19 +256,19 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     };
     int x = 0;
 #ifdef RTD_SIMD_AVX2
-    // Catmull-Rom eight pixels at a time where all eight 4x4 footprints lie inside the frame
-    // and all eight pixels' history was accepted.
-    for (; x + 8 <= w && p.catmullRom; x += 8) {
-      bool inside = true;
-      for (int k = x; k < x + 8 && inside; ++k) {
-        const float qx = prevX[k] - 0.5f, qy = prevY[k] - 0.5f;
-        inside = qx >= 1.0f && qy >= 1.0f && qx < float(w - 2) && qy < float(h - 2) && consistent(k, qx, qy);
-      }
-      if (inside) {
+    // Catmull-Rom kLanes pixels at a time where all their 4x4 footprints lie inside the frame
+    // and all their history was accepted.
+    auto catmullRomReady = [&](int x) {
+      for (int k = x; k < x + kLanes; k += 8)
+        if (!catmullRomReady8(rp, row + k, prevX + k, prevY + k, w, h)) return false;
+      return true;
+    };
+    for (; x + kLanes <= w && p.catmullRom; x += kLanes) {
+      if (catmullRomReady(x)) {
         float* out[3] = {hr + x, hg + x, hb + x};
-        catmullRomFetch8(hist, prevX + x, prevY + x, w, out);
+        catmullRomFetchLanes(hist, prevX + x, prevY + x, w, out);
       } else {
-        for (int k = x; k < x + 8; ++k) fetch(k);
+        for (int k = x; k < x + kLanes; ++k) fetch(k);
       }
     }
     // Bilinear eight pixels at a time where all eight footprints are inside the frame.

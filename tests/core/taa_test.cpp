@@ -372,6 +372,38 @@ TEST(Taa, CatmullRomReproducesAQuadraticAndFallsBackToBilinearOnRejectedTaps) {
   }
 }
 
+// Which filter takes a pixel's history does not turn on a texel the bilinear footprint weighs
+// by a rounding error (kTaaNegligibleTap): history on the pixel centre rows (prevY exactly on
+// them), and the same rows 1e-5 px lower with the row below rejected by the reprojection (a
+// surface edge under each row, as other scene units or camera conventions round it), both take
+// the Catmull-Rom history, which reproduces the image's quadratic x profile; the bilinear one
+// would be off by (1 - alpha) c t (1 - t) = 1.6e-3 here. On every CPU path.
+TEST(Taa, CatmullRomIgnoresARejectedTexelOfNegligibleWeight) {
+  const double sx = 0.3, c2 = 0.01, alpha = 0.25;
+  auto q = [&](double x, double y, int c) { return (1.0 + 0.2 * c) * (0.1 + 0.02 * x + c2 * x * x + 0.005 * y); };
+  const Plane3 prev = image([&](int x, int y, int c) { return float(q(x, y, c)); });
+  const Plane3 cur = image([&](int x, int y, int c) { return float(q(x + sx, y, c)); });
+  for (float below : {0.0f, 1e-5f}) {
+    Reprojection rp = shifted(float(sx));
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        rp.prevY(x, y) += below;
+        setBilinear(rp, size_t(y) * kW + x, rp.prevX(x, y), rp.prevY(x, y), [&](int, int ty) { return ty == y; });
+      }
+    for (CpuPath path : test::supportedCpuPaths()) {
+      test::ScopedCpuPath force(path);
+      TaaSettings s = catmullRom(float(alpha));
+      Taa taa;
+      Plane3 out = taa.run(rp, prev, s);
+      out = taa.run(rp, cur, s);
+      for (int y = 1; y < kH - 3; ++y)
+        for (int x = 1; x < kW - 3; ++x)
+          for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(out[c](x, y), cur[c](x, y), 2e-5) << cpuPathName(path) << " below " << below << " at " << x << "," << y;
+    }
+  }
+}
+
 // Catmull-Rom's negative lobes overshoot at an edge; the neighbourhood clamp contains them. A
 // 0/1 step at x = 10 (history and frame), the history fetched half a pixel to the right: the
 // cubic gives -1/16 at x = 8 (taps 7..10 = 0 0 0 1) and 17/16 at x = 10 (0 1 1 1), outside the

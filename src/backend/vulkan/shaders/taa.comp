@@ -87,15 +87,20 @@ vec3 catmullRomHistory(float px, float py, uint plane) {
 }
 
 // The CPU's `consistent` (taa_simd.cpp): the reprojection record (reprojection.glsl) is
-// bilinear, not slid at the border, and keeps every 2x2 tap the plain bilinear weighs.
+// bilinear and keeps every texel of the plain 2x2 footprint weighted above kTaaNegligibleTap
+// (passes/taa_kernels.h), wherever a slide at the border put it in the record's footprint.
+const float kTaaNegligibleTap = 1.0 / 256.0;
 bool accepted(uint i, float px, float py, uint plane) {
   if ((rp[i] & 3u) != RP_BILINEAR) return false;
   const float fx = floor(px), fy = floor(py);
-  if (int(rp[plane + i]) != int(fy) * int(pc.width) + int(fx)) return false;
   precise float ax = px - fx, ay = py - fy;
   precise vec4 plain = vec4((1.0 - ax) * (1.0 - ay), ax * (1.0 - ay), (1.0 - ax) * ay, ax * ay);
-  for (uint t = 0u; t < 4u; ++t)
-    if (plain[t] > 0.0 && !(uintBitsToFloat(rp[(2u + t) * plane + i]) > 0.0)) return false;
+  const int b = int(rp[plane + i]), bx = b % int(pc.width), by = b / int(pc.width);
+  for (uint t = 0u; t < 4u; ++t) {
+    if (!(plain[t] > kTaaNegligibleTap)) continue;
+    const int dx = int(fx) + int(t & 1u) - bx, dy = int(fy) + int(t >> 1u) - by;
+    if (dx < 0 || dx > 1 || dy < 0 || dy > 1 || !(uintBitsToFloat(rp[(2u + uint(dy * 2 + dx)) * plane + i]) > 0.0)) return false;
+  }
   return true;
 }
 
