@@ -33,10 +33,10 @@ COMPARISONS = {
     "combined": [("neither", ":taaOwnSurface=false:taaHistoryRejection=false"), ("rejection", ":taaOwnSurface=false:taaHistoryRejection=true"),
                  ("ownSurface", ":taaOwnSurface=true:taaHistoryRejection=false"), ("both", ":taaOwnSurface=true:taaHistoryRejection=true"),
                  ("no TAA", ":taa=false")],
-    # rtdenoise before issue 12 (linear domain, plain box, no rejection), the defaults now, the defaults with the
-    # Catmull-Rom history, and no TAA.
-    "history": [("before issue 12", ":taaDomain=linear:taaOwnSurface=false:taaHistoryRejection=false"), ("defaults", ""),
-                ("catmullRom", ":taaHistoryFilter=catmullRom"), ("no TAA", ":taa=false")],
+    # rtdenoise before issue 12 (linear domain, plain box, no rejection, bilinear history), the defaults with the
+    # bilinear history (the defaults before 2026-12-03's second change), the defaults (Catmull-Rom history), no TAA.
+    "history": [("before issue 12", ":taaDomain=linear:taaOwnSurface=false:taaHistoryRejection=false:taaHistoryFilter=bilinear"),
+                ("bilinear", ":taaHistoryFilter=bilinear"), ("defaults", ""), ("no TAA", ":taa=false")],
 }
 SCENES = ["cornell", "pillars", "dynamic", "corridorglossy", "mirrorfloor", "glossyfloor"]
 
@@ -72,7 +72,7 @@ def main():
                     help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / linear / no TAA; "
                     "ownSurface: taaOwnSurface off / on / no TAA; rejection: taaHistoryRejection off / on; "
                     "combined: neither / rejection / ownSurface / both / no TAA; "
-                    "history: before issue 12 / defaults / defaults with catmullRom / no TAA")
+                    "history: before issue 12 / defaults with bilinear history / defaults (catmullRom) / no TAA")
     a = ap.parse_args()
     TAA = COMPARISONS[a.compare]
     cli = os.path.join(a.build, "apps", "rtdenoise")

@@ -22,8 +22,12 @@ enum class SvgfKernel { b3spline5x5, binomial3x3 };
 /// between the eyes, then the two are added and filtered as one stream.
 /// `diffuse` (a literal reading of Dundr Sec. 4.1): only the diffuse lobe (Buffer::Diffuse) is
 /// filtered, the specular lobe added unfiltered; Color as one stream where the frame lacks the
-/// split. The dundr preset uses `color` (docs/methods/svgf.md, "Dundr's stream").
-enum class SvgfComponents { automatic, color, directIndirect, diffuseSpecular, composite, diffuse };
+/// split. `lobes`: the diffuse and specular lobes as two streams where the frame has them (each
+/// demodulated by its own colour pass where it has one, as diffuseSpecular), Color as one
+/// stream otherwise. The dundr preset uses `lobes`: the diffuse light as the tracer outputs it
+/// where it does (his "ideally"), colour / albedo where it does not (his fallback)
+/// (docs/methods/svgf.md, "Dundr's stream").
+enum class SvgfComponents { automatic, color, directIndirect, diffuseSpecular, composite, diffuse, lobes };
 /// The last step of the output (Gersthofer Sec. 3.5): none (linear radiance, the library's
 /// contract) or the ACES filmic curve (Narkowicz fit), display-referred [0, 1].
 enum class SvgfToneMap { none, aces };
@@ -271,7 +275,7 @@ struct SvgfSettings {
     switch (v) {
       case SvgfVariant::schied: break;
       case SvgfVariant::dundr:  // Dundr, "Progressive SVGF", Sec. 4
-        components = SvgfComponents::color;      // one stream: colour / albedo, his diffuse extraction
+        components = SvgfComponents::lobes;      // the tracer's diffuse (+ specular) light, else colour / albedo
         alphaColor = alphaMoments = 0.1f;        // "values around 0.1"
         momentsTrueAverage = true;               // r = max(a, 1/age) for light and moments
         luminance = SvgfLuminance::rec601;       // 0.299R + 0.587G + 0.114B
@@ -334,8 +338,9 @@ struct SvgfSettings {
       {"schied", "dundr", "gersthofer", "voorhuis", "voorhuisBase", "voorhuisNoSpecReproj", "voorhuisRobustness"});
     v("components", components, "[variant] radiance streams filtered separately and summed; composite (Gersthofer): "
       "indirectDiffuse and the rest of color accumulated apart, added, filtered as one; diffuse: the diffuse "
-      "lobe filtered, the specular one added unfiltered (color where the frame lacks them)",
-      {"auto", "color", "directIndirect", "diffuseSpecular", "composite", "diffuse"});
+      "lobe filtered, the specular one added unfiltered (color where the frame lacks them); lobes: diffuseSpecular where the "
+      "frame has the lobes, color where it does not",
+      {"auto", "color", "directIndirect", "diffuseSpecular", "composite", "diffuse", "lobes"});
     v("alphaColor", alphaColor, "[variant] colour blend floor w = max(1/n, alpha) (Schied 0.2, Dundr 0.1)", Range{0.001, 1});
     v("alphaMoments", alphaMoments, "[variant] moments blend (Schied 0.2, Dundr 0.1)", Range{0.001, 1});
     v("momentsTrueAverage", momentsTrueAverage, "[variant] moments averaged exactly for short histories (Voorhuis, Dundr)");

@@ -111,6 +111,8 @@ struct StreamPlan {
 /// rtd::Error when an explicit choice needs a buffer the frame lacks. Shared by the CPU and
 /// Vulkan implementations.
 template <class Has> int planStreams(SvgfComponents c, Has has, StreamPlan out[2], bool preferLobes = false) {
+  if (c == SvgfComponents::lobes)
+    c = has(Buffer::Diffuse) && has(Buffer::Specular) ? SvgfComponents::diffuseSpecular : SvgfComponents::color;
   if (c == SvgfComponents::automatic) {
     const bool lobes = has(Buffer::Diffuse) && has(Buffer::Specular);
     if (lobes && preferLobes) c = SvgfComponents::diffuseSpecular;

@@ -698,7 +698,7 @@ TEST(SvgfEndToEnd, SplitStreamWithZeroIndirectEqualsColorStream) {
 // setting given after the preset wins.
 TEST(SvgfSettingsTest, PresetsChooseTheirPapersStreams) {
   EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::schied).components, SvgfComponents::automatic);  // direct + indirect
-  EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::dundr).components, SvgfComponents::color);  // one stream
+  EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::dundr).components, SvgfComponents::lobes);  // diffuse light, else colour
   EXPECT_EQ(SvgfSettings::forVariant(SvgfVariant::gersthofer).components, SvgfComponents::composite);  // one stream
   auto device = Device::create();
   auto d = device->createDenoiser("svgf");
@@ -718,6 +718,18 @@ TEST(SvgfSettingsTest, PresetsChooseTheirPapersStreams) {
   EXPECT_FALSE(plan[1].filtered);
   ASSERT_EQ(svgf::planStreams(SvgfComponents::diffuse, [](Buffer b) { return b != Buffer::Specular; }, plan), 1);
   EXPECT_EQ(plan[0].buffer, Buffer::Color);
+  // components = lobes (Dundr's): the diffuse and specular lobes, each filtered and demodulated
+  // by its own colour pass where the frame has one (Blender's DiffCol / GlossCol), over
+  // Direct + Indirect; the colour divided by the albedo where the frame has no lobes.
+  ASSERT_EQ(svgf::planStreams(SvgfComponents::lobes, all, plan), 2);
+  EXPECT_EQ(plan[0].buffer, Buffer::Diffuse);
+  EXPECT_EQ(plan[0].albedo, Buffer::DiffuseAlbedo);
+  EXPECT_EQ(plan[1].buffer, Buffer::Specular);
+  EXPECT_EQ(plan[1].albedo, Buffer::SpecularAlbedo);
+  EXPECT_TRUE(plan[0].filtered && plan[1].filtered);
+  ASSERT_EQ(svgf::planStreams(SvgfComponents::lobes, [](Buffer b) { return b != Buffer::Diffuse; }, plan), 1);
+  EXPECT_EQ(plan[0].buffer, Buffer::Color);
+  EXPECT_TRUE(plan[0].demodulated);
 }
 
 // components = diffuse (dundr preset otherwise) on a frame split into diffuse = colour and a
