@@ -18,6 +18,7 @@ PSNR and SSIM of ACES-tone-mapped sRGB, temporal = temporalErrorVsReference.
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -33,10 +34,12 @@ COMPARISONS = {
     "combined": [("neither", ":taaOwnSurface=false:taaHistoryRejection=false"), ("rejection", ":taaOwnSurface=false:taaHistoryRejection=true"),
                  ("ownSurface", ":taaOwnSurface=true:taaHistoryRejection=false"), ("both", ":taaOwnSurface=true:taaHistoryRejection=true"),
                  ("no TAA", ":taa=false")],
-    # rtdenoise before issue 12 (linear domain, plain box, no rejection, bilinear history), the defaults with the
-    # bilinear history (the defaults before 2026-12-03's second change), the defaults (Catmull-Rom history), no TAA.
+    # rtdenoise before issue 12 (linear domain, plain box, no rejection, bilinear history; with --before-build the
+    # build of that time), the defaults of the morning of 2026-12-03 (bilinear history, rejection on), the defaults
+    # (Catmull-Rom history, rejection off), no TAA.
     "history": [("before issue 12", ":taaDomain=linear:taaOwnSurface=false:taaHistoryRejection=false:taaHistoryFilter=bilinear"),
-                ("bilinear", ":taaHistoryFilter=bilinear"), ("defaults", ""), ("no TAA", ":taa=false")],
+                ("2026-12-03 morning", ":taaHistoryFilter=bilinear:taaHistoryRejection=true"), ("defaults", ""),
+                ("no TAA", ":taa=false")],
 }
 SCENES = ["cornell", "pillars", "dynamic", "corridorglossy", "mirrorfloor", "glossyfloor"]
 
@@ -59,6 +62,41 @@ def scene_arg(cli, name, work):
     return path
 
 
+def before_issue12(build, seq, methods, suffix, work, name):
+    """The methods' defaults in the build before issue 12, under the names of the first column's runs. That build
+    refuses buffers added since (e.g. indirectDiffuse): it reads a copy of the sequence whose sequence.json lists
+    only the buffers it knows (the frames are links)."""
+    old = os.path.join(build, "apps", "rtdenoise")
+    native = os.path.exists(os.path.join(seq, "sequence.json"))  # else a Blender sequence: read as it is
+    copy = os.path.join(work, "pre12-" + name) if native else seq
+    desc = {}
+    if native:
+        os.makedirs(copy, exist_ok=True)
+        with open(os.path.join(seq, "sequence.json")) as f:
+            desc = json.load(f)
+        for entry in os.listdir(seq):
+            if entry != "sequence.json" and not os.path.lexists(os.path.join(copy, entry)):
+                os.symlink(os.path.join(seq, entry), os.path.join(copy, entry))
+    metrics = os.path.join(work, "metrics-pre12-" + name + ".json")
+    while True:
+        if native:
+            with open(os.path.join(copy, "sequence.json"), "w") as f:
+                json.dump(desc, f)
+        cmd = [old, "compare", "-i", copy, "-r", os.path.join(seq, "reference"), "-o", os.path.join(work, "compare-pre12-" + name),
+               "--overwrite", "--json", metrics] + [x for m in methods for x in ("-m", m)]
+        p = subprocess.run(["nice", "-n", "10"] + cmd, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        unknown = re.search(r'unknown buffer "(\w+)"', p.stderr)
+        if unknown and unknown.group(1) in desc.get("buffers", []):
+            desc["buffers"].remove(unknown.group(1))
+            continue
+        if p.returncode:
+            raise SystemExit("the build before issue 12 failed on %s:\n%s" % (name, p.stderr))
+        break
+    with open(metrics) as f:
+        d = json.load(f)
+    return {r["config"] + suffix: r["steady"] for r in d["runs"] if r.get("method")}
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
@@ -66,13 +104,16 @@ def main():
     ap.add_argument("--frames", default="16")
     ap.add_argument("--reference-spp", default="64")
     ap.add_argument("--work", default="/tmp/rtd-taa")
-    ap.add_argument("--scenes", default=",".join(SCENES + ["blender_glossy"]))
+    ap.add_argument("--scenes", default=",".join(SCENES + ["blender_glossy", "blender_lamp"]))
     ap.add_argument("--json", help="also write every run's steady-state means here")
+    ap.add_argument("--before-build", help="with --compare history: the release build of rtdenoise before issue 12 (git "
+                    "worktree add ../pre12 d80a5b6^; cmake --preset release; cmake --build build/release --target "
+                    "rtdenoise_cli): its defaults give the first column instead of today's code with the old TAA settings")
     ap.add_argument("--compare", choices=sorted(COMPARISONS), default="filter",
                     help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / linear / no TAA; "
                     "ownSurface: taaOwnSurface off / on / no TAA; rejection: taaHistoryRejection off / on; "
                     "combined: neither / rejection / ownSurface / both / no TAA; "
-                    "history: before issue 12 / defaults with bilinear history / defaults (catmullRom) / no TAA")
+                    "history: before issue 12 / the defaults of 2026-12-03 morning / defaults / no TAA")
     a = ap.parse_args()
     TAA = COMPARISONS[a.compare]
     cli = os.path.join(a.build, "apps", "rtdenoise")
@@ -101,6 +142,8 @@ def main():
         for r in d["runs"]:
             if r.get("method"):
                 res[r["config"]] = r["steady"]
+        if a.before_build and a.compare == "history":
+            res.update(before_issue12(a.before_build, seq, methods, TAA[0][1], a.work, name))
         everything[name] = res
         for m in ["accumulate"] + methods:
             label = m.replace("svgf:variant=dundr", "dundr")

@@ -44,11 +44,11 @@ struct TaaSettings {
   /// also spans the other surface, so history carried over from it is not clamped away
   /// (issues 12 and 13; docs/methods/taa.md, "Own-surface clamp box"). A frame without the
   /// buffers the keys need (ObjectId, Emission) is clamped as with the option off. On by
-  /// default since 2026-12-03 (with taaHistoryRejection): measured on every method and scene,
-  /// the two together gain up to +3.6 dB on moving renderer scenes (pillars), +1.4 to +1.6 dB
-  /// on the Cornell box, and lower temporal error; what they cost (BMFR -0.05 dB on
-  /// corridorglossy, +1-2 % temporal error on the Blender glossy fixture and on still Voorhuis
-  /// sequences, ~25 % more time in the TAA pass) is listed in docs/methods/taa.md, "The defaults".
+  /// default since 2026-12-03: measured on every method and scene, it gains up to +3.5 dB on
+  /// moving renderer scenes (pillars), +1.4 to +1.6 dB on the Cornell box, and lowers the
+  /// temporal error; what it costs (+1-2 % temporal error on the Blender glossy fixture and on
+  /// still Voorhuis sequences, ~25 % more time in the TAA pass) is listed in
+  /// docs/methods/taa.md, "The defaults".
   bool taaOwnSurface = true;
   /// No TAA history where the method's reprojection found none: a pixel none of whose history
   /// taps passed the reprojection's consistency tests (a disocclusion: SVGF's depth, normal and
@@ -56,7 +56,12 @@ struct TaaSettings {
   /// lies off the frame does. Karis's TAA takes the history at any reprojected position and
   /// leaves ghosts to the clamp, which keeps them where the 3x3 box holds both surfaces (along
   /// the silhouettes a moving camera uncovers; docs/methods/taa.md, "History rejection").
-  bool taaHistoryRejection = true;
+  /// Off by default (on from 2026-12-03 to the same day's Catmull-Rom default): it gains 0.1 to
+  /// 0.2 dB on the pillars' camera move and little elsewhere, but on the Blender lamp fixture
+  /// (Cycles frames, a moving cube) the fresh noisy pixels it leaves at the cube's
+  /// disocclusions raise the temporal error of svgf and Dundr 2 % above rtdenoise's before
+  /// issue 12 and cost BMFR 0.2 dB (docs/methods/taa.md, "The history filter as the default").
+  bool taaHistoryRejection = false;
 
   template <class V> void visit(V& v) {
     v("taa", taa, "final TAA with YCoCg 3x3 neighbourhood clamping (Karis 2014)");
