@@ -115,9 +115,6 @@ template <bool kDisplay> void buildSlot(const Plane3& color, int y, int w, float
 }
 
 #ifdef RTD_SIMD_AVX2
-// The kLanes-pixel twin of catmullRomFetch (8 on avx2, 16 on avx512) for footprints wholly
-// inside the frame (the caller checks): the same weights, flushes and summation order, taps as
-// vector loads where the footprints are consecutive (locally uniform motion), gathers otherwise.
 // catmullRomWeights for kLanes fractions.
 inline void catmullRomWeightsLanes(vf t, vf w[4]) {
   w[0] = 0.5f * t * ((2.0f - t) * t - 1.0f);
@@ -126,6 +123,9 @@ inline void catmullRomWeightsLanes(vf t, vf w[4]) {
   w[3] = 0.5f * t * t * (t - 1.0f);
   for (int k = 0; k < 4; ++k) w[k] = keepIf(vabs(w[k]) >= 0x1p-24f, w[k]);
 }
+// The kLanes-pixel twin of catmullRomFetch (8 on avx2, 16 on avx512) for footprints wholly
+// inside the frame (the caller checks): the same weights, flushes and summation order, taps as
+// vector loads where the footprints are consecutive (locally uniform motion), gathers otherwise.
 void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* prevY, int w, float* out[3]) {
   const vf qx = load(prevX) - 0.5f, qy = load(prevY) - 0.5f;
   const vf fx = vfloor(qx), fy = vfloor(qy);
