@@ -16,7 +16,7 @@ struct EvalCommandOptions {
   std::string reference, result, input, json;
   EvalOptions eval;
   // Reflections (docs/evaluation.md "Reflections"): both read the --input sequence.
-  bool reflectionMotion = false, noLdspScaling = false, lineReference = false;
+  bool reflectionMotion = false, noLdspScaling = false, lineReference = false, eq23Subpixel = false;
   float maskRoughness = 0;
 };
 
@@ -54,6 +54,7 @@ nlohmann::json reflectionMotion(const EvalCommandOptions& o) {
   eval::ReflectionMotionSettings s;
   s.ldspScaling = !o.noLdspScaling;
   s.referenceOnRay = !o.lineReference;
+  s.quadraticSubpixel = !o.eq23Subpixel;
   auto input = SequenceReader::open(o.input);
   const auto frames = eval::reflectionMotionError(*input, s);
   nlohmann::json per = nlohmann::json::array();
@@ -74,7 +75,8 @@ nlohmann::json reflectionMotion(const EvalCommandOptions& o) {
               "%.2f%% missed\n",
               s.ldspScaling ? "with" : "without", s.referenceOnRay ? "ray" : "line", n, n ? err / n : NAN, n ? 100.0 * within / n : NAN,
               pixels ? 100.0 * double(missed) / double(pixels) : NAN);
-  return {{"ldspScaling", s.ldspScaling}, {"bruteForceWindow", 2 * s.bruteForceRadius},
+  return {{"ldspScaling", s.ldspScaling}, {"subpixelFit", s.quadraticSubpixel ? "quadratic" : "inverseDistance"},
+          {"bruteForceWindow", 2 * s.bruteForceRadius},
           {"reference", s.referenceOnRay ? "ray" : "line"}, {"frames", per},
           {"meanError", n ? err / n : NAN}, {"withinOnePixel", n ? within / n : NAN},
           {"missed", pixels ? double(missed) / double(pixels) : NAN}};
@@ -119,6 +121,10 @@ void addEval(CLI::App& app) {
       ->needs(input);
   auto* motion = cmd->get_option("--reflection-motion");
   cmd->add_flag("--no-ldsp-scaling", o->noLdspScaling, "with --reflection-motion: the plain LDSP (Figs. 12-13)")->needs(motion);
+  cmd->add_flag("--eq23-subpixel", o->eq23Subpixel,
+                "with --reflection-motion: both searches refine by Voorhuis Eqs. 2-3 instead of the quadratic fit "
+                "(SVGF's subpixelFit)")
+      ->needs(motion);
   cmd->add_flag("--line-reference", o->lineReference,
                 "with --reflection-motion: the reference measures glossy pixels by Eq. 5 as written (to the far "
                 "representative ray's whole line, as the search) instead of to its half-line")

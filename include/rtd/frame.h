@@ -58,7 +58,10 @@ enum class Buffer : int {
   /// Radiance emitted towards the camera by the primary hit (emitters, and the sky where no
   /// surface was hit), RGB, part of Color (and of Direct and Diffuse). Noise-free at pixel
   /// centres, so denoisers subtract it before filtering and add it back to their output:
-  /// bright emitters then cannot bleed into their neighbours.
+  /// bright emitters then cannot bleed into their neighbours. The renderer also counts here
+  /// (and in Direct and Diffuse) what is as noise-free: an emitter or the sky seen through
+  /// perfect mirrors (metallic 1, roughness below the delta limit), times the mirrors' Fresnel;
+  /// Blender's Emit pass holds the directly visible emission only.
   Emission,
   /// A-SVGF gradient samples (Schied et al. 2018; docs/sequence-format.md "Gradient samples"):
   /// 1 at the one pixel of a 3x3 stratum (strata at multiples of 3 from the top-left corner)

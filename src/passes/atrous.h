@@ -142,6 +142,11 @@ struct AtrousLevel {
   /// multiplied by exp(-c(p) |k|^2), k the tap's offset in kernel units (-2..2 per axis, not
   /// pixels). glossySpatialFalloff() turns Eq. 6's sigma_spatial into c. Null: off.
   const PaddedPlane* spatialFalloff = nullptr;
+  /// Per-pixel keys (small integers stored as floats), or null: a tap whose key differs from
+  /// the centre's weighs 0, in either direction. The reflected guide (Voorhuis Sec. 4.1) keys
+  /// its mirror pixels apart: their depth and normal are the virtual image's, which compare
+  /// with other mirror pixels' but not with the own features of the surface around the mirror.
+  const PaddedPlane* surfaceKey = nullptr;
 };
 
 /// Gersthofer's glossy weight w_r = 0.01 + sqrt(roughness(p)) (Sec. 3.4.3).

@@ -160,6 +160,9 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const float* pzi = kGlossy ? lv.indirectDistance->data.data() : nullptr;
   const float* pziScale = kGlossy ? lv.indirectDistanceScale->data.data() : nullptr;
   const float* pcentre = lv.centreScale ? lv.centreScale->data.data() : nullptr;
+  const float* pkey = lv.surfaceKey ? lv.surfaceKey->data.data() : nullptr;
+  // A key difference (>= 1) lowers a tap's exponent far below every cut: its weight is 0.
+  constexpr float kKeyPenalty = 1e4f;
   // Each tap's starting exponent and cut (exp2Shifted), and its bound on h w_n w_z w_l.
   float start[32], cut[32], cutLow[32], minWeight[32];
   assert(tapCount == 24 || tapCount == 8);
@@ -199,6 +202,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         }
       }
       const vf fall = kFalloff ? load(pfall + c) * kLog2e : splat(0.0f);
+      const vf keyc = pkey ? load(pkey + c) : splat(0.0f);
       vf w0 = kMasked ? h0 * load(pvalid + c) : splat(h0);
       if (pcentre) w0 *= load(pcentre + c);  // w_r on every neighbour = 1/w_r on the centre
       vf sw = w0, sr = w0 * load(pr + c), sg = w0 * load(pg + c), sb = w0 * load(pb + c);
@@ -219,6 +223,8 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
           for (int j = 0; j < 2; ++j) v[j] = vfnmadd(fall, splat(taps[kk[j]].k2), v[j]);
         if constexpr (kGlossy)
           for (int j = 0; j < 2; ++j) v[j] = vfnmadd(vabs(zic - load(pzi + q[j])), ziInv, v[j]);
+        if (pkey)
+          for (int j = 0; j < 2; ++j) v[j] = vfnmadd(vabs(keyc - load(pkey + q[j])), splat(kKeyPenalty), v[j]);
         const float cutj[2] = {cut[ka], cut[kb]}, lowj[2] = {cutLow[ka], cutLow[kb]};
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the

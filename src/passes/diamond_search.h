@@ -78,14 +78,29 @@ inline float glossyRayDistance(const RepresentativeRay& p, const RepresentativeR
 
 // ---- Search ----
 
+/// How the search's best pixel is refined to a subpixel position.
+enum class SubpixelFit {
+  /// Eqs. 2-3 (the paper): the best 2x2 block's pixel centres weighted by the product of the
+  /// other three distances. Biased towards the block's centre: a match half-way between two
+  /// pixels is pulled towards the block's other row by up to ~0.2 px.
+  inverseDistance,
+  /// The minimum of the quadratic through the squared distances of the 3x3 around the best
+  /// pixel (central differences: gradient g and Hessian H, offset -H^-1 g, at most 1 px).
+  /// Exact where the previous frame's world positions are locally linear in the pixel
+  /// coordinates (then |P(q) - world_p|^2 is a quadratic). Falls back to Eqs. 2-3 where a tap
+  /// of the 3x3 cannot match or H is not positive definite.
+  quadratic,
+};
+
 struct DiamondSearchOptions {
   /// Voorhuis' modification: the LDSP taps scaled by stepSize 4 -> 2 -> 1, halved whenever an
   /// iteration finds no better tap. Off: the plain LDSP (stepSize 1) until no improvement.
   bool scaleLdsp = true;
   /// Cap on LDSP iterations (not in the paper, which has none): bounds the cost of a pixel.
   int maxIterations = 64;
-  /// Eqs. 2-3 after the search.
+  /// Subpixel refinement after the search.
   bool subpixel = true;
+  SubpixelFit fit = SubpixelFit::quadratic;
 };
 
 /// The LDSP of Cheng et al. 2011 (5 taps: the centre and four taps 2 px away on the axes;
@@ -115,19 +130,55 @@ template <class Dist> struct Scorer {
 };
 }  // namespace detail
 
+/// SubpixelFit::quadratic on the 3x3 distances d around the best pixel: true with
+/// r.matchX/Y set, false where it does not apply. A tap at distance 0 is the match itself (the
+/// first in row order). In units of the 3x3's largest squared distance, so that no product of
+/// small distances underflows.
+inline bool quadraticMinimum(const float (&d)[3][3], SearchResult& r) {
+  float f[3][3], largest = 0.0f;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      if (!(d[j][i] < kNoMatch)) return false;
+      f[j][i] = d[j][i] * d[j][i];
+      largest = std::fmax(largest, f[j][i]);
+    }
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      if (d[j][i] == 0.0f) {
+        r.matchX = float(r.bestX + i - 1) + 0.5f;
+        r.matchY = float(r.bestY + j - 1) + 0.5f;
+        return true;
+      }
+  if (!(largest > 0.0f) || !std::isfinite(largest)) return false;
+  for (auto& row : f)
+    for (float& v : row) v /= largest;
+  const float gx = 0.5f * (f[1][2] - f[1][0]), gy = 0.5f * (f[2][1] - f[0][1]);
+  const float hxx = f[1][2] - 2.0f * f[1][1] + f[1][0], hyy = f[2][1] - 2.0f * f[1][1] + f[0][1];
+  const float hxy = 0.25f * (f[2][2] - f[2][0] - f[0][2] + f[0][0]);
+  const float det = hxx * hyy - hxy * hxy;
+  if (!(hxx > 0.0f && det > 1e-12f)) return false;
+  // Offset of the minimum: -H^-1 g, at most one pixel from the best pixel on each axis.
+  const float ux = std::fmin(1.0f, std::fmax(-1.0f, -(hyy * gx - hxy * gy) / det));
+  const float uy = std::fmin(1.0f, std::fmax(-1.0f, -(hxx * gy - hxy * gx) / det));
+  r.matchX = float(r.bestX) + 0.5f + ux;
+  r.matchY = float(r.bestY) + 0.5f + uy;
+  return true;
+}
+
 /// Eqs. 2-3: around the best match b, the 2x2 block W (of the four containing b) with the
 /// smallest sum of distances; each pixel q of W weighs w_q = prod_{r in W, r != q} dist(r),
 /// and the match is sum w_q coord_q / sum w_q (pixel centres). Blocks with a tap that cannot
 /// match are skipped (none left: the centre of b). When two or more distances are 0 the
 /// weights vanish and the match is the mean of the zero-distance pixels. Distances are
 /// divided by the block's largest before the products, so small distances do not underflow.
-template <class Score> void subpixelRefine(Score& score, SearchResult& r) {
+template <class Score> void subpixelRefine(Score& score, SearchResult& r, SubpixelFit fit) {
   r.matchX = r.bestX + 0.5f;
   r.matchY = r.bestY + 0.5f;
   float d[3][3];
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i)
       d[j][i] = (i == 1 && j == 1) ? r.bestDistance : score(r.bestX + i - 1, r.bestY + j - 1);
+  if (fit == SubpixelFit::quadratic && quadraticMinimum(d, r)) return;
   int bx = -1, by = -1;
   float bestSum = kNoMatch;
   for (int sy = 0; sy < 2; ++sy)
@@ -227,7 +278,7 @@ SearchResult diamondSearch(int px, int py, float startX, float startY, int w, in
     r.bestY = bestY;
     r.bestDistance = bestDist;
     if (opt.subpixel) {
-      subpixelRefine(score, r);
+      subpixelRefine(score, r, opt.fit);
     } else {
       r.matchX = bestX + 0.5f;
       r.matchY = bestY + 0.5f;
@@ -241,7 +292,8 @@ SearchResult diamondSearch(int px, int py, float startX, float startY, int w, in
 /// (radius 100: the paper's 200 x 200), ties to the first in row order, then the same
 /// subpixel refinement.
 template <class Dist>
-SearchResult bruteForceSearch(int px, int py, int w, int h, const Dist& dist, int radius = 100, bool subpixel = true) {
+SearchResult bruteForceSearch(int px, int py, int w, int h, const Dist& dist, int radius = 100, bool subpixel = true,
+                              SubpixelFit fit = SubpixelFit::quadratic) {
   detail::Scorer<Dist> score{dist, w, h};
   SearchResult r;
   for (int qy = std::max(0, py - radius); qy < std::min(h, py + radius); ++qy)
@@ -255,7 +307,7 @@ SearchResult bruteForceSearch(int px, int py, int w, int h, const Dist& dist, in
     }
   if (r.found()) {
     if (subpixel) {
-      subpixelRefine(score, r);
+      subpixelRefine(score, r, fit);
     } else {
       r.matchX = r.bestX + 0.5f;
       r.matchY = r.bestY + 0.5f;

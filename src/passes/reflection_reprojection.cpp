@@ -118,7 +118,7 @@ SearchResult searchReflection(const FrameData& cur, const FrameData& prev, const
   const size_t i = size_t(y) * w + x;
   const SurfaceClass c = SurfaceClass(cls[i]);
   auto run = [&](const auto& dist) {
-    return bruteForceRadius > 0 ? bruteForceSearch(x, y, w, h, dist, bruteForceRadius, search.subpixel)
+    return bruteForceRadius > 0 ? bruteForceSearch(x, y, w, h, dist, bruteForceRadius, search.subpixel, search.fit)
                                 : diamondSearch(x, y, primary.prevX.data[i], primary.prevY.data[i], w, h, dist, search);
   };
   if (c == SurfaceClass::Mirror) {

@@ -103,6 +103,13 @@ struct Radiance {
     (specular_ ? specular : diffuse) += c;
     if (!direct_ && !specular_) indirectDiffuse += c;
   }
+  /// Light emitted towards the camera along a path that is the same in every sample (the
+  /// primary hit's emission, or an emitter or the sky seen through perfect mirrors): counted,
+  /// as Buffer::Emission documents, in Direct and Diffuse, whatever the mirrors it passed.
+  void addEmission(V3 c) {
+    add(c, true, false);
+    emission += c;
+  }
   void scale(float k) {
     total *= k, direct *= k, indirect *= k, diffuse *= k, specular *= k, indirectDiffuse *= k, emission *= k;
   }
@@ -497,13 +504,17 @@ struct Renderer::Impl {
                      uint64_t& rays) const {
     Radiance out;
     if (!primary) {
-      out.add(escaped(g, dir, V3(0), 0, true), true, false);
-      out.emission = out.total;
+      out.addEmission(escaped(g, dir, V3(0), 0, true));
       return out;
     }
     Surface s = *primary;
     V3 throughput(1.0f), wo = -dir;
     bool firstSpecular = false, prevDelta = true;
+    // Whether the path so far is the camera ray and perfect mirrors only, with no Russian
+    // roulette: then the light emitted at the current vertex reaches the pixel the same way
+    // in every sample (Buffer::Emission, noise-free), whether the vertex is the primary hit
+    // or an emitter (or the sky) seen in a mirror.
+    bool mirrorChain = true;
     float prevPdf = 0;
     V3 prevNormal = V3(0), prevPos = origin;
     const int maxDepth = settings.maxDepth;
@@ -516,8 +527,8 @@ struct Renderer::Impl {
           const float pl = li >= 0 ? trianglePdf(g, li + int(s.prim), prevPos, s) : 0.0f;
           w = powerHeuristic(prevPdf, pl);
         }
-        out.add(throughput * s.emission * w, bounce <= 1, bounce == 0 ? false : firstSpecular);
-        if (bounce == 0) out.emission += throughput * s.emission * w;
+        if (mirrorChain) out.addEmission(throughput * s.emission);  // w = 1: no light sampling so far
+        else out.add(throughput * s.emission * w, bounce <= 1, firstSpecular);
       }
       if (bounce >= maxDepth) break;
       const auto [uSel, uRR] = sampler.next2D();
@@ -554,10 +565,12 @@ struct Renderer::Impl {
       if (!bs.valid || dot(bs.wi, s.ng) <= 0) break;
       if (bounce == 0) firstSpecular = bs.specular;
       throughput *= bs.weight;
+      mirrorChain = mirrorChain && bsdf.pureSpecular();
       if (bounce + 1 >= settings.russianRouletteDepth) {
         const float q = std::min(0.95f, maxComponent(throughput));
         if (uRR >= q) break;
         throughput = throughput / q;
+        mirrorChain = false;
       }
       prevDelta = bs.delta;
       prevPdf = bs.pdf;
@@ -568,7 +581,9 @@ struct Renderer::Impl {
       ++rays;
       if (!intersect(g, o, bs.wi, 1e30f, rh)) {
         if (bounce == 0) out.secondaryDistance = 0;
-        out.add(throughput * escaped(g, bs.wi, prevNormal, prevPdf, prevDelta), bounce == 0, firstSpecular);
+        const V3 sky = throughput * escaped(g, bs.wi, prevNormal, prevPdf, prevDelta);
+        if (mirrorChain) out.addEmission(sky);
+        else out.add(sky, bounce == 0, firstSpecular);
         break;
       }
       s = surface(g, rh, bs.wi);

@@ -1,4 +1,5 @@
-// Voorhuis' diamond search (Algorithm 1), its subpixel refinement (Eqs. 2-3) and the distance
+// Voorhuis' diamond search (Algorithm 1), its subpixel refinement (Eqs. 2-3, and the quadratic
+// fit that is the default) and the distance
 // functions (Eqs. 1, 4, 5) on synthetic fields with known answers.
 #include <gtest/gtest.h>
 
@@ -156,7 +157,7 @@ SearchResult refine(const Grid& g) {
   r.bestX = r.bestY = 5;
   r.bestDistance = g(5, 5);
   auto score = [&](int x, int y) { return g(x, y); };
-  subpixelRefine(score, r);
+  subpixelRefine(score, r, SubpixelFit::inverseDistance);
   return r;
 }
 
@@ -208,6 +209,52 @@ TEST(SubpixelRefinement, LinearRampFollowsFractionalOffsetMonotonically) {
     lastX = mx;
     lastY = my;
   }
+}
+
+// SubpixelFit::quadratic: on a linear ramp (the squared distance is then exactly a quadratic)
+// the match is the true fractional position, where Eqs. 2-3 are pulled towards the centre of
+// their 2x2 block; off the image or with a tap that cannot match it falls back to Eqs. 2-3.
+TEST(SubpixelRefinement, QuadraticFitIsExactOnALinearRampWhereEqs23AreBiased) {
+  const int w = 32, h = 32, px = 10, py = 16;
+  double worstQuadratic = 0, worstEq23 = 0;
+  for (int k = 0; k <= 8; ++k) {
+    const float t = 0.05f + 0.1f * k;
+    const float tx = px + 3 + t, ty = py - 2 + 0.5f * t;  // pixel-index units of the true point
+    // An anisotropic ramp with a shear, as the reflection of a tilted plane.
+    auto world = [](float x, float y, float out[3]) {
+      out[0] = 0.2f * x + 0.05f * y;
+      out[1] = 0.12f * y;
+      out[2] = 0.03f * x;
+    };
+    float wp[3];
+    world(tx, ty, wp);
+    auto dist = [&](int qx, int qy) {
+      float wq[3];
+      world(float(qx), float(qy), wq);
+      return worldDistance(wp, wq);
+    };
+    for (SubpixelFit fit : {SubpixelFit::quadratic, SubpixelFit::inverseDistance}) {
+      DiamondSearchOptions opt;
+      opt.fit = fit;
+      const SearchResult r = diamondSearch(px, py, px + 0.5f, py + 0.5f, w, h, dist, opt);
+      ASSERT_TRUE(r.found());
+      const double e = std::hypot(r.matchX - 0.5 - tx, r.matchY - 0.5 - ty);
+      (fit == SubpixelFit::quadratic ? worstQuadratic : worstEq23) = std::max(fit == SubpixelFit::quadratic ? worstQuadratic : worstEq23, e);
+    }
+  }
+  EXPECT_LT(worstQuadratic, 1e-3);
+  EXPECT_GT(worstEq23, 0.1);
+  // A 3x3 with a tap that cannot match: Eqs. 2-3 over the blocks without it.
+  SearchResult r;
+  r.bestX = r.bestY = 5;
+  r.bestDistance = 1;
+  const float d[9] = {kNoMatch, 9, 9, 9, 1, 2, 9, 2, 4};
+  auto score = [&](int x, int y) { return d[(y - 4) * 3 + (x - 4)]; };
+  SearchResult eq23 = r;
+  subpixelRefine(score, r, SubpixelFit::quadratic);
+  subpixelRefine(score, eq23, SubpixelFit::inverseDistance);
+  EXPECT_EQ(r.matchX, eq23.matchX);
+  EXPECT_EQ(r.matchY, eq23.matchY);
 }
 
 // ---- Eqs. 4-5 ----

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "core/frame_data.h"
 #include "passes/reflection_reprojection.h"
@@ -49,8 +50,8 @@ TEST(ReflectionMotion, MirrorFloorMatchesAnalyticVirtualImageMotion) {
   Reprojection primary;
   reproject(cur, &prev, ReprojectionSettings{}, primary);
 
-  int compared = 0, within = 0, primaryWithin = 0;
-  double sumError = 0;
+  int compared = 0, within = 0, primaryWithin = 0, quadraticWithin = 0;
+  double sumError = 0, sumQuadratic = 0, sumInteger = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
@@ -72,17 +73,31 @@ TEST(ReflectionMotion, MirrorFloorMatchesAnalyticVirtualImageMotion) {
         d2 += d * d;
       }
       if (d2 > 0.05f * 0.05f) continue;
-      const SearchResult s = searchReflection(cur, prev, cls, prevCls, primary, x, y, DiamondSearchOptions{});
+      DiamondSearchOptions eq23;  // the paper's Eqs. 2-3
+      eq23.fit = SubpixelFit::inverseDistance;
+      const SearchResult s = searchReflection(cur, prev, cls, prevCls, primary, x, y, eq23);
       ASSERT_TRUE(s.found());
       const double e = std::hypot(s.matchX - ax, s.matchY - ay);
       sumError += e;
       ++compared;
       within += e <= 1.0;
+      // The quadratic fit (SubpixelFit::quadratic, the default) from the same search, and no refinement.
+      const SearchResult q = searchReflection(cur, prev, cls, prevCls, primary, x, y, DiamondSearchOptions{});
+      const double eq = std::hypot(q.matchX - ax, q.matchY - ay);
+      sumQuadratic += eq;
+      quadraticWithin += eq <= 1.0;
+      sumInteger += std::hypot(s.bestX + 0.5 - ax, s.bestY + 0.5 - ay);
       primaryWithin += std::hypot(primary.prevX.data[i] - ax, primary.prevY.data[i] - ay) <= 1.0;
     }
   ASSERT_GT(compared, 400);
   EXPECT_GE(double(within) / compared, 0.97) << within << " of " << compared;
   EXPECT_LT(sumError / compared, 0.35);
+  // The floor's reflected world positions are locally close to linear in the pixel: the
+  // quadratic fit is far closer to the analytic motion than Eqs. 2-3 and than the best pixel.
+  std::printf("mean error to the analytic motion: Eqs. 2-3 %.4f px, quadratic %.4f px, best pixel %.4f px\n",
+              sumError / compared, sumQuadratic / compared, sumInteger / compared);
+  EXPECT_GE(double(quadraticWithin) / compared, 0.97);
+  EXPECT_LT(sumQuadratic / compared, 0.5 * sumError / compared);
   // The primary hit moves differently from its reflection: primary motion is wrong here.
   EXPECT_LT(double(primaryWithin) / compared, 0.5);
 }

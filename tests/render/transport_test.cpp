@@ -136,6 +136,58 @@ TEST(RenderUnbiased, MeanOfOneSppFramesMatchesReference) {
   EXPECT_LE(outliers, 3) << "pixels beyond 3.5 sigma (expected ~0.05 of " << w * h << ")";
 }
 
+// Buffer::Emission holds what is noise-free: the primary hit's emission, and an emitter or the
+// sky seen through a perfect mirror (times the mirror's Fresnel). A mirror floor reflects an
+// emitter that reflects nothing (base colour 0) and the sky: every pixel's radiance is then
+// emission, the same in every 1-spp frame, and counted in Direct and Diffuse as the primary
+// hit's emission is. The emitter's pixels seen in the mirror carry F Le, F = Schlick(0.9, cos).
+TEST(RenderEmission, EmitterAndSkySeenInAPerfectMirrorAreEmission) {
+  auto scene = sceneFromJson(R"({
+    "objects": [
+      {"shape": "quad", "scale": 40, "material": {"baseColor": 0.9, "mirror": true}},
+      {"shape": "quad", "translation": [0, 1, -3], "rotation": [90, 0, 0], "scale": [4, 1, 2],
+       "material": {"baseColor": 0, "specular": 0, "emissive": [3, 2, 1]}}
+    ],
+    "sky": {"color": [0.2, 0.4, 0.8]}, "camera": {"position": [0, 1, 3], "target": [0, 0.2, -1], "fov": 60}
+  })");
+  const int w = 32, h = 24;
+  std::vector<Frame> frames;
+  for (uint32_t seed : {1u, 2u}) {
+    RenderSettings s = tiny(w, h);
+    s.seed = seed;
+    frames.push_back(Renderer(scene, s).render(0));
+  }
+  const Frame& f = frames[0];
+  int mirrorEmitter = 0, mirrorSky = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        const float e = f[Buffer::Emission].at(x, y, c);
+        ASSERT_EQ(f[Buffer::Color].at(x, y, c), e) << x << "," << y;
+        ASSERT_EQ(frames[1][Buffer::Emission].at(x, y, c), e) << x << "," << y << ": not noise-free";
+        EXPECT_EQ(f[Buffer::Direct].at(x, y, c), e);
+        EXPECT_EQ(f[Buffer::Diffuse].at(x, y, c), e);
+        EXPECT_EQ(f[Buffer::Specular].at(x, y, c), 0.0f);
+      }
+      if (f[Buffer::ObjectId].at(x, y) != 1.0f) continue;  // the mirror floor only
+      const Vec d = norm(sub(px3(f[Buffer::Position], x, y), {0, 1, 3}));
+      const double cosine = -d[1];  // the floor's normal is +y
+      const double fresnel = 0.9 + 0.1 * std::pow(1 - cosine, 5);
+      const Vec e = px3(f[Buffer::Emission], x, y);
+      if (e[0] > 1.0) {  // the emitter's reflection
+        ++mirrorEmitter;
+        EXPECT_NEAR(e[0], 3 * fresnel, 1e-4);
+        EXPECT_NEAR(e[1], 2 * fresnel, 1e-4);
+        EXPECT_NEAR(e[2], 1 * fresnel, 1e-4);
+      } else {
+        ++mirrorSky;
+        EXPECT_NEAR(e[2], 0.8 * fresnel, 1e-4);
+      }
+    }
+  EXPECT_GT(mirrorEmitter, 20);
+  EXPECT_GT(mirrorSky, 20);
+}
+
 }  // namespace
 }  // namespace rtd::render::test
 #endif

@@ -1,6 +1,6 @@
 // The a-trous passes on Vulkan against the CPU's (src/passes/atrous.h): the guide's depth
 // gradient, single levels with steps 1 and 2 (shared-memory tiles) and 4 (direct loads), both
-// kernels, with and without variance propagation, and the clamped 3x3 Gaussian.
+// kernels, with and without variance propagation and surface keys, and the clamped 3x3 Gaussian.
 #if __has_include("passes/atrous.h")
 #include <cstring>
 
@@ -110,14 +110,24 @@ TEST(VulkanAtrous, GuideGradientMatchesCpu) {
 TEST(VulkanAtrous, LevelsMatchCpu) {
   RTD_REQUIRE_VULKAN();
   Fixture fx;
-  vk::Planes out;
+  vk::Planes out, gpuKey;
   out.allocate(fx.ctx, kWidth, kHeight, 5);
+  // Surface keys (AtrousLevel::surfaceKey) in patches of 5 x 3 pixels, the two values alternating.
+  PaddedPlane key;
+  key.resize(kWidth, kHeight, 8);
+  Plane keyPlane(kWidth, kHeight);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) key.at(x, y) = keyPlane(x, y) = float((x / 5 + y / 3) % 2);
+  fx.upload({keyPlane}, gpuKey);
+  for (bool keyed : {false, true})
   for (AtrousKernel kernel : {AtrousKernel::B3Spline5x5, AtrousKernel::Binomial3x3})
     for (int step : {1, 2, 4})
       for (bool propagate : {true, false})
       for (bool sharedTile : {true, false}) {  // the tiled shader and its untiled variant
         if (!sharedTile && step == 4) continue;  // step 4 is never tiled
+        if (keyed && !propagate) continue;
         AtrousLevel lv;
+        lv.surfaceKey = keyed ? &key : nullptr;
         lv.kernel = kernel;
         lv.step = step;
         lv.propagateVariance = propagate;
@@ -133,6 +143,7 @@ TEST(VulkanAtrous, LevelsMatchCpu) {
         g.propagateVariance = propagate;
         g.varianceScale = lv.varianceScale;
         g.sharedTile = sharedTile;
+        g.surfaceKey = keyed ? &gpuKey : nullptr;
         fx.run([&](vk::Recorder& rec) {
           vk::atrousGuide(rec, fx.gpu, 0.0f, fx.gradient);
           vk::atrousLevel(rec, fx.gpu, fx.gradient, g, fx.image, out);
@@ -143,7 +154,7 @@ TEST(VulkanAtrous, LevelsMatchCpu) {
         for (int p = 0; p < 5; ++p)
           EXPECT_LE(relError(o.data() + p * n, *want[p]), 1e-5) << "kernel " << int(kernel) << " step " << step
                                                                 << " propagate " << propagate << " tile " << sharedTile
-                                                                << " plane " << p;
+                                                                << " keyed " << keyed << " plane " << p;
         // The filter must actually have smoothed: the output differs from the input.
         double change = 0;
         for (int y = 0; y < kHeight; ++y)

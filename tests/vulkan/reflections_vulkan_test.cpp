@@ -76,10 +76,15 @@ TEST(VulkanReflections, ClassesAndSpecularReprojectionMatchCpu) {
   PixelVector<uint8_t> cls, prevCls;
   classifySurfaces(cur, {}, false, cls);
   classifySurfaces(prev, {}, false, prevCls);
+  // Both subpixel fits (SvgfSettings::subpixelFit).
+  for (SvgfSubpixelFit fit : {SvgfSubpixelFit::inverseDistance, SvgfSubpixelFit::quadratic}) {
+  SCOPED_TRACE(fit == SvgfSubpixelFit::quadratic ? "quadratic" : "Eqs. 2-3");
   Reprojection primary, specular;
   reproject(cur, &prev, ReprojectionSettings{}, primary);
   ReflectionMotionStats st;
-  specularReprojection(cur, &prev, cls, prevCls, primary, SpecularMotion::Reflection, {}, specular, &st);
+  ReflectionMotionOptions opt;
+  opt.search.fit = fit == SvgfSubpixelFit::quadratic ? SubpixelFit::quadratic : SubpixelFit::inverseDistance;
+  specularReprojection(cur, &prev, cls, prevCls, primary, SpecularMotion::Reflection, opt, specular, &st);
   ASSERT_GT(st.mirrorPixels, 100u);
   ASSERT_GT(st.glossyPixels, 100u);
 
@@ -93,6 +98,7 @@ TEST(VulkanReflections, ClassesAndSpecularReprojectionMatchCpu) {
   refl.resize(ctx, w, h);
   SvgfSettings s = SvgfSettings::forVariant(SvgfVariant::voorhuis);
   s.preferLobes = false;
+  s.subpixelFit = fit;
   const auto parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return cur.has(b); }, false);
   record(ctx, [&](vk::Recorder& rec) {
     vk::reproject(rec, gPrev, nullptr, ReprojectionSettings{}, rp);
@@ -129,6 +135,7 @@ TEST(VulkanReflections, ClassesAndSpecularReprojectionMatchCpu) {
   }
   EXPECT_GE(double(same), 0.995 * searched) << same << " of " << searched << ", " << near << " within 1 px";
   EXPECT_EQ(same + near, searched);
+  }
 }
 
 TEST(VulkanReflections, ClipBoxMatchesCpu) {

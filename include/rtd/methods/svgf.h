@@ -51,6 +51,9 @@ enum class SvgfPart { off, on, automatic };
 /// motion (Base), nothing, with no TAA either (NoSpecReproj), the reflected geometry's motion
 /// by diamond search (Voorhuis Sec. 4; an error without its buffers), or reflection where the
 /// buffers allow and the primary motion elsewhere (auto).
+/// Subpixel refinement of reflection motion (rtd::SubpixelFit, src/passes/diamond_search.h):
+/// Voorhuis Eqs. 2-3, or the minimum of the quadratic through the 3x3's squared distances.
+enum class SvgfSubpixelFit { inverseDistance, quadratic };
 enum class SvgfSpecularMotion { primary, none, reflection, automatic };
 
 struct SvgfSettings {
@@ -174,8 +177,11 @@ struct SvgfSettings {
   bool ldspScaling = true;
   /// Cap on the diamond search's LDSP iterations per pixel (not in the paper).
   int searchIterations = 64;
-  /// Subpixel refinement of the reflection motion (Eqs. 2-3).
+  /// Subpixel refinement of the reflection motion.
   bool subpixelMotion = true;
+  /// How: Eqs. 2-3 (inverseDistance, the paper's) or quadratic (exact where the previous
+  /// world positions are locally linear; docs/methods/reflections.md, "Subpixel fit").
+  SvgfSubpixelFit subpixelFit = SvgfSubpixelFit::quadratic;
 
   /// Dundr Sec. 5, progressive rendering below 1 spp: where the frame has Buffer::SampleMask,
   /// unsampled pixels keep their history, pixels without any data weigh 0 in the filter and
@@ -405,7 +411,11 @@ struct SvgfSettings {
     v("diffuseRoughness", diffuseRoughness, "roughness from which a hit is diffuse (Voorhuis 0.9)", Range{0, 1.01});
     v("ldspScaling", ldspScaling, "diamond search LDSP scaled 4-2-1 (Voorhuis); off: plain LDSP");
     v("searchIterations", searchIterations, "cap on diamond-search iterations per pixel", Range{1, 4096});
-    v("subpixelMotion", subpixelMotion, "subpixel refinement of reflection motion (Voorhuis Eqs. 2-3)");
+    v("subpixelMotion", subpixelMotion, "subpixel refinement of reflection motion");
+    v("subpixelFit", subpixelFit,
+      "subpixel refinement: inverseDistance (Voorhuis Eqs. 2-3) or quadratic (minimum of the quadratic through the 3x3's "
+      "squared distances, exact for locally linear world positions)",
+      {"inverseDistance", "quadratic"});
     v("useSampleMask", useSampleMask, "progressive sub-1-spp mode when the frame has sampleMask (Dundr Sec. 5)");
     v("fixedAlpha", fixedAlpha, "[variant] blend exactly alphaColor/alphaMoments where reprojection succeeded (Gersthofer 3.4.1)");
     v("maskBoost", maskBoost, "[variant] sampleMask: sampled pixels without history scaled by 1/c, empty ones black (Gersthofer Eq. 3.1)");

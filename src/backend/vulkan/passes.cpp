@@ -168,7 +168,7 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
        std::max(1, lv.normalExponent), lv.sigmaLuminance, lv.luminanceEpsilon,
        (lv.prefilterVariance ? 1u : 0u) | (lv.varianceScale ? 2u : 0u) | (lv.sigmaScale ? 4u : 0u) |
            (lv.propagateVariance ? 8u : 0u) | (lv.spatialFalloff ? 16u : 0u) | (lv.indirectDistance ? 32u : 0u) |
-           (lv.centreScale ? 64u : 0u),
+           (lv.centreScale ? 64u : 0u) | (lv.surfaceKey ? 128u : 0u),
        lv.luminanceMode, uint32_t(lv.validInPlane), lv.depthEpsilonRelative};
   const Binding dummy(rec.context().dummy());
   std::vector<Binding> bindings{depth, normal, gradient, in, out, lv.sigmaScale ? Binding(*lv.sigmaScale) : dummy,
@@ -176,17 +176,20 @@ void atrousLevel(Recorder& rec, const Planes& depth, const Planes& normal, const
   // The shared tile of atrous.comp (8 x 24^2 floats) where the device has room for it.
   constexpr uint32_t kTileBytes = 8 * 24 * 24 * sizeof(float);
   const bool tiled = lv.sharedTile && rec.context().limits().maxComputeSharedMemorySize >= kTileBytes;
+  const Binding key = lv.surfaceKey ? Binding(*lv.surfaceKey) : dummy;  // each variant's last binding
   if (lv.centreScale || lv.indirectDistance) {
-    const Binding dummy(rec.context().dummy());
     bindings.push_back(lv.indirectDistance ? Binding(*lv.indirectDistance) : dummy);
     bindings.push_back(lv.indirectDistanceScale ? Binding(*lv.indirectDistanceScale) : dummy);
     bindings.push_back(lv.centreScale ? Binding(*lv.centreScale) : dummy);
+    bindings.push_back(key);
     rec.dispatch(tiled ? "atrous_glossy" : "atrous_glossy_untiled", bindings, pc, in.width, in.height);
   } else if (lv.validIn && lv.validOut) {
     bindings.push_back(*lv.validIn);
     bindings.push_back(*lv.validOut);
+    bindings.push_back(key);
     rec.dispatch(tiled ? "atrous_masked" : "atrous_masked_untiled", bindings, pc, in.width, in.height);
   } else {
+    bindings.push_back(key);
     rec.dispatch(tiled ? "atrous" : "atrous_untiled", bindings, pc, in.width, in.height);
   }
 }

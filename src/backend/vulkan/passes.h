@@ -99,6 +99,8 @@ struct GpuAtrousLevel {
   const Planes* centreScale = nullptr;
   /// Voorhuis Eq. 6 (AtrousLevel::spatialFalloff): per-pixel c(p) (1 plane), or null.
   const Planes* spatialFalloff = nullptr;
+  /// AtrousLevel::surfaceKey (1 plane), or null.
+  const Planes* surfaceKey = nullptr;
   /// Read small-step taps through the shared-memory tile where the device has the 18 KiB it
   /// needs; false forces the untiled variant (tests).
   bool sharedTile = true;

@@ -217,6 +217,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     }
     svgf::FilterParams fp = p;
     fp.spatialFalloff = in.falloff;  // Voorhuis Eq. 6
+    fp.surfaceKey = in.surfaceKey;   // Sec. 4.1: the reflected guide's mirror pixels apart
     return filter_.run(*in.guide, st.accumulator, st.demod, mask_, fp, stats, suffix);
   }
 

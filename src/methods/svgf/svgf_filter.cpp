@@ -106,7 +106,8 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
   const Plane3& input = extras.input ? *extras.input : acc.color();
   {
     PassTimer t(stats, "variance" + suffix);
-    VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &input, extras.objectId};
+    VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &input,
+                      extras.objectId ? extras.objectId : p.surfaceKey};
     estimateVariance(guide, in, p.variance, levels_[0], scratch_);
     luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);
     if (mask) markValid(acc.historyLength(), valid_[0]);
@@ -142,6 +143,7 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     lv.indirectDistanceScale = extras.indirectDistanceScale;
     lv.centreScale = extras.centreScale;
     lv.spatialFalloff = p.spatialFalloff;
+    lv.surfaceKey = p.surfaceKey;
     if (mask) {
       lv.validIn = &valid_[cur];
       lv.validOut = &valid_[cur ^ 1];

@@ -37,6 +37,9 @@ struct FilterParams {
   bool propagateVariance = true;
   /// Voorhuis Eq. 6: per-pixel narrowing of the kernel (AtrousLevel::spatialFalloff), or null.
   const PaddedPlane* spatialFalloff = nullptr;
+  /// Voorhuis Sec. 4.1, the reflected guide's mirror pixels apart (AtrousLevel::surfaceKey;
+  /// also the spatial variance's key where FilterExtras::objectId is null), or null.
+  const PaddedPlane* surfaceKey = nullptr;
 
   /// Border the planes need: the widest tap offset, the spatial window, one SIMD vector.
   int requiredPad() const;

@@ -41,10 +41,11 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
     if (v.fromMoments) pc.flags |= 2;
     if (v.shortHistory == SvgfShortHistory::disableLuminanceWeight) pc.flags |= 4;
     if (p.shortHistoryBandwidth) pc.flags |= 8;
-    if (extras.objectId) pc.flags |= 16;
+    const vk::Planes* key = extras.objectId ? extras.objectId : extras.surfaceKey;
+    if (key) pc.flags |= 16;
     rec.dispatch("svgf_variance",
                  {depth, normal, gradient, source, current, levels_[0], sigmaScale_,
-                  extras.objectId ? vk::Binding(*extras.objectId) : vk::Binding(rec.context().dummy())},
+                  key ? vk::Binding(*key) : vk::Binding(rec.context().dummy())},
                  pc, width, height);
     if (p.variancePrefilter == SvgfVariancePrefilter::once) {
       vk::gaussian3x3(rec, levels_[0], 4, levels_[2], 4);
@@ -86,6 +87,7 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
       lv.validOut = &valid_[i & 1];
     }
     lv.spatialFalloff = extras.spatialFalloff;
+    lv.surfaceKey = extras.surfaceKey;
     vk::atrousLevel(rec, depth, normal, gradient, lv, levels_[cur], levels_[cur ^ 1]);
     cur ^= 1;
     // The feedback level's output becomes next frame's colour history (Schied Sec. 4.3).

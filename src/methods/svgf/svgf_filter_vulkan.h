@@ -19,6 +19,8 @@ struct GpuFilterExtras {
   const vk::Planes* centreScale = nullptr;
   /// Voorhuis Eq. 6 (the GPU form of FilterParams::spatialFalloff).
   const vk::Planes* spatialFalloff = nullptr;
+  /// FilterParams::surfaceKey on the GPU (also the spatial variance's key where objectId is null).
+  const vk::Planes* surfaceKey = nullptr;
 };
 
 class GpuFilter {

@@ -10,6 +10,7 @@ namespace rtd::svgf {
 void Reflections::resize(int w, int h, int pad) {
   reflectedGuide_.resize(w, h, pad);
   falloff_.resize(w, h, pad);
+  mirrorKey_.resize(w, h, pad);
   virtualDepth_.resize(w, h);
   normals_.assign(3, Plane(w, h));
   gradient_.assign(2, Plane(w, h));
@@ -28,6 +29,7 @@ void Reflections::forEachPlane(const PlaneVisitor& visit) const {
   for (const Plane& p : normals_) visitPlane(visit, "reflected normal", p);
   for (const Plane& p : gradient_) visitPlane(visit, "virtual depth gradient", p);
   falloff_.visit(visit, "Eq. 6 falloff");
+  mirrorKey_.visit(visit, "mirror key");
   visitPlane(visit, "blend floor", alpha_);
   for (const auto& a : albedo_)
     for (const Plane& p : a) visitPlane(visit, "stream albedo", p);
@@ -54,6 +56,7 @@ void Reflections::prepare(const FrameData& f, const FrameData* previous, const S
     opt.search.scaleLdsp = s.ldspScaling;
     opt.search.maxIterations = s.searchIterations;
     opt.search.subpixel = s.subpixelMotion;
+    opt.search.fit = s.subpixelFit == SvgfSubpixelFit::quadratic ? SubpixelFit::quadratic : SubpixelFit::inverseDistance;
     opt.mirrors = parts.mirrorMotion;
     opt.glossy = parts.glossyMotion;
     opt.normalTolerance = s.reprojection.normalTolerance;
@@ -118,6 +121,16 @@ void Reflections::prepare(const FrameData& f, const FrameData* previous, const S
       });
     }
     reflectedGuide_.build(virtualDepth_, normals_, grad ? &gradient_ : nullptr, s.maxDepthSlope);
+    // A mirror pixel's virtual depth and reflected normal compare with other mirror pixels'
+    // only: across the mirror's outline they would meet the own features of the surfaces
+    // around it, and the virtual depth's steep gradient on a curved mirror (the reflected
+    // rays fan out) makes w_z accept them at the coarse levels' offsets. The key keeps the
+    // two apart in the a-trous levels and the spatial variance (docs/methods/reflections.md,
+    // "Mirror pixels keyed apart").
+    parallelRows(h, [&](int y) {
+      float* k = mirrorKey_.row(y);
+      for (int x = 0; x < w; ++x) k[x] = SurfaceClass(cls_[size_t(y) * w + x]) == SurfaceClass::Mirror ? 1.0f : 0.0f;
+    });
   }
 
   if (parts.glossyBandwidth) {
@@ -162,6 +175,7 @@ Reflections::StreamInputs Reflections::stream(const FrameData& f, const StreamPl
   if (parts_.glossyBandwidth) in.falloff = &falloff_;
   if (!parts_.reflectedFeatures) return in;
   in.guide = &reflectedGuide_;
+  in.surfaceKey = &mirrorKey_;
   // Demodulation by primary x reflected albedo at mirror pixels (Sec. 4.1). A specular lobe
   // without its own colour pass is tinted by the albedo of metals only: mix(1, albedo, metalness).
   const int w = f.width, h = f.height;

@@ -128,6 +128,7 @@ class Reflections {
     const AtrousGuide* guide;
     const Plane* alpha = nullptr;            ///< per-pixel blend floor, or null
     const PaddedPlane* falloff = nullptr;    ///< Eq. 6 falloff, or null
+    const PaddedPlane* surfaceKey = nullptr; ///< with the reflected guide: 1 at mirror pixels, 0 elsewhere
     const std::vector<Plane>* albedo;        ///< demodulation colour, or null (not demodulated)
   };
   StreamInputs stream(const FrameData& frame, const StreamPlan& plan, const Reprojection& primary,
@@ -158,7 +159,7 @@ class Reflections {
   AtrousGuide reflectedGuide_;
   Plane virtualDepth_;
   std::vector<Plane> normals_, gradient_;
-  PaddedPlane falloff_;
+  PaddedPlane falloff_, mirrorKey_;
   Plane alpha_;
   std::vector<Plane> albedo_[2];
   Plane3 clipLow_, clipHigh_, clipScratch_;

@@ -14,6 +14,7 @@
 #include "passes/taa.h"
 #include "passes/temporal_accumulation.h"
 #include "rtd/rtd.h"
+#include "support/cpu_paths.h"
 
 namespace rtd {
 namespace {
@@ -613,6 +614,52 @@ TEST(VoorhuisBandwidth, FalloffNarrowsTheAtrousFootprint) {
 }
 
 // ---------------------------------------------------------------- items 5, 6: pure speculars
+
+// The reflected guide's key (AtrousLevel::surfaceKey, "Mirror pixels keyed apart" in
+// docs/methods/reflections.md): a mirror region (key 1) inside a surface (key 0) whose
+// features are identical to the mirror's (the worst case: nothing else tells them apart) and
+// whose illumination differs. Every level, at steps up to 16 (wider than the region), leaves
+// both exactly at their own value, on every CPU path; without the key they mix.
+TEST(VoorhuisMirrors, KeyedMirrorPixelsTakeNothingFromTheSurfaceAround) {
+  const int w = 64, h = 48, pad = 40;
+  AtrousGuide g;
+  g.resize(w, h, pad);
+  AtrousImage in, out;
+  in.resize(w, h, pad);
+  out.resize(w, h, pad);
+  PaddedPlane key;
+  key.resize(w, h, pad);
+  auto mirror = [](int x, int y) { return x >= 20 && x < 32 && y >= 16 && y < 28; };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      g.depth.at(x, y) = 3.0f;
+      g.normal[1].at(x, y) = 1.0f;
+      key.at(x, y) = mirror(x, y) ? 1.0f : 0.0f;
+      const float v = mirror(x, y) ? 2.0f : 0.25f;
+      for (auto& c : in.color) c.at(x, y) = v;
+      in.lum.at(x, y) = v;
+      in.var.at(x, y) = 1.0f;  // wide w_l: luminance would not keep them apart either
+    }
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath scoped(path);
+    for (int step : {1, 4, 16})
+      for (bool keyed : {true, false}) {
+        AtrousLevel lv;
+        lv.step = step;
+        lv.sigmaLuminance = 1e6f;
+        lv.surfaceKey = keyed ? &key : nullptr;
+        atrousLevel(g, lv, in, out);
+        double worst = 0;
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x)
+            worst = std::max(worst, std::fabs(double(out.color[1].at(x, y)) - (mirror(x, y) ? 2.0 : 0.25)));
+        if (keyed)
+          EXPECT_LT(worst, 1e-6) << cpuPathName(path) << " step " << step;
+        else
+          EXPECT_GT(worst, 0.1) << cpuPathName(path) << " step " << step << ": the test needs the key";
+      }
+  }
+}
 
 // A mirror (every pixel, roughness 0) showing a checkerboard on a surface at two depths: the
 // left half reflects a near wall, the right half a far one, with different illumination.

@@ -15,6 +15,7 @@ void GpuReflections::resize(vk::Context& ctx, int w, int h) {
   gradient_.allocate(ctx, w, h, 2);
   alpha_.allocate(ctx, w, h, 1);
   falloff_.allocate(ctx, w, h, 1);
+  mirrorKey_.allocate(ctx, w, h, 1);
   for (auto& a : albedo_) a.allocate(ctx, w, h, 3);
   clip_.allocate(ctx, w, h, 6);
   clipRows_.allocate(ctx, w, h, 6);
@@ -49,8 +50,10 @@ void GpuReflections::prepare(vk::Recorder& rec, const vk::GpuFrame& f, const vk:
     const bool usable = previousClasses;
     const vk::GpuFrame& p = usable ? *previous : f;
     auto both = [&](Buffer b) { return f.has(b) && p.has(b); };
-    enum : uint32_t { kMirrors = 1, kGlossy = 2, kReflectedNormal = 4, kSkyDirection = 8, kScale = 16, kSubpixel = 32 };
-    uint32_t flags = (s.ldspScaling ? kScale : 0u) | (s.subpixelMotion ? kSubpixel : 0u);
+    enum : uint32_t { kMirrors = 1, kGlossy = 2, kReflectedNormal = 4, kSkyDirection = 8, kScale = 16, kSubpixel = 32,
+                      kQuadratic = 64 };
+    uint32_t flags = (s.ldspScaling ? kScale : 0u) | (s.subpixelMotion ? kSubpixel : 0u) |
+                     (s.subpixelFit == SvgfSubpixelFit::quadratic ? kQuadratic : 0u);
     if (parts.mirrorMotion && both(Buffer::ReflectedPosition)) flags |= kMirrors;
     if (parts.glossyMotion && both(Buffer::Position) && both(Buffer::MirrorDirection) && both(Buffer::SecondaryDistance))
       flags |= kGlossy;
@@ -85,7 +88,7 @@ void GpuReflections::prepare(vk::Recorder& rec, const vk::GpuFrame& f, const vk:
                  {cls_[cur_], f[Buffer::Normal], f[Buffer::Depth], f.bindingOf(Buffer::Position, ctx),
                   f.bindingOf(Buffer::ReflectedPosition, ctx), f.bindingOf(Buffer::ReflectedNormal, ctx),
                   f.bindingOf(Buffer::ReflectedFootprint, ctx), alpha_, falloff_, guideDepth_, guideNormal_,
-                  f.bindingOf(Buffer::Roughness, ctx)},
+                  f.bindingOf(Buffer::Roughness, ctx), mirrorKey_},
                  pc, f.width, f.height);
   }
   if (parts.reflectedFeatures) {
@@ -113,6 +116,7 @@ GpuReflections::StreamInputs GpuReflections::stream(vk::Recorder& rec, const vk:
   if (parts_.glossyBandwidth) in.falloff = &falloff_;
   if (!parts_.reflectedFeatures) return in;
   in.guide = {&guideDepth_, &guideNormal_, &gradient_};
+  in.surfaceKey = &mirrorKey_;
   const vk::Context& ctx = rec.context();
   const bool tint = !base && plan.lobe == Lobe::specular && f.has(Buffer::Metalness) && f.has(Buffer::Albedo);
   struct PC {

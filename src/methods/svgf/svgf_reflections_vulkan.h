@@ -32,6 +32,7 @@ class GpuReflections {
     GpuGuide guide;
     const vk::Planes* alpha = nullptr;
     const vk::Planes* falloff = nullptr;
+    const vk::Planes* surfaceKey = nullptr;  ///< Reflections::StreamInputs::surfaceKey
     const vk::Planes* albedo = nullptr;  ///< demodulation colour, or null
   };
   StreamInputs stream(vk::Recorder& rec, const vk::GpuFrame& frame, const StreamPlan& plan, const vk::Planes& primary,
@@ -53,7 +54,7 @@ class GpuReflections {
   int cur_ = 0;
   vk::Planes specular_, taa_;
   vk::Planes guideDepth_, guideNormal_, gradientIn_, gradient_;
-  vk::Planes alpha_, falloff_;
+  vk::Planes alpha_, falloff_, mirrorKey_;
   vk::Planes albedo_[2];
   vk::Planes clip_, clipRows_, clipBlur_;
   vk::Binding objectId_;  ///< this frame's ObjectId (prepare), for the clipping surfaces

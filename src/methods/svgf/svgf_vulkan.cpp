@@ -176,7 +176,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     st.accumulator.run(rec, *in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength,
                        uint32_t(p.variance.luminance), s.momentsTrueAverage, mask_, in.alpha, clip);
     return filter_.run(rec, *in.guide.depth, *in.guide.normal, *in.guide.gradient, st.accumulator, st.demod, mask_, p,
-                       suffix, {.spatialFalloff = in.falloff});
+                       suffix, {.spatialFalloff = in.falloff, .surfaceKey = in.surfaceKey});
   }
 
   vk::Planes reprojection_, gradient_, guideNormal_, sum_, display_, remodulated_;

@@ -60,6 +60,17 @@ layout(std430, binding = 9) readonly buffer Centre { float centreScale[]; };
 #define F_FALLOFF 16u
 #define F_INDIRECT_DISTANCE 32u
 #define F_CENTRE_SCALE 64u
+#define F_KEY 128u
+// AtrousLevel::surfaceKey: a tap whose key differs from the centre's weighs 0 (the last
+// binding of each variant; a dummy without F_KEY).
+#if defined(RTD_SAMPLE_MASK)
+#define KEY_BINDING 9
+#elif defined(RTD_GLOSSY)
+#define KEY_BINDING 10
+#else
+#define KEY_BINDING 7
+#endif
+layout(std430, binding = KEY_BINDING) readonly buffer Key { float surfaceKey[]; };
 
 layout(push_constant) uniform PC {
   uint width, height;
@@ -155,6 +166,8 @@ void main() {
 
   const bool propagate = (pc.flags & F_PROPAGATE) != 0u;
   const float fall = (pc.flags & F_FALLOFF) != 0u ? falloff[c] : 0.0;
+  const bool keyed = (pc.flags & F_KEY) != 0u;
+  const float keyc = keyed ? surfaceKey[c] : 0.0;
 #ifdef RTD_SAMPLE_MASK
   const float h0 = validIn[pc.validPlane * plane + c] > 0.0 ? kernel1D(0) * kernel1D(0) : 0.0;
 #else
@@ -172,6 +185,7 @@ void main() {
       const int qx = x + ox, qy = y + oy;
       if (qx < 0 || qy < 0 || qx >= int(W) || qy >= int(H)) continue;
       const uint q = uint(qy) * W + uint(qx);
+      if (keyed && surfaceKey[q] != keyc) continue;
       float zq, lq;
       vec3 nq, cq;
 #ifndef RTD_UNTILED

@@ -1,5 +1,5 @@
 // Reflection motion vectors by diamond search (Voorhuis 2018, Algorithm 1) with the subpixel
-// refinement of Eqs. 2-3 and the distance functions of Eqs. 1, 4, 5: the GLSL twin of
+// refinement of Eqs. 2-3 or the quadratic fit (SubpixelFit) and the distance functions of Eqs. 1, 4, 5: the GLSL twin of
 // src/passes/diamond_search.h, tap for tap in the same order. Included once for the constants
 // and distance functions; included again with DS_SEARCH defined for the search, after the
 // shader has defined `float searchDistance(int qx, int qy)` (a previous-frame pixel inside the
@@ -52,12 +52,40 @@ float dsScore(int qx, int qy) {
 
 const ivec2 kDiamond[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
 
-void subpixelRefine(inout SearchResult r) {
+// SubpixelFit::quadratic (quadraticMinimum in diamond_search.h): the minimum of the quadratic
+// through the 3x3's squared distances, in units of the largest; false where it does not apply.
+bool quadraticMinimum(float d[9], inout SearchResult r) {
+  float f[9];
+  float largest = 0.0;
+  for (int k = 0; k < 9; ++k) {
+    if (!(d[k] < kNoMatch)) return false;
+    f[k] = d[k] * d[k];
+    largest = max(largest, f[k]);
+  }
+  for (int k = 0; k < 9; ++k)
+    if (d[k] == 0.0) {  // a tap at distance 0 is the match (the first in row order)
+      r.match = vec2(r.best + ivec2(k % 3 - 1, k / 3 - 1)) + 0.5;
+      return true;
+    }
+  if (!(largest > 0.0) || isinf(largest)) return false;
+  for (int k = 0; k < 9; ++k) f[k] /= largest;
+  precise float gx = 0.5 * (f[5] - f[3]), gy = 0.5 * (f[7] - f[1]);
+  precise float hxx = f[5] - 2.0 * f[4] + f[3], hyy = f[7] - 2.0 * f[4] + f[1];
+  precise float hxy = 0.25 * (f[8] - f[6] - f[2] + f[0]);
+  precise float det = hxx * hyy - hxy * hxy;
+  if (!(hxx > 0.0 && det > 1e-12)) return false;
+  precise float ux = -(hyy * gx - hxy * gy) / det, uy = -(hxx * gy - hxy * gx) / det;
+  r.match = vec2(r.best) + 0.5 + clamp(vec2(ux, uy), -1.0, 1.0);
+  return true;
+}
+
+void subpixelRefine(inout SearchResult r, bool quadratic) {
   r.match = vec2(r.best) + 0.5;
   float d[9];
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i)
       d[j * 3 + i] = (i == 1 && j == 1) ? r.bestDistance : dsScore(r.best.x + i - 1, r.best.y + j - 1);
+  if (quadratic && quadraticMinimum(d, r)) return;
   int bx = -1, by = -1;
   float bestSum = kNoMatch;
   for (int sy = 0; sy < 2; ++sy)
@@ -99,7 +127,7 @@ void subpixelRefine(inout SearchResult r) {
 }
 
 // Algorithm 1 from pixel p with the second start `start` (p's primary reprojection).
-SearchResult diamondSearch(ivec2 p, vec2 start, bool scaleLdsp, int maxIterations, bool subpixel) {
+SearchResult diamondSearch(ivec2 p, vec2 start, bool scaleLdsp, int maxIterations, bool subpixel, bool quadratic) {
   SearchResult r;
   r.best = ivec2(-1);
   r.bestDistance = kNoMatch;
@@ -144,7 +172,7 @@ SearchResult diamondSearch(ivec2 p, vec2 start, bool scaleLdsp, int maxIteration
   if (bestDist < kNoMatch) {
     r.best = best;
     r.bestDistance = bestDist;
-    if (subpixel) subpixelRefine(r);
+    if (subpixel) subpixelRefine(r, quadratic);
     else r.match = vec2(best) + 0.5;
   }
   return r;

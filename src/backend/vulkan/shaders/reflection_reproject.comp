@@ -31,6 +31,7 @@ layout(std430, binding = 13) readonly buffer PrevDepth2 { float prevDepth2[]; };
 #define F_SKY_DIRECTION 8u     // the frames have MirrorDirection and Position (mirrors showing the sky)
 #define F_SCALE_LDSP 16u
 #define F_SUBPIXEL 32u
+#define F_QUADRATIC 64u  // SubpixelFit::quadratic
 
 layout(push_constant) uniform PC {
   uint width, height;
@@ -162,7 +163,7 @@ void main() {
     representativeRay(false, i, gO, gD, gDepth);
   }
   const vec2 start = vec2(uintBitsToFloat(primary[6u * plane + i]), uintBitsToFloat(primary[7u * plane + i]));
-  const SearchResult r = diamondSearch(ivec2(p), start, has(F_SCALE_LDSP), pc.maxIterations, has(F_SUBPIXEL));
+  const SearchResult r = diamondSearch(ivec2(p), start, has(F_SCALE_LDSP), pc.maxIterations, has(F_SUBPIXEL), has(F_QUADRATIC));
   if (r.best.x < 0) {
     store(i, RP_NONE, 0, vec4(0.0), -1e6, -1e6);
     return;

@@ -8,7 +8,8 @@
 //     (svgf::reflectedLobeWidth), and 0 where the mirror ray escapes (zero reflected normal);
 //   - the guide of the reflected geometry (Sec. 4.1): mirror pixels get the reflected normal
 //     and the view depth of the virtual image (primary depth x path length / primary distance;
-//     kMissDepth where the mirror shows the sky); other pixels their own features.
+//     kMissDepth where the mirror shows the sky); other pixels their own features; and the
+//     key that keeps mirror pixels apart from the others in the a-trous levels (1 / 0).
 #include "common.glsl"
 RTD_LOCAL_SIZE
 
@@ -24,6 +25,7 @@ layout(std430, binding = 8) writeonly buffer Falloff { float falloffOut[]; };
 layout(std430, binding = 9) writeonly buffer GuideDepth { float guideDepth[]; };
 layout(std430, binding = 10) writeonly buffer GuideNormal { float guideNormal[]; };
 layout(std430, binding = 11) readonly buffer Rough { float roughness[]; };
+layout(std430, binding = 12) writeonly buffer MirrorKey { float mirrorKey[]; };
 
 #define F_ALPHA 1u
 #define F_FALLOFF 2u
@@ -69,6 +71,7 @@ void main() {
     falloffOut[i] = f;
   }
   if ((pc.flags & F_GUIDE) == 0u) return;
+  mirrorKey[i] = c == 3.0 ? 1.0 : 0.0;  // the a-trous levels keep mirror pixels apart
   float z = depth[i];
   vec3 nn = vec3(normal[i], normal[n + i], normal[2u * n + i]);
   if (c == 3.0) {
