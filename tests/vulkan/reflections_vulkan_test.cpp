@@ -202,14 +202,16 @@ TEST(VulkanReflections, ClipBoxMatchesCpu) {
 TEST(VulkanReflections, VoorhuisMatchesCpuOnARenderedSequence) {
   RTD_REQUIRE_VULKAN();
   const Rendered& r = reflectionFrames();
-  for (const char* variant : {"voorhuis", "voorhuisNoSpecReproj", "voorhuis+catmullRom"}) {
+  for (const char* variant : {"voorhuis", "voorhuisNoSpecReproj", "voorhuis+catmullRom", "voorhuis+noMirrorTaa"}) {
     auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
     auto cpu = cpuDevice->createDenoiser("svgf");
     auto gpu = vulkanDevice()->createDenoiser("svgf");
     const bool catmullRom = std::string(variant) == "voorhuis+catmullRom";
+    const bool noMirrorTaa = std::string(variant) == "voorhuis+noMirrorTaa";
     for (Denoiser* d : {cpu.get(), gpu.get()}) {
-      d->set("variant", catmullRom ? "voorhuis" : variant);
+      d->set("variant", catmullRom || noMirrorTaa ? "voorhuis" : variant);
       if (catmullRom) d->set("taaHistoryFilter", "catmullRom");
+      if (noMirrorTaa) d->set("taaMirrorHistory", "none");
     }
     for (int i = 0; i < 6; ++i) {
       const Frame& f = r.frames[i];

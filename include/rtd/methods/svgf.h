@@ -54,6 +54,9 @@ enum class SvgfPart { off, on, automatic };
 /// Subpixel refinement of reflection motion (rtd::SubpixelFit, src/passes/diamond_search.h):
 /// Voorhuis Eqs. 2-3, or the minimum of the quadratic through the 3x3's squared distances.
 enum class SvgfSubpixelFit { inverseDistance, quadratic };
+/// The history TAA takes on mirror pixels in the Voorhuis mode (the paper does not say whether
+/// Ours runs TAA there with the reflection motion; docs/methods/reflections.md, "TAA on mirrors").
+enum class SvgfTaaMirrorHistory { reflectionMotion, primaryMotion, none };
 enum class SvgfSpecularMotion { primary, none, reflection, automatic };
 
 struct SvgfSettings {
@@ -167,6 +170,11 @@ struct SvgfSettings {
   /// on mirrors (the paper does not say; off: their motion comes from the noisy sampled depth,
   /// and TAA shows each pixel's history unfiltered, see docs/methods/reflections.md).
   bool taaGlossyReflectionMotion = false;
+  /// TAA's history on mirror pixels: at the reflection motion (default), at the primary motion
+  /// (Base's), or none (TAA passes them through, as NoSpecReproj does on every specular pixel):
+  /// sharper minified reflections, several times the still-camera flicker (the measured trade
+  /// in docs/methods/reflections.md, "TAA on mirrors").
+  SvgfTaaMirrorHistory taaMirrorHistory = SvgfTaaMirrorHistory::reflectionMotion;
   /// Roughness below which a (metallic) primary hit is a pure mirror (the renderer's 0.02).
   float pureSpecularRoughness = 0.02f;
   /// Roughness below which glossy pixels get reflection motion and Eq. 6 (Voorhuis 0.4, Beckmann).
@@ -406,6 +414,9 @@ struct SvgfSettings {
     v("alphaSpecular", alphaSpecular, "colour blend floor of specular pixels (Voorhuis 0.1)", Range{0.001, 1});
     v("taaGlossyReflectionMotion", taaGlossyReflectionMotion,
       "TAA follows the reflection motion on glossy pixels below reflectionRoughness too (off: on mirrors only)");
+    v("taaMirrorHistory", taaMirrorHistory,
+      "TAA history on mirror pixels: reflectionMotion, primaryMotion or none (sharper curved mirrors, more flicker)",
+      {"reflectionMotion", "primaryMotion", "none"});
     v("pureSpecularRoughness", pureSpecularRoughness, "roughness below which a hit is a mirror (renderer 0.02)", Range{0, 1});
     v("reflectionRoughness", reflectionRoughness, "roughness below which glossy pixels get reflection motion (Voorhuis 0.4)", Range{0, 1});
     v("diffuseRoughness", diffuseRoughness, "roughness from which a hit is diffuse (Voorhuis 0.9)", Range{0, 1.01});

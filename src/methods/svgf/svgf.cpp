@@ -151,7 +151,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       keyed = taaSurfaceKeys(frame, &s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
     }
     PassTimer t(stats, "taa");
-    return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion), *shown, s.taa,
+    return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion, s.taaMirrorHistory), *shown, s.taa,
                     keyed ? &taaKeys_ : nullptr);
   }
 

@@ -215,11 +215,13 @@ void Reflections::clipBoxes(const Plane3& demod, const StreamPlan& plan, const S
   high = &clipHigh_;
 }
 
-const Reprojection& Reflections::taaMotion(const FrameData& f, const Reprojection& primary, bool glossy) {
+const Reprojection& Reflections::taaMotion(const FrameData& f, const Reprojection& primary, bool glossy,
+                                           SvgfTaaMirrorHistory mirrors) {
   if (!parts_.classes || parts_.motion == SpecularMotion::Primary) return primary;
   // NoSpecReproj: no TAA on any specular pixel (specular_ has no history there).
   const bool none = parts_.motion == SpecularMotion::None;
-  if (!lobes_ && (glossy || none)) return specular_;
+  const bool mirrorsFollow = none || mirrors == SvgfTaaMirrorHistory::reflectionMotion;
+  if (!lobes_ && (glossy || none) && mirrorsFollow) return specular_;
   if (!f.has(Buffer::Roughness)) return primary;
   const int w = f.width, h = f.height;
   if (taa_.width != w || taa_.height != h) taa_.resize(w, h);
@@ -228,8 +230,9 @@ const Reprojection& Reflections::taaMotion(const FrameData& f, const Reprojectio
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       const SurfaceClass c = SurfaceClass(cls_[i]);
-      const bool takes = none ? isSpecular(c) : c == SurfaceClass::Mirror || (glossy && c == SurfaceClass::GlossyReflection);
-      const bool follow = takes && (!metal || metal[i] >= 0.5f);
+      const bool mirror = c == SurfaceClass::Mirror, metallic = !metal || metal[i] >= 0.5f;
+      const bool takes = none ? isSpecular(c) : (mirror && mirrorsFollow) || (glossy && c == SurfaceClass::GlossyReflection);
+      const bool follow = takes && metallic;
       // The whole record, not only the position: TAA's Catmull-Rom fetch reads which taps the
       // reprojection accepted (kind, base, weights).
       const Reprojection& r = follow ? specular_ : primary;
@@ -239,6 +242,10 @@ const Reprojection& Reflections::taaMotion(const FrameData& f, const Reprojectio
       taa_.mask3x3[i] = r.mask3x3[i];
       taa_.prevX.data[i] = r.prevX.data[i];
       taa_.prevY.data[i] = r.prevY.data[i];
+      if (!none && mirror && metallic && mirrors == SvgfTaaMirrorHistory::none) {
+        taa_.kind[i] = Reprojection::None;
+        taa_.prevX.data[i] = taa_.prevY.data[i] = -1e6f;  // off-screen: TAA keeps the current colour
+      }
     }
   });
   return taa_;

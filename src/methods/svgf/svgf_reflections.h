@@ -139,8 +139,10 @@ class Reflections {
   /// The reprojection TAA follows: mirror pixels (and GlossyReflection ones with
   /// `glossy`, SvgfSettings::taaGlossyReflectionMotion) take the specular one where the
   /// specular light dominates them (every such pixel of a single stream; metallic ones of a
-  /// lobe split). Only prevX / prevY of the result are meaningful.
-  const Reprojection& taaMotion(const FrameData& frame, const Reprojection& primary, bool glossy);
+  /// lobe split); `mirrors` (SvgfSettings::taaMirrorHistory) may give the mirror pixels the
+  /// primary record or none (no history: TAA keeps the current colour).
+  const Reprojection& taaMotion(const FrameData& frame, const Reprojection& primary, bool glossy,
+                                SvgfTaaMirrorHistory mirrors = SvgfTaaMirrorHistory::reflectionMotion);
 
   /// Every float plane it owns (PlaneVisitor).
   void forEachPlane(const PlaneVisitor& visit) const;

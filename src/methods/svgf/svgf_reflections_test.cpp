@@ -175,7 +175,8 @@ TEST(VoorhuisTaa, FollowsTheReflectionMotionOnMirrorsAndNoHistoryForNoSpecReproj
   // whose reflections moved 3 px: the previous frame's pixel x + 3 has the reflection features
   // (reflected position, representative ray) of the current pixel x; the primary motion is 0.
   // TAA takes the reflection motion on mirror pixels, the primary one elsewhere unless
-  // taaGlossyReflectionMotion; NoSpecReproj gives TAA no history on any specular pixel.
+  // taaGlossyReflectionMotion; NoSpecReproj gives TAA no history on any specular pixel;
+  // taaMirrorHistory gives the mirror pixels the primary motion or no history instead.
   const int w = 101, h = 2, shift = 3;
   TestFrame prev(w, h), cur(w, h);
   for (TestFrame* t : {&prev, &cur})
@@ -195,6 +196,8 @@ TEST(VoorhuisTaa, FollowsTheReflectionMotionOnMirrorsAndNoHistoryForNoSpecReproj
       features(prev, x, x - shift);
     }
   for (const char* variant : {"voorhuis", "voorhuisNoSpecReproj"})
+    for (SvgfTaaMirrorHistory mirrors : {SvgfTaaMirrorHistory::reflectionMotion, SvgfTaaMirrorHistory::primaryMotion,
+                                         SvgfTaaMirrorHistory::none})
     for (bool glossy : {false, true}) {
       SvgfSettings s = SvgfSettings::forVariant(variant == std::string("voorhuis") ? SvgfVariant::voorhuis
                                                                                   : SvgfVariant::voorhuisNoSpecReproj);
@@ -205,7 +208,7 @@ TEST(VoorhuisTaa, FollowsTheReflectionMotionOnMirrorsAndNoHistoryForNoSpecReproj
       const Reprojection first = noHistory(prev.f), primary = identity(cur.f, prev.f);
       r.prepare(prev.f, nullptr, s, parts, false, first);
       r.prepare(cur.f, &prev.f, s, parts, false, primary);
-      const Reprojection& taa = r.taaMotion(cur.f, primary, glossy);
+      const Reprojection& taa = r.taaMotion(cur.f, primary, glossy, mirrors);
       // The whole record, not only the position (TAA's Catmull-Rom fetch reads it): where TAA
       // follows the primary motion, the primary record; a constant frame through the
       // Catmull-Rom TAA on this record stays constant.
@@ -229,9 +232,14 @@ TEST(VoorhuisTaa, FollowsTheReflectionMotionOnMirrorsAndNoHistoryForNoSpecReproj
       }
       for (int x = shift; x < w - shift; ++x) {
         const float rough = float(x) / 100.0f, px = taa.prevX(x, 0);
-        if (variant != std::string("voorhuis")) {
+        if (variant != std::string("voorhuis")) {  // whatever taaMirrorHistory says
           if (rough < 0.9f) EXPECT_LT(px, -1e5f) << "NoSpecReproj: TAA history at " << rough;
           else EXPECT_FLOAT_EQ(px, primary.prevX(x, 0)) << rough;
+        } else if (rough < 0.02f && mirrors == SvgfTaaMirrorHistory::none) {
+          EXPECT_LT(px, -1e5f) << "taaMirrorHistory=none: TAA history on a mirror pixel";
+          EXPECT_EQ(taa.kind[size_t(x)], Reprojection::None);
+        } else if (rough < 0.02f && mirrors == SvgfTaaMirrorHistory::primaryMotion) {
+          EXPECT_FLOAT_EQ(px, primary.prevX(x, 0)) << "taaMirrorHistory=primaryMotion at " << rough;
         } else if (rough < 0.02f || (glossy && rough < 0.4f)) {
           EXPECT_NEAR(px, x + shift + 0.5f, 0.01f) << "not the reflection motion at " << rough;
         } else {

@@ -164,14 +164,16 @@ const vk::Planes* GpuReflections::clipBox(vk::Recorder& rec, const vk::Planes& d
 }
 
 const vk::Planes& GpuReflections::taaMotion(vk::Recorder& rec, const vk::GpuFrame& f, const vk::Planes& primary,
-                                            bool glossy) {
+                                            bool glossy, SvgfTaaMirrorHistory mirrors) {
   if (!parts_.classes || parts_.motion == SpecularMotion::Primary) return primary;
   const bool none = parts_.motion == SpecularMotion::None;  // NoSpecReproj: no TAA on specular pixels
-  if (!lobes_ && (glossy || none)) return specular_;
+  const bool mirrorsFollow = none || mirrors == SvgfTaaMirrorHistory::reflectionMotion;
+  if (!lobes_ && (glossy || none) && mirrorsFollow) return specular_;
   if (!f.has(Buffer::Roughness)) return primary;
   struct PC {
-    uint32_t width, height, hasMetal, mode;
-  } pc{uint32_t(f.width), uint32_t(f.height), lobes_ && f.has(Buffer::Metalness), none ? 2u : glossy ? 1u : 0u};
+    uint32_t width, height, hasMetal, mode, mirrors;
+  } pc{uint32_t(f.width), uint32_t(f.height), lobes_ && f.has(Buffer::Metalness), none ? 2u : glossy ? 1u : 0u,
+       none ? 0u : uint32_t(mirrors)};
   rec.dispatch("voorhuis_taa_motion",
                {cls_[cur_], f.bindingOf(Buffer::Metalness, rec.context()), primary, specular_, taa_}, pc, f.width,
                f.height);

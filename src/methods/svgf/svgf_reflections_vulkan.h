@@ -40,7 +40,8 @@ class GpuReflections {
   /// The clipping box (6 planes) of a stream's demodulated sample, or null.
   const vk::Planes* clipBox(vk::Recorder& rec, const vk::Planes& demod, const StreamPlan& plan, const SvgfSettings& s);
   /// The reprojection TAA reads (Reflections::taaMotion).
-  const vk::Planes& taaMotion(vk::Recorder& rec, const vk::GpuFrame& frame, const vk::Planes& primary, bool glossy);
+  const vk::Planes& taaMotion(vk::Recorder& rec, const vk::GpuFrame& frame, const vk::Planes& primary, bool glossy,
+                              SvgfTaaMirrorHistory mirrors = SvgfTaaMirrorHistory::reflectionMotion);
 
   const ReflectionParts& parts() const { return parts_; }
   /// This frame's classes (1 plane, SurfaceClass as float), for tests.

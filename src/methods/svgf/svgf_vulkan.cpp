@@ -142,7 +142,8 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     // The own-surface box's keys (as svgf.cpp): object id, the classes where computed, emitters.
     const bool keyed = s.taa.taaOwnSurface &&
                        vk::taaSurfaceKeys(rec, frame, &s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
-    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_, s.taaGlossyReflectionMotion), remodulated_, s.taa,
+    return taa_.run(rec, reflections_.taaMotion(rec, frame, reprojection_, s.taaGlossyReflectionMotion, s.taaMirrorHistory),
+                    remodulated_, s.taa,
                     keyed ? &taaKeys_ : nullptr);
   }
 
