@@ -571,21 +571,31 @@ TEST(VoorhuisBandwidth, OmegaInLobeWidthsIsScaleFreeAndFollowsTheRoughness) {
   EXPECT_TRUE(falloffValues(0.1f, 1.0f, true, true).empty());
 }
 
+// One a-trous level's guide and images over a flat surface: every pixel at `depth` with the
+// normal along `axis`.
+struct FlatLevel {
+  AtrousGuide g;
+  AtrousImage in, out;
+  FlatLevel(int w, int h, int pad, float depth, int axis) {
+    g.resize(w, h, pad);
+    in.resize(w, h, pad);
+    out.resize(w, h, pad);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        g.depth.at(x, y) = depth;
+        g.normal[axis].at(x, y) = 1.0f;
+      }
+  }
+};
+
 TEST(VoorhuisBandwidth, FalloffNarrowsTheAtrousFootprint) {
   // Impulse response of one level on flat features with w_l off: its spatial variance (in
   // kernel units) is that of the B3 spline, 2 * 1 = 2 over both axes, at c = 0 and shrinks
   // like 2 sigma^2 as Eq. 6's sigma falls.
   const int w = 32, h = 32, pad = 8;
-  AtrousGuide g;
-  g.resize(w, h, pad);
-  AtrousImage in, out;
-  in.resize(w, h, pad);
-  out.resize(w, h, pad);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      g.depth.at(x, y) = 2.0f;
-      g.normal[2].at(x, y) = 1.0f;
-    }
+  FlatLevel level(w, h, pad, 2.0f, 2);
+  const AtrousGuide& g = level.g;
+  AtrousImage &in = level.in, &out = level.out;
   PaddedPlane off, fall;
   off.resize(w, h, pad);
   fall.resize(w, h, pad);
@@ -630,18 +640,14 @@ TEST(VoorhuisBandwidth, FalloffNarrowsTheAtrousFootprint) {
 // both exactly at their own value, on every CPU path; without the key they mix.
 TEST(VoorhuisMirrors, KeyedMirrorPixelsTakeNothingFromTheSurfaceAround) {
   const int w = 64, h = 48, pad = 40;
-  AtrousGuide g;
-  g.resize(w, h, pad);
-  AtrousImage in, out;
-  in.resize(w, h, pad);
-  out.resize(w, h, pad);
+  FlatLevel level(w, h, pad, 3.0f, 1);
+  const AtrousGuide& g = level.g;
+  AtrousImage &in = level.in, &out = level.out;
   PaddedPlane key;
   key.resize(w, h, pad);
   auto mirror = [](int x, int y) { return x >= 20 && x < 32 && y >= 16 && y < 28; };
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      g.depth.at(x, y) = 3.0f;
-      g.normal[1].at(x, y) = 1.0f;
       key.at(x, y) = mirror(x, y) ? 1.0f : 0.0f;
       const float v = mirror(x, y) ? 2.0f : 0.25f;
       for (auto& c : in.color) c.at(x, y) = v;
