@@ -70,6 +70,19 @@ TEST(ReflectionEval, MirrorFloorMotionMatchesBruteForce) {
     EXPECT_LT(f.meanError, 0.5) << "frame " << f.number;
     EXPECT_LT(f.meanTaps, 60) << "frame " << f.number;           // a few steps, not a window
   }
+  // Both searches refined by Eqs. 2-3 instead of the quadratic fit (`--eq23-subpixel`): the same
+  // pixels, as good a match, other subpixel positions.
+  ReflectionMotionSettings eq23;
+  eq23.quadraticSubpixel = false;
+  const auto other = reflectionMotionError(*seq, eq23);
+  ASSERT_EQ(other.size(), frames.size());
+  bool differs = false;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(other[i].pixels, frames[i].pixels);
+    EXPECT_GT(other[i].withinOnePixel, 0.9);
+    differs = differs || other[i].meanError != frames[i].meanError;
+  }
+  EXPECT_TRUE(differs) << "quadraticSubpixel has no effect";
   std::filesystem::remove_all(dir);
 }
 #endif
