@@ -161,8 +161,7 @@ void specularReprojection(const FrameData& cur, const FrameData* previous, const
       const SurfaceClass c = SurfaceClass(cls[i]);
       if (!isSpecular(c)) continue;
       if (mode == SpecularMotion::None) {
-        out.kind[i] = Reprojection::None;
-        out.prevX.data[i] = out.prevY.data[i] = -1e6f;  // off-screen: TAA keeps the current colour
+        out.clearHistory(i);  // NoSpecReproj: no history, and TAA keeps the current colour
         continue;
       }
       const bool mirror = c == SurfaceClass::Mirror && mirrors, gloss = c == SurfaceClass::GlossyReflection && glossy;
@@ -171,8 +170,8 @@ void specularReprojection(const FrameData& cur, const FrameData* previous, const
       const SearchResult r = searchReflection(cur, prev, cls, prevCls, primary, x, y, opt.search);
       taps += uint64_t(r.taps);
       out.kind[i] = Reprojection::None;
-      out.prevX.data[i] = r.found() ? r.matchX : -1e6f;
-      out.prevY.data[i] = r.found() ? r.matchY : -1e6f;
+      out.prevX.data[i] = r.found() ? r.matchX : Reprojection::kOffFrame;
+      out.prevY.data[i] = r.found() ? r.matchY : Reprojection::kOffFrame;
       if (!r.found()) continue;
       const bool ok = setBilinear(out, i, r.matchX, r.matchY, [&](int tx, int ty) {
         const size_t j = size_t(ty) * w + tx;

@@ -25,6 +25,15 @@ struct Reprojection {
 
   void resize(int w, int h);
 
+  /// Previous position of a pixel that has no history at all: off every frame, so TAA (which
+  /// takes the history at any reprojected position inside the frame) keeps the current colour.
+  static constexpr float kOffFrame = -1e6f;
+  /// Pixel i without history: kind None, position kOffFrame.
+  void clearHistory(size_t i) {
+    kind[i] = None;
+    prevX.data[i] = prevY.data[i] = kOffFrame;
+  }
+
   /// History value of plane `h` (previous frame's size) for pixel index i; 0 for None.
   float gather(const Plane& h, size_t i) const {
     const float* p = h.ptr();

@@ -242,10 +242,7 @@ const Reprojection& Reflections::taaMotion(const FrameData& f, const Reprojectio
       taa_.mask3x3[i] = r.mask3x3[i];
       taa_.prevX.data[i] = r.prevX.data[i];
       taa_.prevY.data[i] = r.prevY.data[i];
-      if (!none && mirror && metallic && mirrors == SvgfTaaMirrorHistory::none) {
-        taa_.kind[i] = Reprojection::None;
-        taa_.prevX.data[i] = taa_.prevY.data[i] = -1e6f;  // off-screen: TAA keeps the current colour
-      }
+      if (!none && mirror && metallic && mirrors == SvgfTaaMirrorHistory::none) taa_.clearHistory(i);
     }
   });
   return taa_;

@@ -6,7 +6,7 @@
 // eight planes) is copied: TAA reads the previous position (planes 6 and 7) and, for its
 // Catmull-Rom fetch, which taps the reprojection accepted (kind, base, weights). `mirrors`
 // (SvgfTaaMirrorHistory, modes 0 and 1): 0 mirror pixels follow the specular record, 1 the
-// primary one, 2 none (kind 0, an off-screen position: TAA keeps the current colour).
+// primary one, 2 none (kind 0, position Reprojection::kOffFrame: TAA keeps the current colour).
 #include "common.glsl"
 RTD_LOCAL_SIZE
 
