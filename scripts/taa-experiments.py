@@ -2,7 +2,8 @@
 """The shared TAA pass's history filter and domain (issue 12): quality of every method that runs
 TAA with taaHistoryFilter=bilinear, =catmullRom and with taa=false (--compare filter), or with
 taaDomain=display, =linear and taa=false (--compare domain), taaOwnSurface=false, =true and
-taa=false (--compare ownSurface), taaHistoryRejection off and on (--compare rejection), or both (--compare combined), on the renderer's
+taa=false (--compare ownSurface), taaHistoryRejection off and on (--compare rejection), or both (--compare combined), taaSubpixelAlpha 0, 1, 2
+and 4 (--compare subpixel), on the renderer's
 scenes and the committed Blender fixture with a reference; prints the Markdown tables of
 docs/methods/taa.md.
 
@@ -34,6 +35,9 @@ COMPARISONS = {
     "combined": [("neither", ":taaOwnSurface=false:taaHistoryRejection=false"), ("rejection", ":taaOwnSurface=false:taaHistoryRejection=true"),
                  ("ownSurface", ":taaOwnSurface=true:taaHistoryRejection=false"), ("both", ":taaOwnSurface=true:taaHistoryRejection=true"),
                  ("no TAA", ":taa=false")],
+    # taaSubpixelAlpha: constant alpha against its rise with the history fetch's subpixel offset (docs/methods/taa.md).
+    "subpixel": [("0", ":taaSubpixelAlpha=0"), ("1", ":taaSubpixelAlpha=1"), ("2", ":taaSubpixelAlpha=2"),
+                 ("4", ":taaSubpixelAlpha=4")],
     # rtdenoise before issue 12 (linear domain, plain box, no rejection, bilinear history; with --before-build the
     # build of that time), the defaults of the morning of 2026-12-03 (bilinear history, rejection on), the defaults
     # (Catmull-Rom history, rejection off), no TAA.
@@ -113,6 +117,7 @@ def main():
                     help="filter: taaHistoryFilter bilinear / catmullRom / no TAA; domain: taaDomain display / linear / no TAA; "
                     "ownSurface: taaOwnSurface off / on / no TAA; rejection: taaHistoryRejection off / on; "
                     "combined: neither / rejection / ownSurface / both / no TAA; "
+                    "subpixel: taaSubpixelAlpha 0 / 1 / 2 / 4; "
                     "history: before issue 12 / the defaults of 2026-12-03 morning / defaults / no TAA")
     a = ap.parse_args()
     TAA = COMPARISONS[a.compare]

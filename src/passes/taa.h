@@ -18,12 +18,13 @@ namespace rtd {
 /// What the TAA kernel computes (rtd::TaaSettings, decoded once per frame).
 struct TaaParams {
   float alpha;        ///< weight of the current frame
+  float subpixelAlpha;  ///< its rise with the history fetch's subpixel offset (taaPixelAlpha)
   bool display;       ///< clamp and blend taaEncode()d values; the history holds them too
   float crossWeight;  ///< bounds = box + crossWeight * (cross - box): 0 box3x3, 0.5 boxCross (BMFR)
   bool catmullRom;    ///< history fetch: 4x4 Catmull-Rom instead of bilinear (TaaHistoryFilter)
   bool rejection;     ///< no history where the record's kind is None (TaaSettings::taaHistoryRejection)
   static TaaParams of(const TaaSettings& s) {
-    return {s.taaAlpha, s.taaDomain == TaaDomain::display, s.taaNeighbourhood == TaaNeighbourhood::boxCross ? 0.5f : 0.0f,
+    return {s.taaAlpha, s.taaSubpixelAlpha, s.taaDomain == TaaDomain::display, s.taaNeighbourhood == TaaNeighbourhood::boxCross ? 0.5f : 0.0f,
             s.taaHistoryFilter == TaaHistoryFilter::catmullRom, s.taaHistoryRejection};
   }
 };
@@ -61,13 +62,13 @@ class Taa {
   /// Per-thread rows: the 3x3 box is built from a rolling window of three rows' YCoCg and
   /// their horizontal min/max, so it never goes through memory (the pass is bandwidth-bound).
   struct Window {
-    std::vector<float> rows;  // 3 slots x {Y, Co, Cg, min Y, min Co, min Cg, max Y, max Co, max Cg} + 3 history rows
+    std::vector<float> rows;  // 3 slots x {Y, Co, Cg, min Y, min Co, min Cg, max Y, max Co, max Cg} + 3 history rows + own-surface flags + blend weights
     int slotRow[3] = {-1, -1, -1};
   };
   Plane3 history_[2];  // in the frame's domain (display-encoded or linear)
   Plane3 linear_;      // display domain: the decoded output
   int cur_ = 0;
-  TaaParams params_{0.1f, false, 0.0f, false, false};
+  TaaParams params_{0.1f, 0.0f, false, 0.0f, false, false};
   const uint32_t* keys_ = nullptr;  // this frame's surface keys (taaOwnSurface), or none
   bool display_ = false;  // the domain the history holds
   int width_ = 0;

@@ -177,7 +177,7 @@ bool catmullRomReady8(const Reprojection& rp, size_t i, const float* prevX, cons
 template <bool kDisplay>
 void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
           Plane3& next, Plane3& linearOut, float* window, int slotRow[3], const uint32_t* keys) {
-  const float alpha = p.alpha, cw = p.crossWeight;
+  const float subpixelAlpha = p.subpixelAlpha, cw = p.crossWeight;
   const int w = color[0].width, h = color[0].height;
   constexpr int kSlotRows = kTaaSlotRows;
   auto slot = [&](int y) {
@@ -288,6 +288,11 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       }
 #endif
     for (; x < w; ++x) fetch(x);
+    // The blend weight of each pixel (taaPixelAlpha), in a loop of its own: inside the blend
+    // loop below it kept GCC from vectorizing that loop on the sse2 path.
+    float* blendAlpha = window + size_t(3 * kSlotRows + 4) * w;
+#pragma GCC ivdep
+    for (int x = 0; x < w; ++x) blendAlpha[x] = taaPixelAlpha(p.alpha, subpixelAlpha, prevX[x] - 0.5f, prevY[x] - 0.5f);
     // Clamp to the 3x3 YCoCg box (moved towards the 5-tap cross's bounds by cw) and blend
     // (vectorized over the row).
     float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
@@ -303,6 +308,7 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
         const float lo = boxLo + cw * (crossLo - boxLo), hi = boxHi + cw * (crossHi - boxHi);
         hc[k] = fmin(fmax(hc[k], lo), hi);
       }
+      const float alpha = blendAlpha[x];
       const float by = alpha * c[x] + (1 - alpha) * hc[0];
       const float bco = alpha * c[w + x] + (1 - alpha) * hc[1];
       const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hc[2];
@@ -372,6 +378,7 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
           const float lo = boxLo[k] + cw * (crossLo[k] - boxLo[k]), hi = boxHi[k] + cw * (crossHi[k] - boxHi[k]);
           hc[k] = fmin(fmax(hc[k], lo), hi);
         }
+        const float alpha = blendAlpha[x];
         const float by = alpha * c[x] + (1 - alpha) * hc[0];
         const float bco = alpha * c[w + x] + (1 - alpha) * hc[1];
         const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hc[2];

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 #include <vector>
 #include <string>
 
@@ -24,6 +25,7 @@ TaaSettings settings(float alpha, TaaDomain domain = TaaDomain::linear,
                      TaaHistoryFilter filter = TaaHistoryFilter::bilinear) {
   TaaSettings s;
   s.taaAlpha = alpha;
+  s.taaSubpixelAlpha = 0.0f;  // Karis's constant alpha (its rise: Taa.SubpixelAlphaRaisesTheBlendWeightByTheFetchVariance)
   s.taaDomain = domain;
   s.taaNeighbourhood = shape;
   s.taaHistoryFilter = filter;
@@ -216,6 +218,77 @@ TEST(Taa, HistoryInsideTheBoxIsBlendedWithAlpha) {
     for (int x = 0; x < kW; ++x)
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(out[c](x, y), alpha * checker[c](x, y) + (1 - alpha) * 0.5f, 1e-6f) << x << "," << y;
+}
+
+// taaSubpixelAlpha: the same grey history inside the checkerboard's box, fetched at subpixel
+// offsets (dx, dy): the weight of the current frame is min(1, alpha + k (fx (1 - fx) + fy (1 - fy)))
+// with fx, fy the offsets' fractional parts (computed here in double), alpha itself at whole-pixel
+// offsets. Pixels whose fetch lies off the frame keep the current colour. Both history filters
+// (a constant history is exact under either), the plain and the keyed box (two key regions, each
+// wide enough to hold both checker greys), every CPU path.
+TEST(Taa, SubpixelAlphaRaisesTheBlendWeightByTheFetchVariance) {
+  const Plane3 grey = image([](int, int, int) { return 0.5f; });
+  const Plane3 checker = image([](int x, int y, int) { return (x + y) % 2 ? 0.6f : 0.4f; });
+  PixelVector<uint32_t> keys(size_t(kW) * kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) keys[size_t(y) * kW + x] = x < kW / 2 ? 3u : 5u;
+  const double alpha = 0.1;
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
+    for (TaaHistoryFilter filter : kFilters)
+      for (bool keyed : {false, true})
+        for (float k : {0.0f, 1.0f, 3.0f})
+          for (const auto& [dx, dy] : {std::pair{0.0f, 0.0f}, {0.25f, 0.0f}, {0.5f, 0.0f}, {1.0f, 0.0f}, {0.25f, 0.5f},
+                                       {0.5f, 0.5f}, {1.25f, 0.75f}}) {
+            TaaSettings s = settings(float(alpha), TaaDomain::linear, TaaNeighbourhood::box3x3, filter);
+            s.taaSubpixelAlpha = k;
+            s.taaOwnSurface = keyed;
+            Taa taa;
+            taa.run(shifted(0.0f), grey, s, keyed ? &keys : nullptr);
+            const Plane3& out = taa.run(test::shiftedReprojection(kW, kH, dx, dy), checker, s, keyed ? &keys : nullptr);
+            auto variance = [](double d) { const double f = d - std::floor(d); return f * (1 - f); };
+            const double a = std::min(1.0, alpha + k * (variance(dx) + variance(dy)));
+            for (int y = 0; y < kH; ++y)
+              for (int x = 0; x < kW; ++x) {
+                const bool inside = x + dx < kW && y + dy < kH;
+                for (int c = 0; c < 3; ++c) {
+                  const double cur = checker[c](x, y);
+                  const double want = inside ? a * cur + (1 - a) * 0.5 : cur;
+                  ASSERT_NEAR(out[c](x, y), want, 2e-6)
+                      << cpuPathName(path) << " " << name(filter) << (keyed ? " keyed" : "") << " k " << k << " offset (" << dx
+                      << ", " << dy << ") at " << x << "," << y;
+                }
+              }
+          }
+  }
+}
+
+// The raised weight stays a weight wherever the reprojection puts the history: pixels whose
+// fetch lies off the frame (the reprojection's kOffFrame, 1e10, infinity, NaN) keep the current
+// colour with taaSubpixelAlpha 8 as with 0, on every CPU path.
+TEST(Taa, SubpixelAlphaKeepsTheCurrentColourWhereThereIsNoHistory) {
+  const Plane3 cur = image([](int x, int, int c) { return 0.1f * c + 0.01f * x; });
+  const float far[] = {Reprojection::kOffFrame, 1e10f, -1e10f, 3e38f, INFINITY, -INFINITY, NAN};
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
+    for (TaaHistoryFilter filter : kFilters)
+      for (TaaDomain d : {TaaDomain::linear, TaaDomain::display}) {
+        TaaSettings s = settings(0.1f, d, TaaNeighbourhood::box3x3, filter);
+        s.taaSubpixelAlpha = 8.0f;
+        Taa taa;
+        taa.run(shifted(0.0f), image([](int, int, int) { return 0.9f; }), s);
+        Reprojection rp = shifted(0.0f);
+        for (int y = 0; y < kH; ++y)
+          for (int x = 0; x < kW; ++x) {
+            rp.prevX(x, y) = far[size_t(x + y) % std::size(far)];
+            rp.prevY(x, y) = far[size_t(x + 2 * y) % std::size(far)] * (x % 2 ? 1.0f : 0.0f) + y + 0.5f;
+          }
+        const Plane3& out = taa.run(rp, cur, s);
+        for (int c = 0; c < 3; ++c)
+          for (size_t i = 0; i < out[c].size(); ++i)
+            ASSERT_NEAR(out[c].data[i], cur[c].data[i], 1e-6f) << cpuPathName(path) << " " << name(filter) << " pixel " << i;
+      }
+  }
 }
 
 // The same in the display domain: the blend runs on encoded values, e = sqrt(x / (1 + x)),

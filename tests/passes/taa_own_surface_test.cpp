@@ -28,6 +28,7 @@ template <class F> Plane3 ownSurfaceImage(F f) { return test::imageOf(kOwnSurfac
 TaaSettings ownSurfaceSettings(bool own, TaaDomain d, TaaNeighbourhood shape = TaaNeighbourhood::box3x3) {
   TaaSettings s;
   s.taaAlpha = 0.1f;
+  s.taaSubpixelAlpha = 0.0f;  // constant alpha: the subpixel motions here would otherwise take most history out
   s.taaDomain = d;
   s.taaNeighbourhood = shape;
   s.taaOwnSurface = own;

@@ -259,6 +259,7 @@ TEST(VulkanPasses, TaaMatchesCpu) {
     TaaNeighbourhood shape;
     TaaHistoryFilter filter;
     bool rejection = false;
+    float subpixelAlpha = 0.0f;
   };
   for (const Config& config : {Config{TaaDomain::linear, TaaNeighbourhood::box3x3, TaaHistoryFilter::bilinear},
                                Config{TaaDomain::display, TaaNeighbourhood::box3x3, TaaHistoryFilter::bilinear},
@@ -267,12 +268,14 @@ TEST(VulkanPasses, TaaMatchesCpu) {
                                Config{TaaDomain::display, TaaNeighbourhood::box3x3, TaaHistoryFilter::catmullRom},
                                Config{TaaDomain::display, TaaNeighbourhood::boxCross, TaaHistoryFilter::catmullRom},
                                Config{TaaDomain::display, TaaNeighbourhood::box3x3, TaaHistoryFilter::bilinear, true},
-                               Config{TaaDomain::linear, TaaNeighbourhood::boxCross, TaaHistoryFilter::catmullRom, true}}) {
+                               Config{TaaDomain::linear, TaaNeighbourhood::boxCross, TaaHistoryFilter::catmullRom, true},
+                               Config{TaaDomain::display, TaaNeighbourhood::box3x3, TaaHistoryFilter::catmullRom, false, 2.0f}}) {
     TaaSettings s;
     s.taaDomain = config.domain;
     s.taaNeighbourhood = config.shape;
     s.taaHistoryFilter = config.filter;
     s.taaHistoryRejection = config.rejection;
+    s.taaSubpixelAlpha = config.subpixelAlpha;
     // With rejection, a depth test tight enough that the synthetic scene's motion fails it at
     // some pixels (it has no disocclusion of its own), without the 3x3 fallback.
     ReprojectionSettings rs;
@@ -284,9 +287,12 @@ TEST(VulkanPasses, TaaMatchesCpu) {
     const std::string name = std::string(config.domain == TaaDomain::linear ? "linear" : "display") +
                              (config.shape == TaaNeighbourhood::box3x3 ? " box3x3" : " boxCross") +
                              (config.filter == TaaHistoryFilter::bilinear ? " bilinear" : " catmullRom") +
-                             (config.rejection ? " rejection" : "");
-    Taa cpu;
+                             (config.rejection ? " rejection" : "") +
+                             (config.subpixelAlpha > 0 ? " subpixelAlpha " + std::to_string(config.subpixelAlpha) : "");
+    Taa cpu, constantAlpha;  // constantAlpha: the config with taaSubpixelAlpha 0, to show the option acts
     cpu.resize(kWidth, kHeight);
+    TaaSettings constantS = s;
+    constantS.taaSubpixelAlpha = 0.0f;
     vk::GpuTaa gpu;
     gpu.resize(ctx, kWidth, kHeight);
     vk::Planes rp, color;
@@ -299,6 +305,14 @@ TEST(VulkanPasses, TaaMatchesCpu) {
       reproject(f, k ? &prevCpu : nullptr, rs, r);
       Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
       const Plane3& cpuOut = cpu.run(r, c, s);
+      if (config.subpixelAlpha > 0) {
+        const Plane3& plain = constantAlpha.run(r, c, constantS);
+        double moved = 0;
+        for (int p = 0; p < 3; ++p)
+          for (size_t i = 0; i < plain[p].data.size(); ++i)
+            moved = std::max(moved, double(std::abs(plain[p].data[i] - cpuOut[p].data[i])));
+        if (k > 0) { EXPECT_GT(moved, 1e-3) << "taaSubpixelAlpha changed nothing on frame " << k << " (" << name << ")"; }
+      }
 
       vk::GpuFrame g;
       toGpu(ctx, f, g);

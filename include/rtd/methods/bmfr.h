@@ -82,6 +82,10 @@ struct BmfrSettings {
     s.taa = true;
     s.taaAlpha = 0.2f;
     s.taaNeighbourhood = TaaNeighbourhood::boxCross;  // the BMFR code's bounds
+    // Constant alpha: BMFR's output keeps per-block noise that its TAA hides; a weight that
+    // rises with the subpixel offset shows it (Blender glossy fixture: -0.4 dB, temporal error
+    // 0.040 -> 0.072 at 2; docs/methods/taa.md, "Subpixel alpha").
+    s.taaSubpixelAlpha = 0.0f;
     return s;
   }
 

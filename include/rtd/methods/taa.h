@@ -33,6 +33,14 @@ struct TaaSettings {
   bool taa = true;
   /// Weight of the current frame in the TAA blend (Karis 2014: ~0.1; BMFR code: 0.2).
   float taaAlpha = 0.1f;
+  /// Rise of the current frame's weight with the history fetch's subpixel offset: at a pixel
+  /// whose history is fetched at fractional offsets (fx, fy) from a texel centre the blend
+  /// weight is min(1, taaAlpha + taaSubpixelAlpha (fx (1 - fx) + fy (1 - fy))). fx (1 - fx) is
+  /// the variance (in px^2) of the bilinear tap weights, the blur each resampling adds to the
+  /// history; frames without jitter give TAA nothing to resolve, so under sub-pixel motion that
+  /// blur compounds over the ~1/taaAlpha frames the history holds (docs/methods/taa.md, "Subpixel
+  /// alpha"). 0: Karis's constant alpha. A still camera and whole-pixel motion keep taaAlpha.
+  float taaSubpixelAlpha = 2.0f;
   TaaDomain taaDomain = TaaDomain::display;
   TaaNeighbourhood taaNeighbourhood = TaaNeighbourhood::box3x3;
   TaaHistoryFilter taaHistoryFilter = TaaHistoryFilter::catmullRom;
@@ -66,6 +74,10 @@ struct TaaSettings {
   template <class V> void visit(V& v) {
     v("taa", taa, "final TAA with YCoCg 3x3 neighbourhood clamping (Karis 2014)");
     v("taaAlpha", taaAlpha, "weight of the current frame in the TAA blend (Karis 2014: 0.1, BMFR: 0.2)", Range{0.001, 1});
+    v("taaSubpixelAlpha", taaSubpixelAlpha,
+      "rise of the blend weight with the history fetch's subpixel offset: alpha + k (fx(1-fx) + fy(1-fy)), at most 1; "
+      "0 = constant alpha",
+      Range{0, 8});
     v("taaDomain", taaDomain,
       "values TAA clamps and blends: display = Reinhard x/(1+x) + gamma 2 per channel, inverted after (Dundr, Voorhuis, BMFR "
       "code); linear = HDR radiance",

@@ -266,8 +266,9 @@ const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, 
     uint32_t valid, display;
     float crossWeight;
     uint32_t catmullRom, keyed, rejection;
+    float subpixelAlpha;
   } pc{uint32_t(color.width), uint32_t(color.height), p.alpha, valid, p.display, p.crossWeight, p.catmullRom,
-       s.taaOwnSurface && keys, p.rejection};
+       s.taaOwnSurface && keys, p.rejection, p.subpixelAlpha};
   rec.dispatch("taa",
                {rp, color, history_[prev], history_[cur_], linear_,
                 pc.keyed ? Binding(*keys) : Binding(rec.context().dummy())},

@@ -26,6 +26,7 @@ layout(push_constant) uniform PC {
   uint catmullRom;  // 1: 4x4 Catmull-Rom history fetch (TaaHistoryFilter)
   uint keyed;       // 1: the box over the pixel's own surface (TaaSettings::taaOwnSurface)
   uint rejection;   // 1: no history where the record accepted no tap (taaHistoryRejection)
+  float subpixelAlpha;  // taaSubpixelAlpha
 } pc;
 
 vec3 toYCoCg(vec3 c) {
@@ -182,7 +183,10 @@ void main() {
       h += wt * vec3(hist[j], hist[plane + j], hist[2u * plane + j]);
     }
     vec3 hy = clamp(toYCoCg(h), bLo, bHi);
-    precise vec3 blended = pc.alpha * cur + (1.0 - pc.alpha) * hy;
+    // taaPixelAlpha (passes/taa_kernels.h): alpha rises with the fetch's subpixel offset.
+    precise float fx = px - floor(px), fy = py - floor(py);
+    precise float alpha = min(1.0, pc.alpha + pc.subpixelAlpha * (fx * (1.0 - fx) + fy * (1.0 - fy)));
+    precise vec3 blended = alpha * cur + (1.0 - alpha) * hy;
     result = fromYCoCg(blended);
   }
   result = max(result, vec3(0.0));
