@@ -18,7 +18,7 @@ namespace rtd {
 /// What the TAA kernel computes (rtd::TaaSettings, decoded once per frame).
 struct TaaParams {
   float alpha;        ///< weight of the current frame
-  float subpixelAlpha;  ///< its rise with the history fetch's subpixel offset (taaPixelAlpha)
+  float subpixelAlpha;  ///< its rise with the history fetch's subpixel offset (blendWeights in taa_simd.cpp)
   bool display;       ///< clamp and blend taaEncode()d values; the history holds them too
   float crossWeight;  ///< bounds = box + crossWeight * (cross - box): 0 box3x3, 0.5 boxCross (BMFR)
   bool catmullRom;    ///< history fetch: 4x4 Catmull-Rom instead of bilinear (TaaHistoryFilter)

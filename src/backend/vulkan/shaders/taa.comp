@@ -183,7 +183,7 @@ void main() {
       h += wt * vec3(hist[j], hist[plane + j], hist[2u * plane + j]);
     }
     vec3 hy = clamp(toYCoCg(h), bLo, bHi);
-    // taaPixelAlpha (passes/taa_kernels.h): alpha rises with the fetch's subpixel offset.
+    // blendWeights (taa_simd.cpp): alpha rises with the fetch's subpixel offset.
     precise float fx = px - floor(px), fy = py - floor(py);
     precise float alpha = min(1.0, pc.alpha + pc.subpixelAlpha * (fx * (1.0 - fx) + fy * (1.0 - fy)));
     precise vec3 blended = alpha * cur + (1.0 - alpha) * hy;
