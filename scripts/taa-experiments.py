@@ -2,10 +2,10 @@
 """The shared TAA pass's history filter and domain (issue 12): quality of every method that runs
 TAA with taaHistoryFilter=bilinear, =catmullRom and with taa=false (--compare filter), or with
 taaDomain=display, =linear and taa=false (--compare domain), taaOwnSurface=false, =true and
-taa=false (--compare ownSurface), taaHistoryRejection off and on (--compare rejection), or both (--compare combined), taaSubpixelAlpha 0, 1, 2
-and 4 (--compare subpixel), on the renderer's
-scenes and the committed Blender fixture with a reference; prints the Markdown tables of
-docs/methods/taa.md.
+taa=false (--compare ownSurface), taaHistoryRejection off and on (--compare rejection), or both
+(--compare combined), taaSubpixelAlpha 0, 1, 2 and 4 (--compare subpixel), or the defaults against
+rtdenoise before issue 12 (--compare history), on the renderer's scenes and the committed Blender
+fixtures with a reference; prints the Markdown tables of docs/methods/taa.md.
 
   scripts/taa-experiments.py [--build build/release] [--size 160x90] [--frames 16]
                              [--reference-spp 64] [--work /tmp/rtd-taa] [--scenes cornell,...]
@@ -39,8 +39,8 @@ COMPARISONS = {
     "subpixel": [("0", ":taaSubpixelAlpha=0"), ("1", ":taaSubpixelAlpha=1"), ("2", ":taaSubpixelAlpha=2"),
                  ("4", ":taaSubpixelAlpha=4")],
     # rtdenoise before issue 12 (linear domain, plain box, no rejection, bilinear history; with --before-build the
-    # build of that time), the defaults of the morning of 2026-12-03 (bilinear history, rejection on), the defaults
-    # (Catmull-Rom history, rejection off), no TAA.
+    # build of that time), the defaults of the morning of 2026-12-03 (bilinear history, rejection on; today's
+    # taaSubpixelAlpha), the defaults (Catmull-Rom history, rejection off, taaSubpixelAlpha 2; BMFR 0), no TAA.
     "history": [("before issue 12", ":taaDomain=linear:taaOwnSurface=false:taaHistoryRejection=false:taaHistoryFilter=bilinear"),
                 ("2026-12-03 morning", ":taaHistoryFilter=bilinear:taaHistoryRejection=true"), ("defaults", ""),
                 ("no TAA", ":taa=false")],

@@ -1,6 +1,6 @@
 // Voorhuis' diamond search (Algorithm 1), its subpixel refinement (Eqs. 2-3, and the quadratic
-// fit that is the default) and the distance
-// functions (Eqs. 1, 4, 5) on synthetic fields with known answers.
+// fit that is the default) and the distance functions (Eqs. 1, 4, 5) on synthetic fields with
+// known answers.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -239,7 +239,8 @@ TEST(SubpixelRefinement, QuadraticFitIsExactOnALinearRampWhereEqs23AreBiased) {
       const SearchResult r = diamondSearch(px, py, px + 0.5f, py + 0.5f, w, h, dist, opt);
       ASSERT_TRUE(r.found());
       const double e = std::hypot(r.matchX - 0.5 - tx, r.matchY - 0.5 - ty);
-      (fit == SubpixelFit::quadratic ? worstQuadratic : worstEq23) = std::max(fit == SubpixelFit::quadratic ? worstQuadratic : worstEq23, e);
+      double& worst = fit == SubpixelFit::quadratic ? worstQuadratic : worstEq23;
+      worst = std::max(worst, e);
     }
   }
   EXPECT_LT(worstQuadratic, 1e-3);
