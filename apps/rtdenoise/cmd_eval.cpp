@@ -54,7 +54,7 @@ nlohmann::json reflectionMotion(const EvalCommandOptions& o) {
   eval::ReflectionMotionSettings s;
   s.ldspScaling = !o.noLdspScaling;
   s.referenceOnRay = !o.lineReference;
-  s.quadraticSubpixel = !o.eq23Subpixel;
+  s.subpixelFit = o.eq23Subpixel ? SvgfSubpixelFit::inverseDistance : SvgfSubpixelFit::quadratic;
   auto input = SequenceReader::open(o.input);
   const auto frames = eval::reflectionMotionError(*input, s);
   nlohmann::json per = nlohmann::json::array();
@@ -75,7 +75,7 @@ nlohmann::json reflectionMotion(const EvalCommandOptions& o) {
               "%.2f%% missed\n",
               s.ldspScaling ? "with" : "without", s.referenceOnRay ? "ray" : "line", n, n ? err / n : NAN, n ? 100.0 * within / n : NAN,
               pixels ? 100.0 * double(missed) / double(pixels) : NAN);
-  return {{"ldspScaling", s.ldspScaling}, {"subpixelFit", s.quadraticSubpixel ? "quadratic" : "inverseDistance"},
+  return {{"ldspScaling", s.ldspScaling}, {"subpixelFit", s.subpixelFit == SvgfSubpixelFit::quadratic ? "quadratic" : "inverseDistance"},
           {"bruteForceWindow", 2 * s.bruteForceRadius},
           {"reference", s.referenceOnRay ? "ray" : "line"}, {"frames", per},
           {"meanError", n ? err / n : NAN}, {"withinOnePixel", n ? within / n : NAN},

@@ -23,7 +23,7 @@ std::vector<ReflectionMotionFrame> reflectionMotionError(const SequenceReader& s
   opt.scaleLdsp = s.ldspScaling;
   opt.maxIterations = s.searchIterations;
   opt.subpixel = s.subpixel;
-  opt.fit = s.quadraticSubpixel ? SubpixelFit::quadratic : SubpixelFit::inverseDistance;
+  opt.fit = s.subpixelFit == SvgfSubpixelFit::quadratic ? SubpixelFit::quadratic : SubpixelFit::inverseDistance;
   std::vector<ReflectionMotionFrame> out;
   FrameData prev, cur;
   PixelVector<uint8_t> prevCls, cls;

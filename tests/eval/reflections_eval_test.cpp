@@ -73,7 +73,7 @@ TEST(ReflectionEval, MirrorFloorMotionMatchesBruteForce) {
   // Both searches refined by Eqs. 2-3 instead of the quadratic fit (`--eq23-subpixel`): the same
   // pixels, as good a match, other subpixel positions.
   ReflectionMotionSettings eq23;
-  eq23.quadraticSubpixel = false;
+  eq23.subpixelFit = SvgfSubpixelFit::inverseDistance;
   const auto other = reflectionMotionError(*seq, eq23);
   ASSERT_EQ(other.size(), frames.size());
   bool differs = false;
@@ -82,7 +82,7 @@ TEST(ReflectionEval, MirrorFloorMotionMatchesBruteForce) {
     EXPECT_GT(other[i].withinOnePixel, 0.9);
     differs = differs || other[i].meanError != frames[i].meanError;
   }
-  EXPECT_TRUE(differs) << "quadraticSubpixel has no effect";
+  EXPECT_TRUE(differs) << "subpixelFit has no effect";
   std::filesystem::remove_all(dir);
 }
 #endif

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rtd/image.h"
+#include "rtd/methods/svgf.h"
 #include "rtd/sequence.h"
 
 namespace rtd::eval {
@@ -15,8 +16,8 @@ struct ReflectionMotionSettings {
   bool ldspScaling = true;      ///< Algorithm 1's 4-2-1 scaled LDSP (Voorhuis); off: plain LDSP
   int searchIterations = 64;    ///< as SvgfSettings::searchIterations
   bool subpixel = true;         ///< subpixel refinement, for both searches
-  /// The refinement: the quadratic fit (SvgfSettings::subpixelFit's default) or, false, Eqs. 2-3.
-  bool quadraticSubpixel = true;
+  /// The refinement, for both searches: as SvgfSettings::subpixelFit.
+  SvgfSubpixelFit subpixelFit = SvgfSubpixelFit::quadratic;
   int bruteForceRadius = 100;   ///< the reference's window: (2 radius)^2 = the paper's 200 x 200
   /// The reference's glossy distance: to r_far's half-line (the text's "ray", the default: over
   /// the window the whole line also matches points behind the far surface, which no reflection
