@@ -29,9 +29,10 @@ bool isRadianceBuffer(Buffer b);
 
 /// The buffers a method imports when the frame has them, on either backend: its required and
 /// extra ones plus what the shared passes read (demodulation, emission, and the reprojection
-/// guides whose tests these settings turn on: depth and object ids only where tested).
+/// guides whose tests these settings turn on: depth and object ids only where tested, world
+/// positions where tested or where the frame has no motion vectors to reproject by).
 std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const std::vector<Buffer>& extra,
-                                    const ReprojectionSettings& reprojection);
+                                    const ReprojectionSettings& reprojection, bool frameHasMotion);
 
 /// Copies the views of `in` into `out` (reusing its allocations): only the buffers in `used`
 /// (all of them if null), so a frame carrying many buffers costs only what the method reads.

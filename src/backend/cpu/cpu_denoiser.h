@@ -59,7 +59,7 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
     FrameStats stats;
     auto start = std::chrono::steady_clock::now();
     // Recomputed per frame: the lists may depend on the settings.
-    used_ = importedBuffers(this->requiredBuffers(), extraBuffers(), this->settings_.reprojection);
+    used_ = importedBuffers(this->requiredBuffers(), extraBuffers(), this->settings_.reprojection, frame.has(Buffer::Motion));
     // Everything is checked before history is touched (the Vulkan backend checks the same).
     checkInputViews(frame, this->requiredBuffers());
     checkOutputView(output, frame[Buffer::Color].width, frame[Buffer::Color].height);

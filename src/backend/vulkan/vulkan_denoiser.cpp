@@ -82,8 +82,8 @@ VulkanDenoiserBase::~VulkanDenoiserBase() {
   vkDestroyCommandPool(ctx_.device(), pool_, nullptr);
 }
 
-std::vector<Buffer> VulkanDenoiserBase::usedBuffers() const {
-  return importedBuffers(requiredBuffers(), extraBuffers(), reprojectionSettings());
+std::vector<Buffer> VulkanDenoiserBase::usedBuffers(bool frameHasMotion) const {
+  return importedBuffers(requiredBuffers(), extraBuffers(), reprojectionSettings(), frameHasMotion);
 }
 
 void VulkanDenoiserBase::prepare(int w, int h, bool cameraCut) {
@@ -377,7 +377,7 @@ VulkanDenoiserBase::HostFrame VulkanDenoiserBase::stageHost(const FrameInputs& i
   auto alignUp = [](size_t n, size_t a) { return (n + a - 1) / a * a; };
   std::vector<Buffer> used;
   size_t bytes = 0;
-  for (Buffer b : usedBuffers()) {
+  for (Buffer b : usedBuffers(in.has(Buffer::Motion))) {
     const ImageView& v = in[b];
     if (v.empty()) continue;
     used.push_back(b);
@@ -532,7 +532,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
   checkCamera(in.camera);
 
   const ConventionTransform conventions = conventionTransform(in.conventions, in.camera, w, h, in.has(Buffer::Normal));
-  const std::vector<Buffer> used = usedBuffers();
+  const std::vector<Buffer> used = usedBuffers(in.has(Buffer::Motion));
   std::vector<Import> imports;
   for (int i = 0; i < kBufferCount; ++i) {
     const Buffer b = Buffer(i);

@@ -53,7 +53,7 @@ class VulkanDenoiserBase : public Denoiser {
 
  protected:
   /// Buffers imported when the frame has them (importedBuffers(), as on the CPU).
-  std::vector<Buffer> usedBuffers() const;
+  std::vector<Buffer> usedBuffers(bool frameHasMotion) const;
   /// Buffers the method reads beyond its required ones and the shared passes'.
   virtual std::vector<Buffer> extraBuffers() const { return {}; }
   /// The method's reprojection settings (which guides the shared passes read).

@@ -36,7 +36,8 @@ class SvgfStereoCpu final : public StereoPair {
     if (!shared_) resetShared();
     shared_ = true;
     const auto start = Clock::now();
-    const std::vector<Buffer> used = importedBuffers(requiredBuffers(), svgf::extraBuffers(s), s.reprojection);
+    const std::vector<Buffer> used = importedBuffers(requiredBuffers(), svgf::extraBuffers(s), s.reprojection,
+                                                     in.eye[0].has(Buffer::Motion) && in.eye[1].has(Buffer::Motion));
     FrameStats stats[2];
     double eyeMs[2] = {0, 0};
     FrameStats pair;
