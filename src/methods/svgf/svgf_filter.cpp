@@ -74,6 +74,10 @@ FilterParams filterParams(const SvgfSettings& s, bool indirect) {
   return p;
 }
 
+bool usesSigmaScale(const FilterParams& p) {
+  return p.variance.shortHistory == SvgfShortHistory::disableLuminanceWeight || p.shortHistoryBandwidth;
+}
+
 void luminanceSigmaScale(const Plane& len, const FilterParams& p, PaddedPlane& out) {
   const int w = len.width;
   const bool off = p.variance.shortHistory == SvgfShortHistory::disableLuminanceWeight;
@@ -109,7 +113,9 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &input,
                       extras.objectId ? extras.objectId : p.surfaceKey};
     estimateVariance(guide, in, p.variance, levels_[0], scratch_);
-    luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);
+    // k(p) is 1 everywhere unless short histories change it: then no plane (every level reads
+    // one value less per pixel, and this pass writes none).
+    if (usesSigmaScale(p)) luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);
     if (mask) markValid(acc.historyLength(), valid_[0]);
     if (p.variancePrefilter == SvgfVariancePrefilter::once) {
       gaussian3x3(levels_[0].var, levels_[2].var);
@@ -135,7 +141,7 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     lv.luminanceEpsilon = p.luminanceEpsilon;
     lv.prefilterVariance = p.variancePrefilter == SvgfVariancePrefilter::everyLevel;
     lv.varianceScale = p.luminanceScale == SvgfLuminanceScale::variance;
-    lv.sigmaScale = &sigmaScale_;
+    lv.sigmaScale = usesSigmaScale(p) ? &sigmaScale_ : nullptr;
     // The last level's variance is not used any more.
     lv.propagateVariance = p.propagateVariance && i + 1 < n;
     lv.luminance = p.variance.luminance;

@@ -51,6 +51,8 @@ FilterParams filterParams(const SvgfSettings& s, bool indirect);
 /// Per-pixel multiplier of sigma_l from the history length: 0 where w_l is off (Dundr, n <
 /// shortHistoryFrames with disableLuminanceWeight), Voorhuis Eq. 8 where enabled, else 1.
 void luminanceSigmaScale(const Plane& historyLength, const FilterParams& p, PaddedPlane& out);
+/// Whether that multiplier can be other than 1 (else the levels run without its plane).
+bool usesSigmaScale(const FilterParams& p);
 
 /// What Gersthofer's pipeline (gersthofer.h) adds to a run; every pointer may be null.
 struct FilterExtras {
