@@ -103,6 +103,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       PassTimer t(stats, "reflections");  // Voorhuis: classes, diamond search, reflected features
       reflections_.prepare(frame, previous, s, parts, lobes, reprojection_);
     }
+    bool remodulated = false;
     for (int k = 0; k < nStreams; ++k) {
       Stream& st = streams_[k];
       const std::string suffix = nStreams > 1 ? std::string(".") + st.plan.name : std::string();
@@ -128,8 +129,11 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
         addStream([&](int c, int y) { return lobeMedian_[c].row(y); }, k == 0, in.albedo, albedo);
         continue;
       }
-      PassTimer t(stats, "sum" + suffix);
-      addStream([&](int c, int y) { return result.color[c].row(y); }, k == 0, in.albedo, albedo);
+      // One stream in the albedo of the frame and nothing between the sum and the remodulation
+      // (no median): both in one pass over the planes.
+      remodulated = nStreams == 1 && !s.fireflyMedian && in.albedo == albedo && albedo;
+      PassTimer t(stats, (remodulated ? "sum+remodulate" : "sum") + suffix);
+      addStream([&](int c, int y) { return result.color[c].row(y); }, k == 0, in.albedo, albedo, remodulated);
     }
     stats.notes = std::move(parts.notes);
     Plane3* shown = &sum_;
@@ -138,7 +142,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       svgf::median3x3(sum_, frame.has(Buffer::Roughness) ? &frame.plane(Buffer::Roughness) : nullptr, display_);
       shown = &display_;
     }
-    {
+    if (!remodulated) {
       PassTimer t(stats, "remodulate");
       remodulate(*shown, albedo);
     }
@@ -224,9 +228,12 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   // sum_ (+)= this stream's filtered illumination, remodulated by the stream's own colour
   // `streamAlbedo` (null: not demodulated) and divided by `albedo`, so that the shared
   // remodulation by `albedo` restores it exactly.
-  // `rows(c, y)`: row y of channel c of the stream's filtered illumination.
+  // `rows(c, y)`: row y of channel c of the stream's filtered illumination. `remodulate`: the
+  // only stream, in `albedo` (streamAlbedo == albedo): sum_ = illumination * albedo' at once
+  // (remodulateRow's product).
   template <class Rows>
-  void addStream(Rows&& rows, bool first, const std::vector<Plane>* streamAlbedo, const std::vector<Plane>* albedo) {
+  void addStream(Rows&& rows, bool first, const std::vector<Plane>* streamAlbedo, const std::vector<Plane>* albedo,
+                 bool remodulate = false) {
     const int w = sum_[0].width;
     const bool same = streamAlbedo == albedo;  // the common case: nothing to convert
     const std::vector<Plane>* times = same ? nullptr : streamAlbedo;
@@ -237,6 +244,11 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
         float* o = sum_[c].row(y);
         const float* m = times ? (*times)[c].row(y) : nullptr;
         const float* a = divide ? (*divide)[c].row(y) : nullptr;
+        if (remodulate) {
+          const float* r = (*albedo)[c].row(y);
+          for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(r[x]);
+          continue;
+        }
         if (!m && !a) {  // the common case, as loops that vectorize
           if (first) std::copy(in, in + w, o);
           else for (int x = 0; x < w; ++x) o[x] += in[x];
