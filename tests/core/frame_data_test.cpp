@@ -190,3 +190,28 @@ TEST(FrameExport, InterleavesEveryOutputLayout) {
 
 }  // namespace
 }  // namespace rtd
+
+namespace rtd {
+namespace {
+
+// World positions cost 12 bytes a pixel to import: they are imported for the reprojection's
+// position test and where the frame has no motion vectors (the previous camera projects them
+// instead), not otherwise; the method's own lists still bring them in.
+TEST(FrameImport, WorldPositionsOnlyWhereTheReprojectionUsesThem) {
+  auto has = [](const std::vector<Buffer>& list, Buffer b) { return std::find(list.begin(), list.end(), b) != list.end(); };
+  const std::vector<Buffer> required = {Buffer::Color};
+  ReprojectionSettings plain;
+  EXPECT_FALSE(has(importedBuffers(required, {}, plain, true), Buffer::Position));
+  EXPECT_TRUE(has(importedBuffers(required, {}, plain, false), Buffer::Position));
+  EXPECT_TRUE(has(importedBuffers(required, {Buffer::Position}, plain, true), Buffer::Position));
+  ReprojectionSettings tested;
+  tested.positionFootprints = 4.0f;
+  EXPECT_TRUE(has(importedBuffers(required, {}, tested, true), Buffer::Position));
+  tested.positionFootprints = 0.0f;
+  tested.positionTolerance = 0.04f;
+  EXPECT_TRUE(has(importedBuffers(required, {}, tested, true), Buffer::Position));
+  EXPECT_TRUE(has(importedBuffers(required, {}, plain, true), Buffer::Motion));
+}
+
+}  // namespace
+}  // namespace rtd

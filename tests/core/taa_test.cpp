@@ -92,6 +92,35 @@ TEST(Taa, DisplayDomainIsAFixedPointOnEveryCpuPath) {
   }
 }
 
+// The vector encode (sqrt(q) as q times its reciprocal square root) at 0, where the estimate is
+// infinite, on every CPU path: a black image stays exactly black (its history is its own
+// encoding, 0, not NaN); beside pixels of the smallest stored magnitude (kTiny, core/flush.h)
+// and of the radiance bound, black pixels stay black to the YCoCg clamp's rounding in the
+// encoded domain (a few 2^-24 where neighbours encode near 1: 2^-46 decoded), and every value
+// is finite and normal.
+TEST(Taa, DisplayDomainKeepsBlackAndExtremePixelsOnEveryCpuPath) {
+  const float values[] = {0.0f, 0x1p-60f, 1e-30f, 0.5f, 1e30f};
+  const Plane3 mixed = image([&](int x, int y, int c) { return values[(x + 2 * y + c) % 5]; });
+  const Plane3 black = image([](int, int, int) { return 0.0f; });
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
+    for (const Plane3* in : {&black, &mixed}) {
+      Taa taa;
+      Plane3 out;
+      for (int f = 0; f < 3; ++f) out = taa.run(shifted(0.0f), *in, settings(0.1f, TaaDomain::display));
+      for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < out[c].size(); ++i) {
+          const float v = out[c].data[i], x = (*in)[c].data[i];
+          ASSERT_TRUE(std::isfinite(v)) << cpuPathName(path) << " " << i;
+          EXPECT_NE(std::fpclassify(v), FP_SUBNORMAL) << cpuPathName(path) << " " << i;
+          if (in == &black) EXPECT_EQ(v, 0.0f) << cpuPathName(path) << " " << i;
+          if (x == 0.0f) EXPECT_LE(v, 0x1p-46f) << cpuPathName(path) << " " << i;
+          if (x == 0.5f) EXPECT_NEAR(v, 0.5f, 1e-6f) << cpuPathName(path) << " " << i;
+        }
+    }
+  }
+}
+
 // The transfer pair round-trips on LDR and HDR values, maps [0, inf) into [0, 1), and gives
 // NaN and negative values 0.
 TEST(Taa, DisplayEncodingRoundTrips) {
