@@ -72,7 +72,7 @@ TEST(FrameImport, DeinterleavesAndSanitizesEveryPackedLayout) {
       {Buffer::Normal, 4},
   };
   for (const Layout& layout : layouts)
-    for (int w : {1, 7, 8, 29}) {
+    for (int w : {1, 7, 8, 29, 45}) {  // the 16-, 8-pixel and scalar loops and their seams
       const int h = 3, channels = bufferChannelCount(layout.buffer), n = layout.floatsPerPixel;
       std::vector<float> data(size_t(w) * h * n);
       for (float& v : data) v = drawValue(rng);
