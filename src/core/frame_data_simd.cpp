@@ -255,9 +255,59 @@ inline void interleave8(const __m256 c[4], int stride, __m256 out[4]) {
 #endif
 }  // namespace
 
+#ifdef RTD_SIMD_AVX512
+namespace {
+// Permutation indices for interleave16: float k of output vector kPart is channel at % kStride
+// of pixel at / kStride, at = 16 kPart + k. kStep 0: from r || g (red's lane j as j, green's as
+// 16 + j; 0 for the others); kStep 1: blue's lane j as 16 + j, else lane k of the first result.
+template <int kStride, int kPart, int kStep> inline __m512i interleaveIndex() {
+  alignas(64) int32_t i[16];
+  for (int k = 0; k < 16; ++k) {
+    const int at = 16 * kPart + k, pixel = at / kStride, channel = at % kStride;
+    if (kStep == 0) i[k] = channel == 0 ? pixel : channel == 1 ? 16 + pixel : 0;
+    else i[k] = channel == 2 ? 16 + pixel : k;
+  }
+  return _mm512_load_si512(i);
+}
+// Output vector kPart of 16 pixels of kStride (3, or 4 with alpha 1) floats from channels r, g, b.
+template <int kStride, int kPart> inline vf interleave16(vf r, vf g, vf b) {
+  const vf rg = _mm512_permutex2var_ps(r, interleaveIndex<kStride, kPart, 0>(), g);
+  const vf rgb = _mm512_permutex2var_ps(rg, interleaveIndex<kStride, kPart, 1>(), b);
+  if constexpr (kStride == 3) return rgb;
+  else return _mm512_mask_mov_ps(rgb, 0x8888, splat(1.0f));  // every fourth float: alpha
+}
+// exportRow's 16-pixel loop (packed Float3 or Float4); returns the next x.
+template <int kStride> int exportRow16(const float* const c[3], const float* const* e, float* row, int w, bool stream) {
+  stream = stream && reinterpret_cast<uintptr_t>(row) % 64 == 0;
+  int x = 0;
+  for (; x + 16 <= w; x += 16) {
+    vf v[3];
+    for (int k = 0; k < 3; ++k) v[k] = e ? load(c[k] + x) + load(e[k] + x) : load(c[k] + x);
+    vf o[4];
+    o[0] = interleave16<kStride, 0>(v[0], v[1], v[2]);
+    o[1] = interleave16<kStride, 1>(v[0], v[1], v[2]);
+    o[2] = interleave16<kStride, 2>(v[0], v[1], v[2]);
+    if constexpr (kStride == 4) o[3] = interleave16<kStride, 3>(v[0], v[1], v[2]);
+    for (int k = 0; k < kStride; ++k) {
+      float* dst = row + size_t(x) * kStride + 16 * k;
+      if (stream) _mm512_stream_ps(dst, o[k]);
+      else store(dst, o[k]);
+    }
+  }
+  if (stream) _mm_sfence();
+  return x;
+}
+}  // namespace
+#endif
+
 void exportRow(const float* const c[3], const float* const* e, const ImageView& out, int y, bool packed, bool stream) {
   const bool alpha = out.format == Format::Float4;
   int x = 0;
+#ifdef RTD_SIMD_AVX512
+  // Sixteen pixels at a time (the 8-lane loop below takes the rest of the row).
+  if (packed) x = alpha ? exportRow16<4>(c, e, out.pixel<float>(0, y), out.width, stream)
+                        : exportRow16<3>(c, e, out.pixel<float>(0, y), out.width, stream);
+#endif
 #ifdef RTD_SIMD_AVX2
   if (packed) {
     const int stride = alpha ? 4 : 3;
