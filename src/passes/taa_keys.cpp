@@ -18,6 +18,12 @@ bool taaSurfaceKeys(const FrameData& f, const EmitterSettings* emitters, const P
   const std::vector<Plane>* e = emission ? &f.planes(Buffer::Emission) : nullptr;
   const std::vector<Plane>* a = emission && !emitters->excludeEmitters ? &f.planes(Buffer::Albedo) : nullptr;
   parallelRows(h, [&](int y) {
+    if (!e && !cls) {  // object ids alone (the common case), in a loop that vectorizes
+      const float* row = id + size_t(y) * w;
+      uint32_t* o = out.data() + size_t(y) * w;
+      for (int x = 0; x < w; ++x) o[x] = surfaceKey(row[x], 0) & ~kTaaEmitterKey;
+      return;
+    }
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       uint32_t key = surfaceKey(id ? id[i] : 0.0f, cls ? (*cls)[i] : uint8_t(0)) & ~kTaaEmitterKey;
