@@ -176,6 +176,20 @@ inline vf vgather(const float* base, vi index) {
   return v;
 #endif
 }
+/// Whether any lane of a comparison's result is true.
+inline bool anyTrue(vi mask) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_movepi32_mask((__m512i)mask) != 0;
+#elif defined(RTD_SIMD_AVX2)
+  return _mm256_movemask_ps((__m256)asFloat(mask)) != 0;
+#elif defined(RTD_SIMD_X86)
+  return _mm_movemask_ps((__m128)asFloat(mask)) != 0;
+#else
+  for (int k = 0; k < kLanes; ++k)
+    if (mask[k]) return true;
+  return false;
+#endif
+}
 /// Whether every lane of a comparison's result is true.
 inline bool allTrue(vi mask) {
 #if defined(RTD_SIMD_AVX512)

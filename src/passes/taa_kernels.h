@@ -19,8 +19,8 @@ constexpr float kTaaNegligibleTap = 1.0f / 256.0f;
 }  // namespace rtd
 
 RTD_SIMD_DECLARE(
-/// Taa::runRows once there is history: `window` holds 3 * kTaaSlotRows + 5 rows of the width
-/// (the slots, the fetched history, the own-surface box's flags, the blend weights).
+/// Taa::runRows once there is history: `window` holds 3 * kTaaSlotRows + 6 rows of the width
+/// (the slots, the fetched history, the own-surface box's two rows of flags, the blend weights).
 /// `next` receives the clamped blend (the next frame's history); with p.display, `linearOut`
 /// receives its taaDecode (otherwise it is unused: `next` is the output). `keys` (or nullptr):
 /// the surface keys of the own-surface box (TaaSettings::taaOwnSurface).
