@@ -74,16 +74,14 @@ void encodeRow(const float* in, float* out, int n) {
   for (; x + kLanes <= n; x += kLanes) store(out + x, encodeLanes(load(in + x)));
   for (; x < n; ++x) out[x] = tonemap::taaEncode(in[x]);
 }
-// tonemap::taaDecode of n values, kLanes at a time: t / (1 - t), t = y^2, the division as vrcp.
-void decodeRow(const float* in, float* out, int n) {
-  auto lanes = [](vf y) {
-    y = vmin(vmax(y, splat(0.0f)), splat(tonemap::kTaaMaxEncoded));
-    const vf t = y * y;
-    return t * vrcp(1.0f - t);
-  };
-  int x = 0;
-  for (; x + kLanes <= n; x += kLanes) store(out + x, lanes(load(in + x)));
-  for (; x < n; ++x) out[x] = tonemap::taaDecode(in[x]);
+// tonemap::taaDecode of an encoded history value in [0, kTaaMaxEncoded], in the blend loop (where
+// the history is still in registers; decoding the rows afterwards waited on reloading them).
+// taaDecode's clamp is the blend's display bound `top`, which buildSlot caps at
+// kTaaMaxEncoded: a clamp per channel here was one conditional too many for GCC, which then
+// left the blend loop scalar on AVX2.
+inline float decode(float y) {
+  const float t = y * y;
+  return t / (1.0f - t);
 }
 
 // YCoCg of row y (of its display encoding with kDisplay) and its horizontal 3-tap min/max
@@ -99,7 +97,7 @@ template <bool kDisplay> void buildSlot(const Plane3& color, int y, int w, float
     r = c[0], g = c[1], b = c[2];
     float* m = slot + 9 * w;
 #pragma GCC ivdep
-    for (int x = 0; x < w; ++x) m[x] = fmax(fmax(r[x], g[x]), b[x]);
+    for (int x = 0; x < w; ++x) m[x] = fmin(fmax(fmax(r[x], g[x]), b[x]), tonemap::kTaaMaxEncoded);  // decode's bound
     float prev = m[0];
     for (int x = 0; x < w; ++x) {  // in place: keep the left neighbour's original value
       const float cur = m[x], next = m[x + 1 < w ? x + 1 : x];
@@ -333,6 +331,10 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     // Clamp to the 3x3 YCoCg box (moved towards the 5-tap cross's bounds by cw) and blend
     // (vectorized over the row).
     float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
+    // With kDisplay, the decoded output too, in the same loop (tonemap::taaDecode).
+    float* lin[3] = {nullptr, nullptr, nullptr};
+    if constexpr (kDisplay)
+      for (int k = 0; k < 3; ++k) lin[k] = linearOut[k].row(y);
 #pragma GCC ivdep  // outputs never alias the window rows: lets GCC vectorize
     for (int x = 0; x < w; ++x) {
       float hc[3] = {0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x], 0.5f * hr[x] - 0.5f * hb[x],
@@ -357,6 +359,8 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
         for (int k = 0; k < 3; ++k) rgb[k] = fmin(rgb[k], top);
       }
       for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);  // history: never subnormal (core/flush.h)
+      if constexpr (kDisplay)
+        for (int k = 0; k < 3; ++k) lin[k][x] = decode(n[k][x]);
     }
     // Own-surface box (TaaSettings::taaOwnSurface): where the 3x3 neighbourhood holds other
     // keys than the pixel's, the pixel is redone with the box (and the cross, and the display
@@ -433,12 +437,12 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
         const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hc[2];
         float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
         if constexpr (kDisplay)
-          for (int k = 0; k < 3; ++k) rgb[k] = fmin(rgb[k], top);
+          for (int k = 0; k < 3; ++k) rgb[k] = fmin(rgb[k], fmin(top, tonemap::kTaaMaxEncoded));
         for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);
+        if constexpr (kDisplay)
+          for (int k = 0; k < 3; ++k) lin[k][x] = decode(n[k][x]);
       }
     }
-    if constexpr (kDisplay)
-      for (int k = 0; k < 3; ++k) decodeRow(n[k], linearOut[k].row(y), w);
   }
 }
 }  // namespace
