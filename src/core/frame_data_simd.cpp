@@ -14,7 +14,7 @@ namespace {
 #ifdef RTD_SIMD_AVX2
 // sanitize8's counts, per lane (each lane counts the values it saw), summed into SanitizeCounts
 // once per row: counting with a movemask and a popcount per vector cost import ~2 ms of its
-// 7.7 at 1280x720 (docs/performance.md, "Import's sanitizing").
+// 7.7 at 1280x720 (docs/performance.md, "Session 10").
 struct LaneCounts {
   __m256i nonFinite, outOfRange;
   static uint64_t sum(__m256i v) {

@@ -63,7 +63,7 @@ inline void catmullRomFetch(const Plane3& hist, float px, float py, int w, int h
 // Display encoding (tonemap::taaEncode) of n values, kLanes at a time: sqrt(q), q = v / (1 + v),
 // from the reciprocal and square-root estimates, each refined by a Newton step (vrcp, vrsqrt;
 // ~1e-7 relative), where a division and a square root cost ~60 cycles of the divider per 16
-// lanes and a tenth of the TAA pass.
+// lanes (the pass 5-10 % faster on one thread; docs/performance.md, "Session 10").
 inline vf encodeLanes(vf v) {
   v = vmin(vmax(v, splat(0.0f)), splat(1e30f));  // NaN -> 0, as taaEncode
   const vf q = v * vrcp(1.0f + v);
