@@ -113,9 +113,15 @@ TEST(Taa, DisplayDomainKeepsBlackAndExtremePixelsOnEveryCpuPath) {
           const float v = out[c].data[i], x = (*in)[c].data[i];
           ASSERT_TRUE(std::isfinite(v)) << cpuPathName(path) << " " << i;
           EXPECT_NE(std::fpclassify(v), FP_SUBNORMAL) << cpuPathName(path) << " " << i;
-          if (in == &black) EXPECT_EQ(v, 0.0f) << cpuPathName(path) << " " << i;
-          if (x == 0.0f) EXPECT_LE(v, 0x1p-46f) << cpuPathName(path) << " " << i;
-          if (x == 0.5f) EXPECT_NEAR(v, 0.5f, 1e-6f) << cpuPathName(path) << " " << i;
+          if (in == &black) {
+            EXPECT_EQ(v, 0.0f) << cpuPathName(path) << " " << i;
+          }
+          if (x == 0.0f) {
+            EXPECT_LE(v, 0x1p-46f) << cpuPathName(path) << " " << i;
+          }
+          if (x == 0.5f) {
+            EXPECT_NEAR(v, 0.5f, 1e-6f) << cpuPathName(path) << " " << i;
+          }
         }
     }
   }
