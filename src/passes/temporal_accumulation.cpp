@@ -48,6 +48,7 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
   advance();
   tbb::parallel_for(tbb::blocked_range<int>(0, rp.height, 4), [&](const tbb::blocked_range<int>& rows) {
     accumulateRows(rp, color, alpha, momentsAlpha, maxHistoryLength, options, rows.begin(), rows.end());
+    if (options.afterRows) options.afterRows(rows.begin(), rows.end());
   });
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#include <functional>
 
 #include "core/flush.h"
 #include "core/frame_data.h"
@@ -111,6 +112,11 @@ struct AccumulationOptions {
   const Plane* temporalGradient = nullptr;
   int temporalGradientStride = 3;
   float historyExponent = 10.0f;
+  /// Called by TemporalAccumulator::run after each chunk of rows [rowBegin, rowEnd) has been
+  /// accumulated, on the thread that accumulated it: a method's own pass over those rows of
+  /// the results runs while they are in cache instead of reading them back from memory
+  /// (SVGF's variance rows, Filter::varianceRows). Null: none.
+  std::function<void(int rowBegin, int rowEnd)> afterRows;
 };
 
 /// Owns the history of one radiance stream: accumulated colour (three planes), the first and

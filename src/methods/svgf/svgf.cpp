@@ -206,11 +206,15 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       reflections_.clipBoxes(st.demod, st.plan, s, opt.clipLow, opt.clipHigh);
     }
     {
-      PassTimer t(stats, clipping ? "accumulate" + suffix : "demodulate+accumulate" + suffix);
+      PassTimer t(stats, (clipping ? "accumulate" : "demodulate+accumulate") + std::string("+variance rows") + suffix);
       opt.luminance = p.variance.luminance;
       opt.cumulativeMoments = s.momentsTrueAverage;
       opt.sampleMask = mask_;
       opt.alphaPlane = in.alpha;
+      // The variance pass's rows right after each chunk of accumulated rows (Filter::varianceRows).
+      opt.afterRows = [&](int rowBegin, int rowEnd) {
+        filter_.varianceRows(st.accumulator, st.demod, p, rowBegin, rowEnd);
+      };
       if (clipping) {
         st.accumulator.run(*in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
       } else {

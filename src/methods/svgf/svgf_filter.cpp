@@ -74,6 +74,13 @@ FilterParams filterParams(const SvgfSettings& s, bool indirect) {
   return p;
 }
 
+void Filter::varianceRows(const TemporalAccumulator& acc, const Plane3& current, const FilterParams& p, int rowBegin,
+                          int rowEnd) {
+  const VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &acc.color(), nullptr};
+  rowsShortCount_ += svgf::varianceRows(in, p.variance, levels_[0], scratch_, rowBegin, rowEnd);
+  rowsDone_ = true;
+}
+
 bool usesSigmaScale(const FilterParams& p) {
   return p.variance.shortHistory == SvgfShortHistory::disableLuminanceWeight || p.shortHistoryBandwidth;
 }
@@ -112,7 +119,9 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     PassTimer t(stats, "variance" + suffix);
     VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &input,
                       extras.objectId ? extras.objectId : p.surfaceKey};
-    estimateVariance(guide, in, p.variance, levels_[0], scratch_);
+    const size_t shortCount = rowsShortCount_.exchange(0);
+    if (rowsDone_.exchange(false) && !extras.input) spatialVarianceEstimate(guide, in, p.variance, levels_[0], scratch_, shortCount);
+    else estimateVariance(guide, in, p.variance, levels_[0], scratch_);
     // k(p) is 1 everywhere unless short histories change it: then no plane (every level reads
     // one value less per pixel, and this pass writes none).
     if (usesSigmaScale(p)) luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);

@@ -10,20 +10,25 @@
 
 namespace rtd::svgf {
 
-size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const VarianceParams& p, AtrousImage& out,
-                        PaddedPlane scratch[2]) {
-  const int w = g.depth.width, h = g.depth.height;
+namespace {
+bool spatialEstimate(const VarianceParams& p) {
+  return p.shortHistory == SvgfShortHistory::spatialEstimate && p.shortHistoryFrames > 0;
+}
+}  // namespace
+
+size_t varianceRows(const VarianceInputs& in, const VarianceParams& p, AtrousImage& out, PaddedPlane scratch[2],
+                    int rowBegin, int rowEnd) {
+  const int w = out.lum.width;
   const Plane3& acc = *in.accumulated;
-  std::atomic<size_t> spatialCount{0};
-  const bool spatial = p.shortHistory == SvgfShortHistory::spatialEstimate && p.shortHistoryFrames > 0;
+  const bool spatial = spatialEstimate(p);
+  size_t count = 0;
   // Colour, its luminance and the temporal variance everywhere; the window inputs (current
   // luminance and its square, or the accumulated moments) for the spatial estimate.
   // One instantiation per luminance, each loop free of branches, so that they vectorize.
   auto rows = [&](auto luminanceConstant) {
     constexpr MomentLuminance L = decltype(luminanceConstant)::value;
     const float shortFrames = float(p.shortHistoryFrames);
-    parallelRows(h, [&](int y) {
-      size_t count = 0;
+    for (int y = rowBegin; y < rowEnd; ++y) {
       const float* len = in.historyLength->row(y);
       const float *m1 = in.moment1->row(y), *m2 = in.moment2->row(y);
       const float *r = acc[0].row(y), *gg = acc[1].row(y), *b = acc[2].row(y);
@@ -34,20 +39,19 @@ size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const Va
         var[x] = flushTiny(std::max(0.0f, m2[x] - squareOrZero(m1[x])));
         count += len[x] < shortFrames;
       }
-      spatialCount += count;
-      if (!spatial) return;
+      if (!spatial) continue;
       float *sa = scratch[0].row(y), *sb = scratch[1].row(y);
       if (p.fromMoments) {
         std::copy(m1, m1 + w, sa);
         std::copy(m2, m2 + w, sb);
-        return;
+        continue;
       }
       const float *cr = (*in.current)[0].row(y), *cg = (*in.current)[1].row(y), *cb = (*in.current)[2].row(y);
       for (int x = 0; x < w; ++x) {
         sa[x] = flushTiny(momentLuminance(L, cr[x], cg[x], cb[x]));
         sb[x] = squareOrZero(sa[x]);
       }
-    });
+    }
   };
   switch (p.luminance) {
     case MomentLuminance::Rec601: rows(std::integral_constant<MomentLuminance, MomentLuminance::Rec601>{}); break;
@@ -56,13 +60,26 @@ size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const Va
       break;
     default: rows(std::integral_constant<MomentLuminance, MomentLuminance::Rec709>{});
   }
-  const size_t count = spatialCount.load();
-  if (!spatial || count == 0) return 0;
+  return count;
+}
+
+size_t spatialVarianceEstimate(const AtrousGuide& g, const VarianceInputs& in, const VarianceParams& p,
+                               AtrousImage& out, PaddedPlane scratch[2], size_t shortCount) {
+  if (!spatialEstimate(p) || shortCount == 0) return 0;
   // Short history: depth/normal-weighted window estimate (Schied Sec. 4.2; Voorhuis Sec. 6
   // averages the accumulated moments instead of the current luminance).
   spatialVariance(g, scratch[0], scratch[1], *in.historyLength, float(p.shortHistoryFrames), p.radius, p.sigmaDepth,
                   p.depthEpsilon, p.depthEpsilonRelative, p.normalExponent, out.var, in.objectId);
-  return count;
+  return shortCount;
+}
+
+size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const VarianceParams& p, AtrousImage& out,
+                        PaddedPlane scratch[2]) {
+  std::atomic<size_t> shortCount{0};
+  tbb::parallel_for(tbb::blocked_range<int>(0, g.depth.height, 4), [&](const tbb::blocked_range<int>& r) {
+    shortCount += varianceRows(in, p, out, scratch, r.begin(), r.end());
+  });
+  return spatialVarianceEstimate(g, in, p, out, scratch, shortCount.load());
 }
 
 void luminanceSigmaScale(const Plane& len, const SvgfSettings& s, PaddedPlane& out) {

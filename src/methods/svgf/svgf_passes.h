@@ -48,6 +48,14 @@ inline void setDepthEpsilon(VarianceParams& v, float absolute, float relative) {
 /// `scratch` (two planes of the guide's geometry) holds the window's inputs.
 size_t estimateVariance(const AtrousGuide& guide, const VarianceInputs& in, const VarianceParams& p, AtrousImage& out,
                         PaddedPlane scratch[2]);
+/// estimateVariance in two parts: its rows [rowBegin, rowEnd) (out's colour, luminance and
+/// temporal variance, the window's inputs; returns how many of their pixels have a short
+/// history), from any thread, then, once every row is done, the spatial estimate where
+/// `shortCount` (the rows' sum) is not 0 (returns the pixels that used it).
+size_t varianceRows(const VarianceInputs& in, const VarianceParams& p, AtrousImage& out, PaddedPlane scratch[2],
+                    int rowBegin, int rowEnd);
+size_t spatialVarianceEstimate(const AtrousGuide& guide, const VarianceInputs& in, const VarianceParams& p,
+                               AtrousImage& out, PaddedPlane scratch[2], size_t shortCount);
 
 /// Per-pixel multiplier of sigma_l: 0 where w_l is off (Dundr, short history), Voorhuis Eq. 8
 /// where enabled, else 1.

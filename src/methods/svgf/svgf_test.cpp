@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "methods/svgf/svgf_filter.h"
 #include "methods/svgf/svgf_passes.h"
 #include "passes/atrous.h"
 #include "rtd/rtd.h"
@@ -345,6 +346,62 @@ TEST(SvgfProgressive, UnsampledPixelsKeepTheirHistory) {
 }
 
 // ---------------------------------------------------------------- variance estimate
+
+// Filter::varianceRows run as the accumulation's afterRows (svgf.cpp) gives the levels exactly
+// what the variance pass computes afterwards from the same planes: three frames of noise with
+// an identity reprojection where every fifth pixel has no history (short histories: the
+// spatial estimate runs too), compared bit for bit with a second filter and accumulator
+// without the hook.
+TEST(SvgfFilter, VarianceRowsAfterTheAccumulationEqualTheVariancePass) {
+  const int w = 37, h = 23;
+  const svgf::FilterParams p = svgf::filterParams(SvgfSettings{}, false);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  Plane z(w, h);
+  std::vector<Plane> n(3, Plane(w, h));
+  for (int i = 0; i < w * h; ++i) {
+    z.data[size_t(i)] = 2.0f + 0.01f * float(i % w);
+    n[2].data[size_t(i)] = 1.0f;
+  }
+  AtrousGuide g;
+  g.resize(w, h, p.requiredPad());
+  g.build(z, n, nullptr, 0.0f);
+  Reprojection rp;
+  rp.resize(w, h);
+  TemporalAccumulator accFused, accPlain;
+  accFused.resize(w, h);
+  accPlain.resize(w, h);
+  svgf::Filter fused, plain;
+  fused.resize(w, h, p.requiredPad());
+  plain.resize(w, h, p.requiredPad());
+  Plane3 frame, currentFused, currentPlain;
+  resize(frame, w, h);
+  resize(currentFused, w, h);
+  resize(currentPlain, w, h);
+  for (int f = 0; f < 3; ++f) {
+    for (auto& c : frame)
+      for (float& v : c.data) v = u(rng);
+    AccumulationOptions withRows, without;
+    withRows.current = &currentFused;
+    without.current = &currentPlain;
+    withRows.afterRows = [&](int rowBegin, int rowEnd) { fused.varianceRows(accFused, currentFused, p, rowBegin, rowEnd); };
+    accFused.run(rp, frame, 0.2f, 0.2f, 32, withRows);
+    accPlain.run(rp, frame, 0.2f, 0.2f, 32, without);
+    FrameStats stats;
+    const AtrousImage& a = fused.run(g, accFused, currentFused, nullptr, p, stats);
+    const AtrousImage& b = plain.run(g, accPlain, currentPlain, nullptr, p, stats);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(a.color[c].at(x, y), b.color[c].at(x, y)) << f << " " << x << "," << y;
+        ASSERT_EQ(a.var.at(x, y), b.var.at(x, y)) << f << " " << x << "," << y;
+      }
+    for (int i = 0; i < w * h; ++i) {  // identity from now on, every fifth pixel without history
+      rp.kind[size_t(i)] = i % 5 ? Reprojection::Bilinear : Reprojection::None;
+      rp.base[size_t(i)] = i;
+      rp.weights[size_t(i)] = {i % 5 ? 1.0f : 0.0f, 0, 0, 0};
+    }
+  }
+}
 
 TEST(SvgfVariance, SpatialEstimateExactlyWhenHistoryIsShort) {
   const int w = 24, h = 16;
