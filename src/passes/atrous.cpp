@@ -31,8 +31,15 @@ void AtrousGuide::resize(int w, int h, int pad) {
 }
 
 void AtrousGuide::build(const Plane& z, const std::vector<Plane>& n, const std::vector<Plane>* grad, float maxDepthSlope) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, depth.height, 4), [&](const tbb::blocked_range<int>& rows) {
+    buildRows(z, n, grad, maxDepthSlope, rows.begin(), rows.end());
+  });
+}
+
+void AtrousGuide::buildRows(const Plane& z, const std::vector<Plane>& n, const std::vector<Plane>* grad,
+                            float maxDepthSlope, int rowBegin, int rowEnd) {
   const int w = depth.width, h = depth.height;
-  parallelRows(h, [&](int y) {
+  for (int y = rowBegin; y < rowEnd; ++y) {
     std::copy(z.row(y), z.row(y) + w, depth.row(y));
     for (int c = 0; c < 3; ++c) std::copy(n[c].row(y), n[c].row(y) + w, normal[c].row(y));
     float *gx = gradX.row(y), *gy = gradY.row(y);
@@ -62,7 +69,7 @@ void AtrousGuide::build(const Plane& z, const std::vector<Plane>& n, const std::
           gx[x] = 0x1p32f;
           gy[x] = 0x1p32f * 0.41421356f;
         }
-  });
+  }
 }
 
 void AtrousImage::resize(int w, int h, int pad) {

@@ -87,6 +87,10 @@ struct AtrousGuide {
   /// the depth weight off there (Dundr Sec. 4.4.2).
   void build(const Plane& depthPlane, const std::vector<Plane>& normalPlanes, const std::vector<Plane>* depthGradient,
              float maxDepthSlope);
+  /// build() for rows [rowBegin, rowEnd) only, on the calling thread (a method builds them
+  /// right after another pass over the same rows of the frame, e.g. reprojectRows).
+  void buildRows(const Plane& depthPlane, const std::vector<Plane>& normalPlanes,
+                 const std::vector<Plane>* depthGradient, float maxDepthSlope, int rowBegin, int rowEnd);
   void forEachPlane(const PlaneVisitor& v) const {
     for (const PaddedPlane* p : {&depth, &normal[0], &normal[1], &normal[2], &gradX, &gradY}) p->visit(v, "guide");
   }

@@ -90,13 +90,17 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame.plane(Buffer::SampleMask) : nullptr;
     const auto* albedo = frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
     {
-      PassTimer t(stats, "reproject");
-      reproject(frame, previous, s.reprojection, reprojection_);
-    }
-    {
-      PassTimer t(stats, "features");
-      guide_.build(frame.plane(Buffer::Depth), frame.planes(Buffer::Normal),
-                   frame.has(Buffer::DepthGradient) ? &frame.planes(Buffer::DepthGradient) : nullptr, s.maxDepthSlope);
+      // The guide's rows right after the reprojection's (both read the frame's depth and
+      // normals: the second reads them from cache; ~0.3 ms of a 1280x720 frame).
+      PassTimer t(stats, "reproject+features");
+      if (reprojection_.width != frame.width || reprojection_.height != frame.height)
+        reprojection_.resize(frame.width, frame.height);
+      const std::vector<Plane>* gradient = frame.has(Buffer::DepthGradient) ? &frame.planes(Buffer::DepthGradient) : nullptr;
+      tbb::parallel_for(tbb::blocked_range<int>(0, frame.height, 4), [&](const tbb::blocked_range<int>& rows) {
+        reprojectRows(frame, previous, s.reprojection, reprojection_, rows.begin(), rows.end());
+        guide_.buildRows(frame.plane(Buffer::Depth), frame.planes(Buffer::Normal), gradient, s.maxDepthSlope,
+                         rows.begin(), rows.end());
+      });
       excludeEmitters(frame, s.emitters, guide_);  // issue 12: emitter pixels weigh 0 as neighbours
     }
     if (parts.classes) {
