@@ -31,8 +31,7 @@ std::vector<Buffer> importedBuffers(const std::vector<Buffer>& required, const s
   // World positions: for the reprojection's position test, and in place of motion vectors (the
   // previous camera projects them). Otherwise 12 bytes a pixel not to copy (~1 ms of svgf's
   // import at 1280x720).
-  if (reprojection.positionTolerance > 0 || reprojection.positionFootprints > 0 || !frameHasMotion)
-    shared.push_back(Buffer::Position);
+  if (reprojection.testsPosition() || !frameHasMotion) shared.push_back(Buffer::Position);
   if (reprojection.testDepth) {
     shared.push_back(Buffer::Depth);
     shared.push_back(Buffer::DepthGradient);

@@ -71,10 +71,12 @@ void reprojectRows(const FrameData& cur, const FrameData* previous, const Reproj
   RTD_SIMD(reprojectRows)(cur, previous, s, out, rowBegin, rowEnd);
 }
 
-void reproject(const FrameData& cur, const FrameData* previous, const ReprojectionSettings& s, Reprojection& out) {
+void reproject(const FrameData& cur, const FrameData* previous, const ReprojectionSettings& s, Reprojection& out,
+               const std::function<void(int, int)>& afterRows) {
   if (out.width != cur.width || out.height != cur.height) out.resize(cur.width, cur.height);
   tbb::parallel_for(tbb::blocked_range<int>(0, cur.height, 4), [&](const tbb::blocked_range<int>& rows) {
     reprojectRows(cur, previous, s, out, rows.begin(), rows.end());
+    if (afterRows) afterRows(rows.begin(), rows.end());
   });
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <vector>
 
 #include "core/frame_data.h"
@@ -155,8 +156,11 @@ extern const float kFallbackKernel3x3[9];
 /// valid cameras and the current frame has Buffer::Position, the projection of the position
 /// with the previous camera (a static scene), or for a pixel without geometry (zero normal)
 /// the projection of its view direction (reprojectDirection: a sky at infinity); otherwise zero.
+/// `afterRows` (may be empty): called after each chunk of rows [rowBegin, rowEnd) on the thread
+/// that reprojected it, for a method's own pass over those rows of the frame while they are in
+/// cache (SVGF builds its a-trous guide there), as AccumulationOptions::afterRows.
 void reproject(const FrameData& current, const FrameData* previous, const ReprojectionSettings& s,
-               Reprojection& out);
+               Reprojection& out, const std::function<void(int rowBegin, int rowEnd)>& afterRows = {});
 /// reproject() for rows [rowBegin, rowEnd) only, on the calling thread, so a method can run
 /// the passes that follow on a band of rows while it is in cache. `out` must already have the
 /// frame's size. Every row depends only on the current frame's same row and on the previous

@@ -44,7 +44,7 @@ struct TapTest {
       id = cur.plane(Buffer::ObjectId).ptr();
       idPrev = prev.plane(Buffer::ObjectId).ptr();
     }
-    if ((st.positionTolerance > 0 || st.positionFootprints > 0) && cur.has(Buffer::Position) && prev.has(Buffer::Position))
+    if (st.testsPosition() && cur.has(Buffer::Position) && prev.has(Buffer::Position))
       for (int c = 0; c < 3; ++c) { p[c] = cur.plane(Buffer::Position, c).ptr(); pPrev[c] = prev.plane(Buffer::Position, c).ptr(); }
   }
 

@@ -58,7 +58,7 @@ void Taa::runRows(const Reprojection& rp, const Plane3& color, int rowBegin, int
     return;
   }
   Window& win = windows_.local();
-  if (win.rows.size() != size_t(3 * kTaaSlotRows + 6) * w) win.rows.assign(size_t(3 * kTaaSlotRows + 6) * w, 0.0f);
+  if (win.rows.size() != size_t(kTaaWindowRows) * w) win.rows.assign(size_t(kTaaWindowRows) * w, 0.0f);
   RTD_SIMD(taaRows)(rp, color, params_, rowBegin, rowEnd, history_[cur_ ^ 1], next, linear_, win.rows.data(), win.slotRow, keys_);
 }
 

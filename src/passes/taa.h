@@ -62,7 +62,7 @@ class Taa {
   /// Per-thread rows: the 3x3 box is built from a rolling window of three rows' YCoCg and
   /// their horizontal min/max, so it never goes through memory (the pass is bandwidth-bound).
   struct Window {
-    std::vector<float> rows;  // 3 slots x {Y, Co, Cg, min Y, min Co, min Cg, max Y, max Co, max Cg} + 3 history rows + own-surface flags + blend weights
+    std::vector<float> rows;  // kTaaWindowRows rows (taa_kernels.h): 3 slots, the history, flags, blend weights
     int slotRow[3] = {-1, -1, -1};
   };
   Plane3 history_[2];  // in the frame's domain (display-encoded or linear)

@@ -8,6 +8,16 @@ namespace rtd {
 /// Rows of a thread's window slot: Y Co Cg, min Y Co Cg, max Y Co Cg, and (display domain) the
 /// horizontal max of the largest encoded channel (Taa::Window).
 constexpr int kTaaSlotRows = 10;
+/// The rows of a thread's window after its three slots (each the frame's width): the fetched
+/// history (three), the own-surface box's mixed-key flags and its column flags, the blend
+/// weights; kTaaWindowRows in all.
+enum TaaWindowRow : int {
+  kTaaHistoryRow = 3 * kTaaSlotRows,
+  kTaaMixedRow = kTaaHistoryRow + 3,
+  kTaaBlendAlphaRow,
+  kTaaColumnRow,
+  kTaaWindowRows
+};
 /// Catmull-Rom takes a pixel's history only where the reprojection accepted every texel of the
 /// plain 2x2 bilinear footprint weighted above this (taa_simd.cpp, `consistent`; taa.comp,
 /// `accepted`). A position on a pixel centre line weighs the neighbour line 0, or ~1e-6 after
@@ -19,8 +29,8 @@ constexpr float kTaaNegligibleTap = 1.0f / 256.0f;
 }  // namespace rtd
 
 RTD_SIMD_DECLARE(
-/// Taa::runRows once there is history: `window` holds 3 * kTaaSlotRows + 6 rows of the width
-/// (the slots, the fetched history, the own-surface box's two rows of flags, the blend weights).
+/// Taa::runRows once there is history: `window` holds kTaaWindowRows rows of the width
+/// (TaaWindowRow).
 /// `next` receives the clamped blend (the next frame's history); with p.display, `linearOut`
 /// receives its taaDecode (otherwise it is unused: `next` is the output). `keys` (or nullptr):
 /// the surface keys of the own-surface box (TaaSettings::taaOwnSurface).

@@ -215,7 +215,7 @@ void blendWeights(const float* prevX, const float* prevY, int w, float alpha, fl
 template <bool kDisplay>
 void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
           Plane3& next, Plane3& linearOut, float* window, int slotRow[3], const uint32_t* keys) {
-  const float subpixelAlpha = p.subpixelAlpha, cw = p.crossWeight;
+  const float cw = p.crossWeight;
   const int w = color[0].width, h = color[0].height;
   constexpr int kSlotRows = kTaaSlotRows;
   auto slot = [&](int y) {
@@ -223,7 +223,7 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     if (slotRow[y % 3] != y) { buildSlot<kDisplay>(color, y, w, s); slotRow[y % 3] = y; }
     return s;
   };
-  float *hr = window + size_t(3 * kSlotRows) * w, *hg = hr + w, *hb = hg + w;
+  float *hr = window + size_t(kTaaHistoryRow) * w, *hg = hr + w, *hb = hg + w;
   slotRow[0] = slotRow[1] = slotRow[2] = -1;  // colour changes every frame
   for (int y = rowBegin; y != rowEnd; ++y) {
     const float* a = slot(std::max(y - 1, 0));
@@ -326,8 +326,8 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       }
 #endif
     for (; x < w; ++x) fetch(x);
-    float* blendAlpha = window + size_t(3 * kSlotRows + 4) * w;
-    blendWeights(prevX, prevY, w, p.alpha, subpixelAlpha, blendAlpha);
+    float* blendAlpha = window + size_t(kTaaBlendAlphaRow) * w;
+    blendWeights(prevX, prevY, w, p.alpha, p.subpixelAlpha, blendAlpha);
     // Clamp to the 3x3 YCoCg box (moved towards the 5-tap cross's bounds by cw) and blend
     // (vectorized over the row).
     float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
@@ -379,8 +379,8 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       // threads; written with a conditional instead of fmax, GCC's avx512 code for it raised
       // the subnormal flag, Subnormal.SvgfFramesOnExtremeInputs); the flags are floats 0 / 1
       // in the window's rows (float storage that the plane visitors scan).
-      float* column = window + size_t(3 * kSlotRows + 5) * w;
-      float* mixed = window + size_t(3 * kSlotRows + 3) * w;
+      float* column = window + size_t(kTaaColumnRow) * w;
+      float* mixed = window + size_t(kTaaMixedRow) * w;
 #pragma GCC ivdep
       for (int x = 0; x < w; ++x) column[x] = float((kr[0][x] != kr[1][x]) | (kr[2][x] != kr[1][x]));
       const uint32_t* k1 = kr[1];

@@ -29,6 +29,8 @@ struct ReprojectionSettings {
   /// footprints at its 720p camera's 3 to 10 m (rtdenoise's BMFR default: 4 footprints).
   float positionTolerance = 0.0f;
   float positionFootprints = 0.0f;
+  /// Whether the world-position test is on (the frames' positions are then read).
+  bool testsPosition() const { return positionTolerance > 0 || positionFootprints > 0; }
   /// When no bilinear tap is valid, try the 3x3 neighbourhood with the Gaussian kernel of
   /// Higginson Eq. 1.4 (centred and renormalized, see docs/methods/accumulate.md).
   bool fallback3x3 = true;

@@ -47,7 +47,7 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
     if (s.testDepth && both(Buffer::Depth)) pc.flags |= kDepth;
     if (both(Buffer::Normal)) pc.flags |= kNormal;
     if (s.testObjectId && both(Buffer::ObjectId)) pc.flags |= kId;
-    if ((s.positionTolerance > 0 || s.positionFootprints > 0) && both(Buffer::Position)) pc.flags |= kPosition;
+    if (s.testsPosition() && both(Buffer::Position)) pc.flags |= kPosition;
     if (cur.has(Buffer::Motion)) pc.flags |= kMotion;
     else if (cur.cameraValue.valid && p.cameraValue.valid && cur.has(Buffer::Position)) {
       pc.flags |= kFromCamera;

@@ -4,6 +4,7 @@
 // wavelet (feeding one level back as colour history); then sum the streams, remodulate and
 // apply TAA. docs/methods/svgf.md has the details.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "backend/cpu/cpu_denoiser.h"
@@ -93,13 +94,9 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       // The guide's rows right after the reprojection's (both read the frame's depth and
       // normals: the second reads them from cache; ~0.3 ms of a 1280x720 frame).
       PassTimer t(stats, "reproject+features");
-      if (reprojection_.width != frame.width || reprojection_.height != frame.height)
-        reprojection_.resize(frame.width, frame.height);
       const std::vector<Plane>* gradient = frame.has(Buffer::DepthGradient) ? &frame.planes(Buffer::DepthGradient) : nullptr;
-      tbb::parallel_for(tbb::blocked_range<int>(0, frame.height, 4), [&](const tbb::blocked_range<int>& rows) {
-        reprojectRows(frame, previous, s.reprojection, reprojection_, rows.begin(), rows.end());
-        guide_.buildRows(frame.plane(Buffer::Depth), frame.planes(Buffer::Normal), gradient, s.maxDepthSlope,
-                         rows.begin(), rows.end());
+      reproject(frame, previous, s.reprojection, reprojection_, [&](int rowBegin, int rowEnd) {
+        guide_.buildRows(frame.plane(Buffer::Depth), frame.planes(Buffer::Normal), gradient, s.maxDepthSlope, rowBegin, rowEnd);
       });
       excludeEmitters(frame, s.emitters, guide_);  // issue 12: emitter pixels weigh 0 as neighbours
     }
@@ -197,6 +194,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     const svgf::FilterParams p = svgf::filterParams(s, st.plan.indirect);
     const std::vector<Plane>& radiance = frame.planes(st.plan.buffer);
     AccumulationOptions opt;
+    std::atomic<size_t> shortCount{0};  // the fused variance rows' short-history pixels
     // The clip boxes are taken over the demodulated frame before the blend (Voorhuis Sec.
     // 4.2.3), so it is demodulated first; otherwise the accumulation demodulates on the fly
     // and stores the demodulated frame for the variance pass in the same pass.
@@ -217,7 +215,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       opt.alphaPlane = in.alpha;
       // The variance pass's rows right after each chunk of accumulated rows (Filter::varianceRows).
       opt.afterRows = [&](int rowBegin, int rowEnd) {
-        filter_.varianceRows(st.accumulator, st.demod, p, rowBegin, rowEnd);
+        shortCount += filter_.varianceRows(st.accumulator, st.demod, p, rowBegin, rowEnd);
       };
       if (clipping) {
         st.accumulator.run(*in.reprojection, st.demod, s.alphaColor, s.alphaMoments, s.maxHistoryLength, opt);
@@ -230,7 +228,10 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     svgf::FilterParams fp = p;
     fp.spatialFalloff = in.falloff;  // Voorhuis Eq. 6
     fp.surfaceKey = in.surfaceKey;   // Sec. 4.1: the reflected guide's mirror pixels apart
-    return filter_.run(*in.guide, st.accumulator, st.demod, mask_, fp, stats, suffix);
+    const size_t rowsShortCount = shortCount;
+    svgf::FilterExtras extras;
+    extras.varianceRowsShortCount = &rowsShortCount;
+    return filter_.run(*in.guide, st.accumulator, st.demod, mask_, fp, stats, suffix, extras);
   }
 
   // sum_ (+)= this stream's filtered illumination, remodulated by the stream's own colour

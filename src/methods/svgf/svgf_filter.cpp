@@ -1,6 +1,7 @@
 #include "methods/svgf/svgf_filter.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "core/parallel.h"
@@ -74,11 +75,10 @@ FilterParams filterParams(const SvgfSettings& s, bool indirect) {
   return p;
 }
 
-void Filter::varianceRows(const TemporalAccumulator& acc, const Plane3& current, const FilterParams& p, int rowBegin,
-                          int rowEnd) {
+size_t Filter::varianceRows(const TemporalAccumulator& acc, const Plane3& current, const FilterParams& p, int rowBegin,
+                            int rowEnd) {
   const VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &acc.color(), nullptr};
-  rowsShortCount_ += svgf::varianceRows(in, p.variance, levels_[0], scratch_, rowBegin, rowEnd);
-  rowsDone_ = true;
+  return svgf::varianceRows(in, p.variance, levels_[0], scratch_, rowBegin, rowEnd);
 }
 
 bool usesSigmaScale(const FilterParams& p) {
@@ -119,9 +119,11 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     PassTimer t(stats, "variance" + suffix);
     VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &input,
                       extras.objectId ? extras.objectId : p.surfaceKey};
-    const size_t shortCount = rowsShortCount_.exchange(0);
-    if (rowsDone_.exchange(false) && !extras.input) spatialVarianceEstimate(guide, in, p.variance, levels_[0], scratch_, shortCount);
-    else estimateVariance(guide, in, p.variance, levels_[0], scratch_);
+    assert(!(extras.varianceRowsShortCount && extras.input));  // the rows read accumulator.color()
+    if (extras.varianceRowsShortCount)
+      spatialVarianceEstimate(guide, in, p.variance, levels_[0], scratch_, *extras.varianceRowsShortCount);
+    else
+      estimateVariance(guide, in, p.variance, levels_[0], scratch_);
     // k(p) is 1 everywhere unless short histories change it: then no plane (every level reads
     // one value less per pixel, and this pass writes none).
     if (usesSigmaScale(p)) luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);

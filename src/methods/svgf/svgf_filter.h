@@ -4,7 +4,6 @@
 // each turns its settings into FilterParams and calls Filter::run once per stream per frame.
 // The Vulkan twin is GpuFilter (svgf_filter_vulkan.h).
 #pragma once
-#include <atomic>
 #include <string>
 
 #include "core/timer.h"
@@ -55,8 +54,13 @@ void luminanceSigmaScale(const Plane& historyLength, const FilterParams& p, Padd
 /// Whether that multiplier can be other than 1 (else the levels run without its plane).
 bool usesSigmaScale(const FilterParams& p);
 
-/// What Gersthofer's pipeline (gersthofer.h) adds to a run; every pointer may be null.
+/// What a run takes beyond the accumulation: Gersthofer's pipeline (gersthofer.h) and SVGF's
+/// fused variance rows; every pointer may be null.
 struct FilterExtras {
+  /// Filter::varianceRows already ran on every row for this run (as the accumulation's
+  /// afterRows) and counted this many short-history pixels: the variance pass then adds only
+  /// the spatial estimate. Null: the whole pass. Not with `input`.
+  const size_t* varianceRowsShortCount = nullptr;
   /// The level-0 colour when it is not the accumulated colour (his composite of the separately
   /// accumulated components); null: accumulator.color().
   const Plane3* input = nullptr;
@@ -84,12 +88,13 @@ class Filter {
                          const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix = {},
                          const FilterExtras& extras = {});
   /// The variance pass's rows [rowBegin, rowEnd) (svgf::varianceRows) from `accumulator`'s
-  /// current results and `current`, from any thread: run as the accumulation's
-  /// AccumulationOptions::afterRows, they read the rows while those are in cache (~0.4 ms of a
-  /// 1280x720 frame at two threads). The next run() (the same accumulator, current and p.variance,
-  /// no FilterExtras::input) then adds only the spatial estimate.
-  void varianceRows(const TemporalAccumulator& accumulator, const Plane3& current, const FilterParams& p, int rowBegin,
-                    int rowEnd);
+  /// current results and `current`, from any thread; returns their short-history pixels. Run as
+  /// the accumulation's AccumulationOptions::afterRows, they read the rows while those are in
+  /// cache (~0.4 ms of a 1280x720 frame at two threads); the run() that follows (the same
+  /// accumulator, current and p.variance) takes the count's sum in
+  /// FilterExtras::varianceRowsShortCount.
+  size_t varianceRows(const TemporalAccumulator& accumulator, const Plane3& current, const FilterParams& p, int rowBegin,
+                      int rowEnd);
 
   /// Every plane the filter keeps (CPU denoisers' PlaneInspection).
   void forEachPlane(const PlaneVisitor& visit) const {
@@ -104,9 +109,6 @@ class Filter {
   PaddedPlane sigmaScale_;
   PaddedPlane valid_[2], scratch_[2];
   int pad_ = 0;
-  // varianceRows' state until run(): whether rows were done, and their short-history pixels.
-  std::atomic<bool> rowsDone_{false};
-  std::atomic<size_t> rowsShortCount_{0};
 };
 
 }  // namespace rtd::svgf

@@ -1,6 +1,7 @@
 // Tests of the shared a-trous pass and of the SVGF method (Schied et al. 2017 and variants).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <random>
 
@@ -384,11 +385,17 @@ TEST(SvgfFilter, VarianceRowsAfterTheAccumulationEqualTheVariancePass) {
     AccumulationOptions withRows, without;
     withRows.current = &currentFused;
     without.current = &currentPlain;
-    withRows.afterRows = [&](int rowBegin, int rowEnd) { fused.varianceRows(accFused, currentFused, p, rowBegin, rowEnd); };
+    std::atomic<size_t> shortCount{0};
+    withRows.afterRows = [&](int rowBegin, int rowEnd) {
+      shortCount += fused.varianceRows(accFused, currentFused, p, rowBegin, rowEnd);
+    };
     accFused.run(rp, frame, 0.2f, 0.2f, 32, withRows);
     accPlain.run(rp, frame, 0.2f, 0.2f, 32, without);
     FrameStats stats;
-    const AtrousImage& a = fused.run(g, accFused, currentFused, nullptr, p, stats);
+    const size_t rowsShortCount = shortCount;
+    svgf::FilterExtras extras;
+    extras.varianceRowsShortCount = &rowsShortCount;
+    const AtrousImage& a = fused.run(g, accFused, currentFused, nullptr, p, stats, "", extras);
     const AtrousImage& b = plain.run(g, accPlain, currentPlain, nullptr, p, stats);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
