@@ -55,6 +55,7 @@
 #pragma GCC target("avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma,f16c,bmi,bmi2,lzcnt,popcnt")
 // GCC 12 warns about the intrinsics' own _mm512_undefined_ps() (GCC bug 105593).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #else
 #pragma GCC target("avx2,fma,f16c,bmi,bmi2,lzcnt,popcnt")
 #endif
@@ -173,6 +174,21 @@ inline vf vgather(const float* base, vi index) {
 #else
   vf v;
   for (int k = 0; k < kLanes; ++k) v[k] = base[index[k]];
+  return v;
+#endif
+}
+/// Lane k of the 2 kLanes consecutive floats lo:hi (lo first) picked by index[k], each in
+/// [0, 2 kLanes): a gather whose addresses lie within one such window, as two loads and one
+/// permutation (two and a blend on avx2) where a gather costs a load per lane.
+inline vf vpermute2(vf lo, vf hi, vi index) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_permutex2var_ps(lo, (__m512i)index, hi);
+#elif defined(RTD_SIMD_AVX2)
+  const __m256 a = _mm256_permutevar8x32_ps(lo, (__m256i)index), b = _mm256_permutevar8x32_ps(hi, (__m256i)index);
+  return _mm256_blendv_ps(a, b, (__m256)asFloat(index > 7));
+#else
+  vf v;
+  for (int k = 0; k < kLanes; ++k) v[k] = index[k] < kLanes ? lo[index[k]] : hi[index[k] - kLanes];
   return v;
 #endif
 }

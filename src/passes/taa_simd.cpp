@@ -139,24 +139,50 @@ inline void catmullRomWeightsLanes(vf t, vf w[4]) {
 }
 // The kLanes-pixel twin of catmullRomFetch (8 on avx2, 16 on avx512) for footprints wholly
 // inside the frame (the caller checks): the same weights, flushes and summation order, taps as
-// vector loads where the footprints are consecutive (locally uniform motion), gathers otherwise.
+// vector loads where the footprints are consecutive (locally uniform motion). Otherwise the
+// footprints usually still start within 2 kLanes - 4 columns and on two neighbouring rows at
+// most (a step in the motion between the lanes, or positions near a texel centre line that
+// round to different rows: a third of the groups at 1280x720 in BM_Taa): the taps are then
+// permutations of a two-vector window of each row (vpermute2), picked per lane between the two
+// rows; gathers only where even that does not hold.
 void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* prevY, int w, float* out[3]) {
   const vf qx = load(prevX) - 0.5f, qy = load(prevY) - 0.5f;
   const vf fx = vfloor(qx), fy = vfloor(qy);
   vf wx[4], wy[4];
   catmullRomWeightsLanes(qx - fx, wx);
   catmullRomWeightsLanes(qy - fy, wy);
-  const vi base = (__builtin_convertvector(fy, vi) - 1) * w + (__builtin_convertvector(fx, vi) - 1);
+  const vi col = __builtin_convertvector(fx, vi) - 1, top = __builtin_convertvector(fy, vi) - 1;
+  const vi base = top * w + col;
   vi lane;
   for (int k = 0; k < kLanes; ++k) lane[k] = k;
   const int first = base[0];
   const bool consecutive = allTrue(base == first + lane);
+  int colMin = col[0], colMax = col[0], topMin = top[0], topMax = top[0];
+  for (int k = 1; k < kLanes && !consecutive; ++k) {
+    colMin = std::min(colMin, col[k]), colMax = std::max(colMax, col[k]);
+    topMin = std::min(topMin, top[k]), topMax = std::max(topMax, top[k]);
+  }
+  // The last window row's two vectors end inside the plane (they may run past the row's end).
+  const bool windowed = !consecutive && colMax - colMin <= 2 * kLanes - 4 && topMax - topMin <= 1 &&
+                        size_t(topMax + 3) * w + colMin + 2 * kLanes <= hist[0].size();
+  const vi columns = col - colMin, lower = top != topMin;  // lanes whose footprint starts a row lower
+  const int windowRows = 4 + (topMax - topMin);
   for (int c = 0; c < 3; ++c) {
     const float* hp = hist[c].ptr();
+    vf lo[5], hi[5];
+    for (int j = 0; j < windowRows && windowed; ++j) {
+      const float* row = hp + size_t(topMin + j) * w + colMin;
+      lo[j] = load(row), hi[j] = load(row + kLanes);
+    }
     vf sum = splat(0.0f);
     for (int j = 0; j < 4; ++j) {
       const float* row = hp + size_t(j) * w;
-      auto tap = [&](int i) { return consecutive ? load(row + first + i) : vgather(row + i, base); };
+      auto tap = [&](int i) {
+        if (consecutive) return load(row + first + i);
+        if (!windowed) return vgather(row + i, base);
+        const vf upper = vpermute2(lo[j], hi[j], columns + i);
+        return windowRows == 4 ? upper : lower ? vpermute2(lo[j + 1], hi[j + 1], columns + i) : upper;
+      };
       const vf r = wx[0] * tap(0) + wx[1] * tap(1) + wx[2] * tap(2) + wx[3] * tap(3);
       sum += wy[j] * vflush(r);
     }

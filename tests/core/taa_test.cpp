@@ -436,6 +436,81 @@ TEST(Taa, PixelsWithoutHistoryKeepTheCurrentColour) {
 // of the quadratic terms, c_x t(1 - t) + c_y s(1 - s) (t, s the fractions), which lies inside
 // the 3x3 box of this monotone image and enters the output with weight 1 - alpha. Where the
 // reprojection rejected a tap, Catmull-Rom falls back to (plain) bilinear. On every CPU path.
+// The vector paths read a group of pixels' history taps with vector loads where the footprints
+// are consecutive and with gathers otherwise (bilinear, Bilinear8); Catmull-Rom (8 or 16
+// pixels) reads them as permutations of two-vector windows of one or two rows where they start
+// within a few columns and on two rows at most (a step in the motion; positions that round to
+// either side of a texel centre line, as under a static or panning camera). Four motion fields
+// make each layout the common case (classified here from the positions, groups of eight); on
+// every CPU path, with either history filter, the TAA output equals the sse2 path's (scalar
+// fetches) to float rounding. A wrong lane in a window's permutation moves a value by ~0.1 here.
+TEST(Taa, HistoryTapsOfEveryGroupLayoutEqualTheScalarFetch) {
+  const int w = 101, h = 23;
+  enum Field { Uniform, Stepped, Straddling, Scattered };
+  for (const Field field : {Uniform, Stepped, Straddling, Scattered}) {
+    SCOPED_TRACE("motion field " + std::to_string(int(field)));
+    uint32_t state = 7919u * (unsigned(field) + 1);
+    auto rnd = [&] {
+      state = state * 1664525u + 1013904223u;
+      return float(state >> 8) * 0x1p-24f;
+    };
+    Reprojection rp;
+    rp.resize(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float dx = 2.3f, dy = -0.6f;                      // Uniform: consecutive groups
+        if (field == Stepped) dx += 0.09f * float(x);      // a one-column step every ~11 pixels
+        if (field == Straddling) dx = 1.0f + 1e-4f * (rnd() - 0.5f), dy = -1.0f + 1e-4f * (rnd() - 0.5f);
+        if (field == Scattered) dx = 16.0f * rnd() - 8.0f, dy = 16.0f * rnd() - 8.0f;
+        rp.prevX(x, y) = float(x) + 0.5f + dx;
+        rp.prevY(x, y) = float(y) + 0.5f + dy;
+      }
+    acceptAll(rp);
+    // The layout of each group of eight bilinear footprints inside the frame.
+    size_t layouts[4] = {};
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x + 8 <= w; x += 8) {
+        int fx[8], fy[8];
+        bool inside = true;
+        for (int k = 0; k < 8; ++k) {
+          fx[k] = int(std::floor(rp.prevX(x + k, y) - 0.5f)), fy[k] = int(std::floor(rp.prevY(x + k, y) - 0.5f));
+          inside = inside && fx[k] >= 0 && fy[k] >= 0 && fx[k] < w - 1 && fy[k] < h - 1;
+        }
+        if (!inside) continue;
+        bool consecutive = true;
+        for (int k = 0; k < 8; ++k) consecutive = consecutive && fy[k] == fy[0] && fx[k] == fx[0] + k;
+        const int columns = *std::max_element(fx, fx + 8) - *std::min_element(fx, fx + 8);
+        const int rows = *std::max_element(fy, fy + 8) - *std::min_element(fy, fy + 8);
+        ++layouts[consecutive ? Uniform : columns <= 14 && rows == 0 ? Stepped : columns <= 14 && rows == 1 ? Straddling : Scattered];
+      }
+    const size_t groups = layouts[0] + layouts[1] + layouts[2] + layouts[3];
+    ASSERT_GT(layouts[field], groups / 2) << layouts[0] << " " << layouts[1] << " " << layouts[2] << " " << layouts[3];
+    const Plane3 history = test::imageOf(w, h, [&](int, int, int) { return 0.2f + 0.6f * rnd(); });
+    const Plane3 current = test::imageOf(w, h, [&](int, int, int) { return rnd() < 0.5f ? 0.0f : 1.0f; });
+    for (TaaHistoryFilter filter : kFilters) {
+      const TaaSettings s = settings(0.3f, TaaDomain::linear, TaaNeighbourhood::box3x3, filter);
+      auto run = [&] {
+        Taa taa;
+        taa.resize(w, h);
+        taa.run(rp, history, s);  // no history yet: stores `history`
+        return taa.run(rp, current, s);
+      };
+      Plane3 ref;
+      {
+        test::ScopedCpuPath scalar(CpuPath::Sse2);
+        ref = run();
+      }
+      for (CpuPath path : test::supportedCpuPaths()) {
+        test::ScopedCpuPath force(path);
+        const Plane3 out = run();
+        for (int c = 0; c < 3; ++c)
+          for (size_t i = 0; i < out[c].size(); ++i)
+            ASSERT_NEAR(out[c].data[i], ref[c].data[i], 2e-6f) << cpuPathName(path) << " " << name(filter) << " pixel " << i;
+      }
+    }
+  }
+}
+
 TEST(Taa, CatmullRomReproducesAQuadraticAndFallsBackToBilinearOnRejectedTaps) {
   const double sx = 0.3, sy = 0.6, cx = 0.002, cy = 0.003, alpha = 0.25;
   auto q = [&](double x, double y, int c) { return (1.0 + 0.2 * c) * (0.1 + 0.02 * x + 0.03 * y + cx * x * x + cy * y * y); };
