@@ -4,14 +4,15 @@
 # import and export), with the device name; then Gersthofer's stereo pipeline, both eyes at
 # 1440x1600 (thesis Table 5.3; $STEREO_SIZE for another). Targets on an H100: SVGF <= 1.0 ms, BMFR <= 1.5 ms (gpu filter).
 # Usage: scripts/bench-gpu.sh [WIDTHxHEIGHT] [extra rtdenoise bench options, e.g. --device h100]
-# Environment: FRAMES (default 50) and WARMUP (default 10) frames per method.
-# Builds first if the CLI is missing. On lavapipe (no GPU) use a small size: it is a CPU emulation.
+# Environment: FRAMES (default 50) and WARMUP (default 10) frames per method; RTD_CLI the CLI to
+# run (default build/release/apps/rtdenoise, built first if missing).
+# On lavapipe (no GPU) use a small size: it is a CPU emulation.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 size="${1:-1920x1080}"
 shift || true
-cli=build/release/apps/rtdenoise
-if [ ! -x "$cli" ]; then
+cli=${RTD_CLI:-build/release/apps/rtdenoise}  # RTD_CLI: another build's CLI (scripts/gpu-bundle.sh)
+if [ ! -x "$cli" ] && [ -z "${RTD_CLI:-}" ]; then
   cmake --preset release >/dev/null
   cmake --build build/release -j"$(nproc)" --target rtdenoise_cli
 fi

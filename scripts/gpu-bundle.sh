@@ -22,7 +22,7 @@ done
 tar -C "$stage" -cf - . | xz -T0 -6 > .devbundle/rtd.tar.xz
 cat > .devbundle/run.sh <<'RUN'
 #!/bin/bash
-# Made by scripts/gpu-bundle.sh: scripts/bench-gpu.sh's runs from the carried bundle.
+# Made by scripts/gpu-bundle.sh: scripts/bench-gpu.sh with the carried bundle's CLI.
 set -o pipefail
 out=${OUT:-gpu-out}; mkdir -p "$out"
 if [ -d .gl ]; then for f in .gl/*.deb; do dpkg -x "$f" /; done; ldconfig; fi
@@ -30,16 +30,9 @@ icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
 [ -f $icd ] && export VK_DRIVER_FILES=$icd
 mkdir -p /tmp/rtd && tar -xJf .devbundle/rtd.tar.xz -C /tmp/rtd
 export LD_LIBRARY_PATH=/tmp/rtd/lib
-B=/tmp/rtd/bin/rtdenoise
 {
   head -2 /etc/os-release
-  nvidia-smi --query-gpu=name,driver_version,clocks.max.sm --format=csv 2>/dev/null
-  $B devices
-  for m in svgf bmfr asvgf tnnd rae accumulate; do
-    timeout 120 $B bench --backend vulkan --method $m --size 1920x1080 --frames 60 --warmup 10 --json "$out/vk_$m.json" 2>/dev/null
-  done
-  timeout 120 $B bench --backend vulkan --method svgf --set variant=dundr --size 1920x1080 --frames 60 --warmup 10 2>/dev/null
-  timeout 120 $B bench --backend vulkan --method svgf --stereo --set variant=gersthofer --size 1440x1600 --frames 60 --warmup 10 2>/dev/null
+  RTD_CLI=/tmp/rtd/bin/rtdenoise bash scripts/bench-gpu.sh
 } 2>&1 | tee "$out/bench.txt"
 RUN
 chmod +x .devbundle/run.sh

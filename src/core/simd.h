@@ -53,7 +53,8 @@
 #else
 #if RTD_SIMD_PATH == 2
 #pragma GCC target("avx512f,avx512vl,avx512bw,avx512dq,avx512cd,avx2,fma,f16c,bmi,bmi2,lzcnt,popcnt")
-// GCC 12 warns about the intrinsics' own _mm512_undefined_ps() (GCC bug 105593).
+// GCC 12 warns (uninitialized, maybe-uninitialized) about the intrinsics' own
+// _mm512_undefined_ps() (GCC bug 105593).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #else

@@ -429,13 +429,6 @@ TEST(Taa, PixelsWithoutHistoryKeepTheCurrentColour) {
   }
 }
 
-// Catmull-Rom (Keys' a = -1/2 cubic) reproduces quadratics, bilinear does not: a colour image
-// q(x, y) quadratic in x and y, moved by a sub-pixel (0.3, 0.6) per frame with motion saying so.
-// Where the 4x4 footprint lies inside the frame, the Catmull-Rom history is the current frame
-// itself, so the output is the input; the bilinear history is off by the interpolation error
-// of the quadratic terms, c_x t(1 - t) + c_y s(1 - s) (t, s the fractions), which lies inside
-// the 3x3 box of this monotone image and enters the output with weight 1 - alpha. Where the
-// reprojection rejected a tap, Catmull-Rom falls back to (plain) bilinear. On every CPU path.
 // The vector paths read a group of pixels' history taps with vector loads where the footprints
 // are consecutive and with gathers otherwise (bilinear, Bilinear8); Catmull-Rom (8 or 16
 // pixels) reads them as permutations of two-vector windows of one or two rows where they start
@@ -511,6 +504,13 @@ TEST(Taa, HistoryTapsOfEveryGroupLayoutEqualTheScalarFetch) {
   }
 }
 
+// Catmull-Rom (Keys' a = -1/2 cubic) reproduces quadratics, bilinear does not: a colour image
+// q(x, y) quadratic in x and y, moved by a sub-pixel (0.3, 0.6) per frame with motion saying so.
+// Where the 4x4 footprint lies inside the frame, the Catmull-Rom history is the current frame
+// itself, so the output is the input; the bilinear history is off by the interpolation error
+// of the quadratic terms, c_x t(1 - t) + c_y s(1 - s) (t, s the fractions), which lies inside
+// the 3x3 box of this monotone image and enters the output with weight 1 - alpha. Where the
+// reprojection rejected a tap, Catmull-Rom falls back to (plain) bilinear. On every CPU path.
 TEST(Taa, CatmullRomReproducesAQuadraticAndFallsBackToBilinearOnRejectedTaps) {
   const double sx = 0.3, sy = 0.6, cx = 0.002, cy = 0.003, alpha = 0.25;
   auto q = [&](double x, double y, int c) { return (1.0 + 0.2 * c) * (0.1 + 0.02 * x + 0.03 * y + cx * x * x + cy * y * y); };
