@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "passes/reprojection.h"
 #include "core/simd.h"
@@ -104,18 +105,37 @@ struct TapTest {
 #ifdef RTD_SIMD_AVX2
   // Pixels x..x+7 of row y (1 <= x, x + 8 < w) whose four bilinear taps all lie inside the
   // previous frame: the tests of valid() on eight pixels at once, the four taps of each read
-  // with gathers. Writes kind, base and weights of the lanes with a valid tap (sum of accepted
-  // bilinear weights > 1e-4) and returns their bit mask; the other lanes are left to the caller.
+  // with vector loads where the eight footprints are consecutive, with gathers otherwise.
+  // Writes kind, base and weights of the lanes with a valid tap (sum of accepted bilinear
+  // weights > 1e-4) and returns their bit mask; the other lanes are left to the caller. The
+  // tests a frame has (kZ depth, kN normal, kId object id, kP position; the pointers above) are
+  // template arguments, so the four taps unroll with the features in registers (a run-time
+  // test per feature and tap kept the loop rolled and spilled the features: about 40 % of
+  // the pass, docs/performance.md "Session 12").
+  template <bool kZ, bool kN, bool kId, bool kP>
   unsigned bilinear8(int x, int y, int w, int h, Reprojection& out) const {
     const size_t i = size_t(y) * w + x;
     Bilinear8 taps;
     if (!taps.footprint(out.prevX.ptr() + i, out.prevY.ptr() + i, w, h)) return 0;
+    if (taps.consecutive) return bilinear8Taps<kZ, kN, kId, kP, true>(taps, i, y, w, h, out);
+    return bilinear8Taps<kZ, kN, kId, kP, false>(taps, i, y, w, h, out);
+  }
+
+  template <bool kZ, bool kN, bool kId, bool kP, bool kConsecutive>
+  unsigned bilinear8Taps(const Bilinear8& taps, size_t i, int y, int w, int h, Reprojection& out) const {
     const __m256i base = taps.base;
+    const size_t first = size_t(_mm256_extract_epi32(base, 0));
+    // Tap t of plane q: one load where the footprints are consecutive (Bilinear8::tap).
+    auto fetch = [&](const float* q, int t) __attribute__((always_inline)) {
+      const float* o = q + (t & 1) + (t >> 1) * w;
+      if constexpr (kConsecutive) return _mm256_loadu_ps(o + first);
+      else return _mm256_i32gather_ps(o, base, 4);
+    };
 
     // The current pixels' features.
     __m256 tol = _mm256_setzero_ps(), cz = tol, cn[3] = {tol, tol, tol}, cid = tol, cp[3] = {tol, tol, tol};
     __m256 background = tol;
-    if (z) {
+    if constexpr (kZ) {
       cz = _mm256_loadu_ps(z + i);
       const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
       __m256 slope;
@@ -129,14 +149,14 @@ struct TapTest {
       }
       tol = _mm256_fmadd_ps(_mm256_set1_ps(s.depthTolerance), cz, _mm256_mul_ps(_mm256_set1_ps(s.depthGradientScale), slope));
     }
-    if (n[0]) {
+    if constexpr (kN) {
       for (int k = 0; k < 3; ++k) cn[k] = _mm256_loadu_ps(n[k] + i);
       const __m256 len2 = _mm256_fmadd_ps(cn[2], cn[2], _mm256_fmadd_ps(cn[1], cn[1], _mm256_mul_ps(cn[0], cn[0])));
       background = _mm256_cmp_ps(len2, _mm256_set1_ps(0.25f), _CMP_LT_OQ);
     }
-    if (id) cid = _mm256_loadu_ps(id + i);
+    if constexpr (kId) cid = _mm256_loadu_ps(id + i);
     __m256 positionTol2 = _mm256_setzero_ps();
-    if (p[0]) {
+    if constexpr (kP) {
       for (int k = 0; k < 3; ++k) cp[k] = _mm256_loadu_ps(p[k] + i);
       // positionTolerance2() for eight interior pixels (one-sided only at the top and bottom).
       const size_t up = y > 0 ? i - w : i + w, down = y < h - 1 ? i + w : i - w;
@@ -152,19 +172,18 @@ struct TapTest {
       const __m256 tol = _mm256_fmadd_ps(_mm256_set1_ps(s.positionFootprints), _mm256_sqrt_ps(f2), _mm256_set1_ps(s.positionTolerance));
       positionTol2 = _mm256_mul_ps(tol, tol);
     }
+    const __m256 minusTol = _mm256_sub_ps(_mm256_setzero_ps(), tol);
 
     __m256 wt[4], sum = _mm256_setzero_ps();
+#pragma GCC unroll 4
     for (int t = 0; t < 4; ++t) {
-      auto fetch = [&](const float* plane) { return taps.tap(plane, t); };
-      __m256 ok = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
-      if (z) {
-        const __m256 dz = _mm256_sub_ps(fetch(zPrev), cz);
-        ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(dz, tol, _CMP_LE_OQ),
-                                             _mm256_cmp_ps(dz, _mm256_sub_ps(_mm256_setzero_ps(), tol), _CMP_GE_OQ)));
+      __m256 ok = taps.weight[t];
+      if constexpr (kZ) {
+        const __m256 dz = _mm256_sub_ps(fetch(zPrev, t), cz);
+        ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(dz, tol, _CMP_LE_OQ), _mm256_cmp_ps(dz, minusTol, _CMP_GE_OQ)));
       }
-      if (n[0]) {
-        const __m256 qx = fetch(nPrev[0]), qy = fetch(nPrev[1]),
-                     qz = fetch(nPrev[2]);
+      if constexpr (kN) {
+        const __m256 qx = fetch(nPrev[0], t), qy = fetch(nPrev[1], t), qz = fetch(nPrev[2], t);
         // Background pixels (zero normal) match background pixels only.
         const __m256 len2 = _mm256_fmadd_ps(qz, qz, _mm256_fmadd_ps(qy, qy, _mm256_mul_ps(qx, qx)));
         const __m256 dot = _mm256_fmadd_ps(cn[2], qz, _mm256_fmadd_ps(cn[1], qy, _mm256_mul_ps(cn[0], qx)));
@@ -172,16 +191,16 @@ struct TapTest {
         const __m256 fgOk = _mm256_cmp_ps(dot, _mm256_set1_ps(s.normalTolerance), _CMP_GE_OQ);
         ok = _mm256_and_ps(ok, _mm256_blendv_ps(fgOk, bgOk, background));
       }
-      if (id) ok = _mm256_and_ps(ok, _mm256_cmp_ps(fetch(idPrev), cid, _CMP_EQ_OQ));
-      if (p[0]) {
+      if constexpr (kId) ok = _mm256_and_ps(ok, _mm256_cmp_ps(fetch(idPrev, t), cid, _CMP_EQ_OQ));
+      if constexpr (kP) {
         __m256 d2 = _mm256_setzero_ps();
         for (int k = 0; k < 3; ++k) {
-          const __m256 d = _mm256_sub_ps(cp[k], fetch(pPrev[k]));
+          const __m256 d = _mm256_sub_ps(cp[k], fetch(pPrev[k], t));
           d2 = _mm256_fmadd_ps(d, d, d2);
         }
         ok = _mm256_and_ps(ok, _mm256_cmp_ps(d2, positionTol2, _CMP_LE_OQ));
       }
-      wt[t] = _mm256_and_ps(ok, taps.weight[t]);
+      wt[t] = ok;  // the bilinear weight where every test passed, 0 elsewhere
       sum = _mm256_add_ps(sum, wt[t]);
     }
     const unsigned good = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(sum, _mm256_set1_ps(1e-4f), _CMP_GT_OQ)));
@@ -327,11 +346,20 @@ void reprojectRows(const FrameData& cur, const FrameData* previous, const Reproj
     // of a row always do (their depth slope is one-sided).
     if (w >= 10) {
       classify(0, y);
-      for (x = 1; x + 8 <= w - 1; x += 8) {
-        const unsigned bilinear = test.bilinear8(x, y, w, h, out);
-        for (int k = 0; k < 8; ++k)
-          if (!(bilinear >> k & 1u)) classify(x + k, y);
-      }
+      auto groups = [&](auto kZ, auto kN, auto kId, auto kP) {
+        for (x = 1; x + 8 <= w - 1; x += 8) {
+          const unsigned bilinear = test.bilinear8<decltype(kZ)::value, decltype(kN)::value, decltype(kId)::value, decltype(kP)::value>(x, y, w, h, out);
+          for (int k = 0; k < 8; ++k)
+            if (!(bilinear >> k & 1u)) classify(x + k, y);
+        }
+      };
+      // One instantiation per combination of the tests the frame has.
+      using T = std::true_type;
+      using F = std::false_type;
+      auto withP = [&](auto kZ, auto kN, auto kId) { test.p[0] ? groups(kZ, kN, kId, T{}) : groups(kZ, kN, kId, F{}); };
+      auto withId = [&](auto kZ, auto kN) { test.id ? withP(kZ, kN, T{}) : withP(kZ, kN, F{}); };
+      auto withN = [&](auto kZ) { test.n[0] ? withId(kZ, T{}) : withId(kZ, F{}); };
+      test.z ? withN(T{}) : withN(F{});
     }
 #endif
     for (; x < w; ++x) classify(x, y);
