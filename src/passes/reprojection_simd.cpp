@@ -124,13 +124,7 @@ struct TapTest {
   template <bool kZ, bool kN, bool kId, bool kP, bool kConsecutive>
   unsigned bilinear8Taps(const Bilinear8& taps, size_t i, int y, int w, int h, Reprojection& out) const {
     const __m256i base = taps.base;
-    const size_t first = size_t(_mm256_extract_epi32(base, 0));
-    // Tap t of plane q: one load where the footprints are consecutive (Bilinear8::tap).
-    auto fetch = [&](const float* q, int t) __attribute__((always_inline)) {
-      const float* o = q + (t & 1) + (t >> 1) * w;
-      if constexpr (kConsecutive) return _mm256_loadu_ps(o + first);
-      else return _mm256_i32gather_ps(o, base, 4);
-    };
+    auto fetch = [&](const float* q, int t) __attribute__((always_inline)) { return taps.tap<kConsecutive>(q, t); };
 
     // The current pixels' features.
     __m256 tol = _mm256_setzero_ps(), cz = tol, cn[3] = {tol, tol, tol}, cid = tol, cp[3] = {tol, tol, tol};
