@@ -193,6 +193,20 @@ inline vf vpermute2(vf lo, vf hi, vi index) {
   return v;
 #endif
 }
+/// Bit k set where lane k of a comparison's result is true.
+inline uint32_t laneBits(vi mask) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_movepi32_mask((__m512i)mask);
+#elif defined(RTD_SIMD_AVX2)
+  return uint32_t(_mm256_movemask_ps((__m256)asFloat(mask)));
+#elif defined(RTD_SIMD_X86)
+  return uint32_t(_mm_movemask_ps((__m128)asFloat(mask)));
+#else
+  uint32_t bits = 0;
+  for (int k = 0; k < kLanes; ++k) bits |= uint32_t(mask[k] != 0) << k;
+  return bits;
+#endif
+}
 /// Whether any lane of a comparison's result is true.
 inline bool anyTrue(vi mask) {
 #if defined(RTD_SIMD_AVX512)

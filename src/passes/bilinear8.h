@@ -72,23 +72,16 @@ struct Bilinear8 {
   /// Tap t (0: top left, 1: top right, 2: bottom left, 3: bottom right) of the eight pixels in
   /// plane h: one vector load where the footprints are consecutive, a gather otherwise.
   __m256 tap(const float* h, int t) const {
-    return consecutive ? tap<true>(h, t) : tap<false>(h, t);
-  }
-  /// tap() where the caller knows `consecutive` at compile time (a loop specialized on it keeps
-  /// its values in registers across the taps).
-  template <bool kConsecutive> __m256 tap(const float* h, int t) const {
     const float* p = h + (t & 1) + (t >> 1) * width;
-    if constexpr (kConsecutive) return _mm256_loadu_ps(p + _mm256_cvtsi256_si32(base));
-    else return _mm256_i32gather_ps(p, base, 4);
+    return consecutive ? _mm256_loadu_ps(p + _mm256_extract_epi32(base, 0)) : _mm256_i32gather_ps(p, base, 4);
   }
 
   /// The bilinear history of the eight pixels in plane h (the sum in Reprojection::gatherBilinear's order).
-  __m256 gather(const float* h) const { return consecutive ? gather<true>(h) : gather<false>(h); }
-  template <bool kConsecutive> __m256 gather(const float* h) const {
-    __m256 v = _mm256_mul_ps(weight[0], tap<kConsecutive>(h, 0));
-    v = _mm256_fmadd_ps(weight[1], tap<kConsecutive>(h, 1), v);
-    v = _mm256_fmadd_ps(weight[2], tap<kConsecutive>(h, 2), v);
-    return _mm256_fmadd_ps(weight[3], tap<kConsecutive>(h, 3), v);
+  __m256 gather(const float* h) const {
+    __m256 v = _mm256_mul_ps(weight[0], tap(h, 0));
+    v = _mm256_fmadd_ps(weight[1], tap(h, 1), v);
+    v = _mm256_fmadd_ps(weight[2], tap(h, 2), v);
+    return _mm256_fmadd_ps(weight[3], tap(h, 3), v);
   }
 };
 

@@ -1,5 +1,5 @@
-// reprojectRows for one CPU path (core/simd.h): the tap tests of eight pixels at a time with
-// AVX2 (Bilinear8) on the avx2 and avx512 paths; the scalar path, which stays the reference,
+// reprojectRows for one CPU path (core/simd.h): the tap tests of kLanes pixels at a time on the
+// avx2 and avx512 paths (8 and 16 lanes); the scalar path, which stays the reference,
 // for borders, disocclusions, the 3x3 fallback and the sse2 path.
 #include <algorithm>
 #include <array>
@@ -9,7 +9,6 @@
 
 #include "passes/reprojection.h"
 #include "core/simd.h"
-#include "passes/bilinear8.h"
 
 namespace rtd::RTD_SIMD_NS {
 
@@ -103,128 +102,149 @@ struct TapTest {
   }
 
 #ifdef RTD_SIMD_AVX2
-  // Pixels x..x+7 of row y (1 <= x, x + 8 < w) whose four bilinear taps all lie inside the
-  // previous frame: the tests of valid() on eight pixels at once, the four taps of each read
-  // with vector loads where the eight footprints are consecutive, with gathers otherwise.
-  // Writes kind, base and weights of the lanes with a valid tap (sum of accepted bilinear
-  // weights > 1e-4) and returns their bit mask; the other lanes are left to the caller. The
-  // tests a frame has (kZ depth, kN normal, kId object id, kP position; the pointers above) are
-  // template arguments, so the four taps unroll with the features in registers (a run-time
-  // test per feature and tap kept the loop rolled and spilled the features: about 40 % of
-  // the pass, docs/performance.md "Session 12").
+  // Pixels x..x+kLanes-1 of row y (1 <= x, x + kLanes < w) whose four bilinear taps all lie
+  // inside the previous frame: the tests of valid() on kLanes pixels at once (8 on avx2, 16
+  // on avx512), the four taps of each read with vector loads where the footprints are
+  // consecutive, with gathers otherwise. Writes kind, base and weights of the lanes with a valid
+  // tap (sum of accepted bilinear weights > 1e-4) and returns their bit mask; the other lanes
+  // are left to the caller. The tests a frame has (kZ depth, kN normal, kId object id, kP
+  // position; the pointers above) are template arguments, so the four taps unroll with the
+  // features in registers (a run-time test per feature and tap kept the loop rolled and
+  // spilled the features; docs/performance.md, "Session 12").
   template <bool kZ, bool kN, bool kId, bool kP>
-  unsigned bilinear8(int x, int y, int w, int h, Reprojection& out) const {
+  uint32_t bilinearLanes(int x, int y, int w, int h, Reprojection& out) const {
+    using RTD_SIMD_NS::load;  // the vector load, not Pixel load()
     const size_t i = size_t(y) * w + x;
-    Bilinear8 taps;
-    if (!taps.footprint(out.prevX.ptr() + i, out.prevY.ptr() + i, w, h)) return 0;
-    if (taps.consecutive) return bilinear8Taps<kZ, kN, kId, kP, true>(taps, i, y, w, h, out);
-    return bilinear8Taps<kZ, kN, kId, kP, false>(taps, i, y, w, h, out);
+    // The bilinear footprints: taps are pixel centres, so the top-left tap is floor(p - 0.5)
+    // (setBilinear); a lane with any tap off the frame sends the group to the scalar path.
+    const vf fx = load(out.prevX.ptr() + i) - 0.5f, fy = load(out.prevY.ptr() + i) - 0.5f;
+    const vf flx = vfloor(fx), fly = vfloor(fy);
+    if (!allTrue((flx >= 0.0f) & (flx < float(w - 1)) & (fly >= 0.0f) & (fly < float(h - 1)))) return 0;
+    const vf ax = fx - flx, ay = fy - fly, bx = 1.0f - ax, by = 1.0f - ay;
+    const vf bilinear[4] = {bx * by, ax * by, bx * ay, ax * ay};
+    const vi base = __builtin_convertvector(fly, vi) * w + __builtin_convertvector(flx, vi);
+    vi lane;
+    for (int k = 0; k < kLanes; ++k) lane[k] = k;
+    if (allTrue(base == base[0] + lane)) return bilinearTaps<kZ, kN, kId, kP, true>(bilinear, base, i, y, w, h, out);
+    return bilinearTaps<kZ, kN, kId, kP, false>(bilinear, base, i, y, w, h, out);
   }
 
   template <bool kZ, bool kN, bool kId, bool kP, bool kConsecutive>
-  unsigned bilinear8Taps(const Bilinear8& taps, size_t i, int y, int w, int h, Reprojection& out) const {
-    const __m256i base = taps.base;
-    auto fetch = [&](const float* q, int t) __attribute__((always_inline)) { return taps.tap<kConsecutive>(q, t); };
-
+  uint32_t bilinearTaps(const vf (&bilinear)[4], vi base, size_t i, int y, int w, int h, Reprojection& out) const {
+    using RTD_SIMD_NS::load;
+    // Tap t (0 top left, 1 top right, 2 bottom left, 3 bottom right) of plane q.
+    auto fetch = [&](const float* q, int t) __attribute__((always_inline)) {
+      const float* o = q + (t & 1) + (t >> 1) * w;
+      if constexpr (kConsecutive) return load(o + base[0]);
+      else return vgather(o, base);
+    };
     // The current pixels' features.
-    __m256 tol = _mm256_setzero_ps(), cz = tol, cn[3] = {tol, tol, tol}, cid = tol, cp[3] = {tol, tol, tol};
-    __m256 background = tol;
+    vf tol{}, cz{}, cn[3] = {}, cid{}, cp[3] = {}, positionTol2{};
+    vi background{};
     if constexpr (kZ) {
-      cz = _mm256_loadu_ps(z + i);
-      const __m256 absMask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-      __m256 slope;
+      cz = load(z + i);
+      vf slope;
       if (dzdx) {
-        slope = _mm256_max_ps(_mm256_and_ps(_mm256_loadu_ps(dzdx + i), absMask), _mm256_and_ps(_mm256_loadu_ps(dzdy + i), absMask));
+        slope = vmax(vabs(load(dzdx + i)), vabs(load(dzdy + i)));
       } else {
-        auto diff = [&](const float* q) { return _mm256_and_ps(_mm256_sub_ps(_mm256_loadu_ps(q), cz), absMask); };
+        auto diff = [&](const float* q) { return vabs(load(q) - cz); };
         const float* up = z + i - (y > 0 ? size_t(w) : 0);
         const float* down = z + i + (y < h - 1 ? size_t(w) : 0);
-        slope = _mm256_max_ps(_mm256_min_ps(diff(z + i - 1), diff(z + i + 1)), _mm256_min_ps(diff(up), diff(down)));
+        slope = vmax(vmin(diff(z + i - 1), diff(z + i + 1)), vmin(diff(up), diff(down)));
       }
-      tol = _mm256_fmadd_ps(_mm256_set1_ps(s.depthTolerance), cz, _mm256_mul_ps(_mm256_set1_ps(s.depthGradientScale), slope));
+      tol = s.depthTolerance * cz + s.depthGradientScale * slope;
     }
     if constexpr (kN) {
-      for (int k = 0; k < 3; ++k) cn[k] = _mm256_loadu_ps(n[k] + i);
-      const __m256 len2 = _mm256_fmadd_ps(cn[2], cn[2], _mm256_fmadd_ps(cn[1], cn[1], _mm256_mul_ps(cn[0], cn[0])));
-      background = _mm256_cmp_ps(len2, _mm256_set1_ps(0.25f), _CMP_LT_OQ);
+      for (int k = 0; k < 3; ++k) cn[k] = load(n[k] + i);
+      background = cn[0] * cn[0] + cn[1] * cn[1] + cn[2] * cn[2] < 0.25f;
     }
-    if constexpr (kId) cid = _mm256_loadu_ps(id + i);
-    __m256 positionTol2 = _mm256_setzero_ps();
+    if constexpr (kId) cid = load(id + i);
     if constexpr (kP) {
-      for (int k = 0; k < 3; ++k) cp[k] = _mm256_loadu_ps(p[k] + i);
-      // positionTolerance2() for eight interior pixels (one-sided only at the top and bottom).
+      for (int k = 0; k < 3; ++k) cp[k] = load(p[k] + i);
+      // positionTolerance2() for interior pixels (one-sided only at the top and bottom).
       const size_t up = y > 0 ? i - w : i + w, down = y < h - 1 ? i + w : i - w;
       auto d2 = [&](size_t j) {
-        __m256 r = _mm256_setzero_ps();
+        vf r{};
         for (int k = 0; k < 3; ++k) {
-          const __m256 d = _mm256_sub_ps(_mm256_loadu_ps(p[k] + j), cp[k]);
-          r = _mm256_fmadd_ps(d, d, r);
+          const vf d = load(p[k] + j) - cp[k];
+          r += d * d;
         }
         return r;
       };
-      const __m256 f2 = _mm256_max_ps(_mm256_min_ps(d2(i - 1), d2(i + 1)), _mm256_min_ps(d2(up), d2(down)));
-      const __m256 tol = _mm256_fmadd_ps(_mm256_set1_ps(s.positionFootprints), _mm256_sqrt_ps(f2), _mm256_set1_ps(s.positionTolerance));
-      positionTol2 = _mm256_mul_ps(tol, tol);
+      const vf f2 = vmax(vmin(d2(i - 1), d2(i + 1)), vmin(d2(up), d2(down)));
+      const vf t = s.positionTolerance + s.positionFootprints * vsqrt(f2);
+      positionTol2 = t * t;
     }
-    const __m256 minusTol = _mm256_sub_ps(_mm256_setzero_ps(), tol);
+    const vf minusTol = 0.0f - tol;
 
-    __m256 wt[4], sum = _mm256_setzero_ps();
+    vf wt[4], sum{};
 #pragma GCC unroll 4
     for (int t = 0; t < 4; ++t) {
-      __m256 ok = taps.weight[t];
+      vi ok = vi{} == 0;
       if constexpr (kZ) {
-        const __m256 dz = _mm256_sub_ps(fetch(zPrev, t), cz);
-        ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(dz, tol, _CMP_LE_OQ), _mm256_cmp_ps(dz, minusTol, _CMP_GE_OQ)));
+        const vf dz = fetch(zPrev, t) - cz;
+        ok &= (dz <= tol) & (dz >= minusTol);
       }
       if constexpr (kN) {
-        const __m256 qx = fetch(nPrev[0], t), qy = fetch(nPrev[1], t), qz = fetch(nPrev[2], t);
+        const vf qx = fetch(nPrev[0], t), qy = fetch(nPrev[1], t), qz = fetch(nPrev[2], t);
         // Background pixels (zero normal) match background pixels only.
-        const __m256 len2 = _mm256_fmadd_ps(qz, qz, _mm256_fmadd_ps(qy, qy, _mm256_mul_ps(qx, qx)));
-        const __m256 dot = _mm256_fmadd_ps(cn[2], qz, _mm256_fmadd_ps(cn[1], qy, _mm256_mul_ps(cn[0], qx)));
-        const __m256 bgOk = _mm256_cmp_ps(len2, _mm256_set1_ps(0.25f), _CMP_LT_OQ);
-        const __m256 fgOk = _mm256_cmp_ps(dot, _mm256_set1_ps(s.normalTolerance), _CMP_GE_OQ);
-        ok = _mm256_and_ps(ok, _mm256_blendv_ps(fgOk, bgOk, background));
+        const vi bgOk = qx * qx + qy * qy + qz * qz < 0.25f;
+        const vi fgOk = cn[0] * qx + cn[1] * qy + cn[2] * qz >= s.normalTolerance;
+        ok &= background ? bgOk : fgOk;
       }
-      if constexpr (kId) ok = _mm256_and_ps(ok, _mm256_cmp_ps(fetch(idPrev, t), cid, _CMP_EQ_OQ));
+      if constexpr (kId) ok &= fetch(idPrev, t) == cid;
       if constexpr (kP) {
-        __m256 d2 = _mm256_setzero_ps();
+        vf d2{};
         for (int k = 0; k < 3; ++k) {
-          const __m256 d = _mm256_sub_ps(cp[k], fetch(pPrev[k], t));
-          d2 = _mm256_fmadd_ps(d, d, d2);
+          const vf d = cp[k] - fetch(pPrev[k], t);
+          d2 += d * d;
         }
-        ok = _mm256_and_ps(ok, _mm256_cmp_ps(d2, positionTol2, _CMP_LE_OQ));
+        ok &= d2 <= positionTol2;
       }
-      wt[t] = ok;  // the bilinear weight where every test passed, 0 elsewhere
-      sum = _mm256_add_ps(sum, wt[t]);
+      wt[t] = keepIf(ok, bilinear[t]);
+      sum += wt[t];
     }
-    const unsigned good = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(sum, _mm256_set1_ps(1e-4f), _CMP_GT_OQ)));
+    const uint32_t good = laneBits(sum > 1e-4f);
     if (!good) return 0;
-    for (auto& v : wt) v = _mm256_div_ps(v, sum);
-    // Weights to the per-pixel {w0, w1, w2, w3} layout: a 4x8 transpose.
-    const __m256 t0 = _mm256_unpacklo_ps(wt[0], wt[1]), t1 = _mm256_unpackhi_ps(wt[0], wt[1]);
-    const __m256 t2 = _mm256_unpacklo_ps(wt[2], wt[3]), t3 = _mm256_unpackhi_ps(wt[2], wt[3]);
-    const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xee);
-    const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xee);
-    const __m256 pixel[4] = {_mm256_permute2f128_ps(u0, u1, 0x20), _mm256_permute2f128_ps(u2, u3, 0x20),
-                             _mm256_permute2f128_ps(u0, u1, 0x31), _mm256_permute2f128_ps(u2, u3, 0x31)};
+    for (auto& v : wt) v /= sum;
     float* weights = out.weights[i].data();
-    if (good == 0xff) {
-      for (int k = 0; k < 4; ++k) _mm256_storeu_ps(weights + 8 * k, pixel[k]);
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.base.data() + i), base);
-      std::memset(out.kind.data() + i, Reprojection::Bilinear, 8);
+    constexpr uint32_t all = kLanes == 32 ? ~0u : (1u << kLanes) - 1u;
+    if (good == all) {
+      storeInterleaved4(wt, weights);
+      std::memcpy(out.base.data() + i, &base, sizeof base);
+      std::memset(out.kind.data() + i, Reprojection::Bilinear, kLanes);
       return good;
     }
-    alignas(32) float lanes[32];
-    alignas(32) int32_t baseLanes[8];
-    for (int k = 0; k < 4; ++k) _mm256_store_ps(lanes + 8 * k, pixel[k]);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(baseLanes), base);
-    for (int k = 0; k < 8; ++k)
+    for (int k = 0; k < kLanes; ++k)
       if (good >> k & 1u) {
-        std::memcpy(weights + 4 * k, lanes + 4 * k, 16);
-        out.base[i + k] = baseLanes[k];
+        for (int t = 0; t < 4; ++t) weights[4 * k + t] = wt[t][k];
+        out.base[i + k] = base[k];
         out.kind[i + k] = Reprojection::Bilinear;
       }
     return good;
+  }
+
+  // The per-pixel {w0, w1, w2, w3} layout of four tap vectors: a 4 x 8 transpose per eight
+  // lanes.
+  static void storeInterleaved4(const vf (&wt)[4], float* out) {
+    auto transpose8 = [](__m256 w0, __m256 w1, __m256 w2, __m256 w3, float* o) {
+      const __m256 t0 = _mm256_unpacklo_ps(w0, w1), t1 = _mm256_unpackhi_ps(w0, w1);
+      const __m256 t2 = _mm256_unpacklo_ps(w2, w3), t3 = _mm256_unpackhi_ps(w2, w3);
+      const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xee);
+      const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xee);
+      _mm256_storeu_ps(o, _mm256_permute2f128_ps(u0, u1, 0x20));
+      _mm256_storeu_ps(o + 8, _mm256_permute2f128_ps(u2, u3, 0x20));
+      _mm256_storeu_ps(o + 16, _mm256_permute2f128_ps(u0, u1, 0x31));
+      _mm256_storeu_ps(o + 24, _mm256_permute2f128_ps(u2, u3, 0x31));
+    };
+#ifdef RTD_SIMD_AVX512
+    auto lo = [](vf v) { return _mm512_castps512_ps256(v); };
+    auto hi = [](vf v) { return _mm512_extractf32x8_ps(v, 1); };
+    transpose8(lo(wt[0]), lo(wt[1]), lo(wt[2]), lo(wt[3]), out);
+    transpose8(hi(wt[0]), hi(wt[1]), hi(wt[2]), hi(wt[3]), out + 32);
+#else
+    transpose8(wt[0], wt[1], wt[2], wt[3], out);
+#endif
   }
 #endif
 
@@ -335,15 +355,17 @@ void reprojectRows(const FrameData& cur, const FrameData* previous, const Reproj
     }
     int x = 0;
 #ifdef RTD_SIMD_AVX2
-    // Eight pixels at a time where every footprint is inside the frame (the common case);
+    // kLanes pixels at a time where every footprint is inside the frame (the common case);
     // lanes with no valid bilinear tap go through the scalar path. The first and last pixel
     // of a row always do (their depth slope is one-sided).
-    if (w >= 10) {
+    if (w >= kLanes + 2) {
       classify(0, y);
       auto groups = [&](auto kZ, auto kN, auto kId, auto kP) {
-        for (x = 1; x + 8 <= w - 1; x += 8) {
-          const unsigned bilinear = test.bilinear8<decltype(kZ)::value, decltype(kN)::value, decltype(kId)::value, decltype(kP)::value>(x, y, w, h, out);
-          for (int k = 0; k < 8; ++k)
+        for (x = 1; x + kLanes <= w - 1; x += kLanes) {
+          const uint32_t bilinear =
+              test.bilinearLanes<decltype(kZ)::value, decltype(kN)::value, decltype(kId)::value, decltype(kP)::value>(
+                  x, y, w, h, out);
+          for (int k = 0; k < kLanes; ++k)
             if (!(bilinear >> k & 1u)) classify(x + k, y);
         }
       };
