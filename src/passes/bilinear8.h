@@ -1,5 +1,6 @@
 // The bilinear history taps of eight consecutive pixels in AVX registers, for the passes that
-// gather history eight pixels at a time (reprojection, temporal accumulation, TAA). A header
+// gather history eight pixels at a time (temporal accumulation, TAA; the reprojection's tap tests
+// run kLanes wide in core/simd.h's types instead, passes/reprojection_simd.cpp). A header
 // for *_simd.cpp files only (after core/simd.h): it exists on the avx2 and avx512 paths.
 // Include passes/reprojection.h (and every other baseline header) before core/simd.h and this.
 #pragma once
