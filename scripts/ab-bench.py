@@ -46,6 +46,17 @@ def run(cmd, libdir, cpu_path):
     return done.stdout
 
 
+def check_loaded(program, libdir):
+    """Stops unless `program` run with libdir first on the library path loads libdir's
+    librtdenoise.so.0 (a DT_RPATH would win over LD_LIBRARY_PATH and compare the current build
+    with itself)."""
+    env = dict(os.environ, LD_LIBRARY_PATH=libdir)
+    out = subprocess.run(["ldd", program], env=env, stdout=subprocess.PIPE, text=True).stdout
+    loaded = [line.split("=>")[1].split()[0] for line in out.splitlines() if "librtdenoise.so.0 =>" in line]
+    if not loaded or os.path.realpath(os.path.dirname(loaded[0])) != os.path.realpath(libdir):
+        sys.exit(f"ab-bench: {program} loads {loaded[0] if loaded else 'no librtdenoise.so.0'}, not {libdir}'s")
+
+
 def pipeline_round(args, libdir):
     """{name: ms} for one `rtdenoise bench` run: every pass and the total (medians over frames)."""
     with tempfile.NamedTemporaryFile(suffix=".json") as out:
@@ -88,6 +99,7 @@ def main():
     args.rtd_bench = os.path.join(args.build, "bench", "rtd_bench")
     base = library_dir(args.baseline)
     one_round = benchmark_round if args.benchmark else pipeline_round
+    check_loaded(args.rtd_bench if args.benchmark else args.cli, base)
 
     runs = {"baseline": [], "current": []}
     for r in range(args.rounds):
