@@ -112,13 +112,21 @@ def main():
 
     what = args.benchmark or " ".join([args.method, *args.extra])
     print(f"{what}: {args.rounds} alternations, CPU path {cpu_path}, medians over the rounds (ms)")
-    names = sorted(set().union(*runs["baseline"]) & set().union(*runs["current"]), key=lambda n: (n == "total", n))
+    # Every figure of either side: a pass that one build merged into another or split shows
+    # on its own side only ("-" on the other).
+    names = sorted(set().union(*runs["baseline"], *runs["current"]), key=lambda n: (n == "total", n))
+
+    def median(side, name):
+        values = [f[name] for f in runs[side] if name in f]
+        return statistics.median(values) if values else None
+
     print(f"| {'figure':<44} | baseline | current | current / baseline |")
     print(f"|{'-' * 46}|----------|---------|--------------------|")
     for name in names:
-        b = statistics.median(f[name] for f in runs["baseline"] if name in f)
-        c = statistics.median(f[name] for f in runs["current"] if name in f)
-        print(f"| {name:<44} | {b:8.2f} | {c:7.2f} | {c / b if b else float('nan'):18.3f} |")
+        b, c = median("baseline", name), median("current", name)
+        cell = lambda v, width: f"{v:{width}.2f}" if v is not None else f"{'-':>{width}}"
+        ratio = f"{c / b:18.3f}" if b and c is not None else f"{'-':>18}"
+        print(f"| {name:<44} | {cell(b, 8)} | {cell(c, 7)} | {ratio} |")
 
 
 if __name__ == "__main__":
