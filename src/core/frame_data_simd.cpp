@@ -63,16 +63,8 @@ inline void deinterleave8(const float* src, int stride, __m256 out[4]) {
     out[0] = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(v0, v1, 0x88)), 0xD8));
     out[1] = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(v0, v1, 0xDD)), 0xD8));
   } else {
-    const __m256 v0 = _mm256_loadu_ps(src), v1 = _mm256_loadu_ps(src + 8), v2 = _mm256_loadu_ps(src + 16),
-                 v3 = _mm256_loadu_ps(src + 24);
-    const __m256 t0 = _mm256_unpacklo_ps(v0, v1), t1 = _mm256_unpackhi_ps(v0, v1);
-    const __m256 t2 = _mm256_unpacklo_ps(v2, v3), t3 = _mm256_unpackhi_ps(v2, v3);
-    // channel c of pixels 0 2 4 6 | 1 3 5 7
-    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
-    out[0] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t0, t2, 0x44), order);
-    out[1] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t0, t2, 0xEE), order);
-    out[2] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t1, t3, 0x44), order);
-    out[3] = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t1, t3, 0xEE), order);
+    const __m256 v[4] = {_mm256_loadu_ps(src), _mm256_loadu_ps(src + 8), _mm256_loadu_ps(src + 16), _mm256_loadu_ps(src + 24)};
+    deinterleave4x8(v, out);
   }
 }
 #endif
@@ -241,15 +233,7 @@ inline void interleave8(const __m256 c[4], int stride, __m256 out[4]) {
     out[1] = _mm256_blend_ps(_mm256_blend_ps(r, g, 0b00100100), b, 0b01001001);
     out[2] = _mm256_blend_ps(_mm256_blend_ps(r, g, 0b01001001), b, 0b10010010);
   } else {
-    const __m256 t0 = _mm256_unpacklo_ps(c[0], c[1]), t1 = _mm256_unpackhi_ps(c[0], c[1]);
-    const __m256 t2 = _mm256_unpacklo_ps(c[2], c[3]), t3 = _mm256_unpackhi_ps(c[2], c[3]);
-    // pixels 0|4, 1|5, 2|6, 3|7
-    const __m256 p04 = _mm256_shuffle_ps(t0, t2, 0x44), p15 = _mm256_shuffle_ps(t0, t2, 0xEE);
-    const __m256 p26 = _mm256_shuffle_ps(t1, t3, 0x44), p37 = _mm256_shuffle_ps(t1, t3, 0xEE);
-    out[0] = _mm256_permute2f128_ps(p04, p15, 0x20);
-    out[1] = _mm256_permute2f128_ps(p26, p37, 0x20);
-    out[2] = _mm256_permute2f128_ps(p04, p15, 0x31);
-    out[3] = _mm256_permute2f128_ps(p26, p37, 0x31);
+    interleave4x8(c, out);
   }
 }
 #endif

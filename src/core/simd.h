@@ -208,32 +208,14 @@ inline uint32_t laneBits(vi mask) {
 #endif
 }
 /// Whether any lane of a comparison's result is true.
-inline bool anyTrue(vi mask) {
-#if defined(RTD_SIMD_AVX512)
-  return _mm512_movepi32_mask((__m512i)mask) != 0;
-#elif defined(RTD_SIMD_AVX2)
-  return _mm256_movemask_ps((__m256)asFloat(mask)) != 0;
-#elif defined(RTD_SIMD_X86)
-  return _mm_movemask_ps((__m128)asFloat(mask)) != 0;
-#else
-  for (int k = 0; k < kLanes; ++k)
-    if (mask[k]) return true;
-  return false;
-#endif
-}
+inline bool anyTrue(vi mask) { return laneBits(mask) != 0; }
 /// Whether every lane of a comparison's result is true.
-inline bool allTrue(vi mask) {
-#if defined(RTD_SIMD_AVX512)
-  return _mm512_movepi32_mask((__m512i)mask) == 0xffff;
-#elif defined(RTD_SIMD_AVX2)
-  return _mm256_movemask_ps((__m256)asFloat(mask)) == 0xff;
-#elif defined(RTD_SIMD_X86)
-  return _mm_movemask_ps((__m128)asFloat(mask)) == 0xf;
-#else
-  for (int k = 0; k < kLanes; ++k)
-    if (!mask[k]) return false;
-  return true;
-#endif
+inline bool allTrue(vi mask) { return laneBits(mask) == (1u << kLanes) - 1u; }
+/// k in lane k.
+inline vi laneIndex() {
+  vi v;
+  for (int k = 0; k < kLanes; ++k) v[k] = k;
+  return v;
 }
 /// c - a * b rounded once where the path has FMA (AVX2, AVX-512), whatever the compiler's
 /// contraction rules: code whose small products must not underflow on their own (the weight
@@ -263,6 +245,31 @@ inline __m256 flush8(__m256 v) {
 inline __m256 squareOrZero8(__m256 v) {
   const __m256 magnitude = _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
   return _mm256_and_ps(_mm256_mul_ps(v, v), _mm256_cmp_ps(magnitude, _mm256_set1_ps(kTinyRoot), _CMP_GE_OQ));
+}
+/// Eight pixels of four floats each, p[m] holding pixels 2m and 2m + 1 (32 consecutive floats),
+/// as one vector per channel (out[c] lane j: float c of pixel j): a 4 x 8 transpose.
+inline void deinterleave4x8(const __m256 p[4], __m256 out[4]) {
+  const __m256 a = _mm256_permute2f128_ps(p[0], p[2], 0x20), b = _mm256_permute2f128_ps(p[0], p[2], 0x31);  // 0|4, 1|5
+  const __m256 c = _mm256_permute2f128_ps(p[1], p[3], 0x20), d = _mm256_permute2f128_ps(p[1], p[3], 0x31);  // 2|6, 3|7
+  const __m256 t0 = _mm256_unpacklo_ps(a, b), t1 = _mm256_unpackhi_ps(a, b);
+  const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
+  out[0] = _mm256_shuffle_ps(t0, t2, 0x44);
+  out[1] = _mm256_shuffle_ps(t0, t2, 0xee);
+  out[2] = _mm256_shuffle_ps(t1, t3, 0x44);
+  out[3] = _mm256_shuffle_ps(t1, t3, 0xee);
+}
+/// The inverse of deinterleave4x8: four channel vectors of eight pixels as four vectors of
+/// packed pixels (out[m]: pixels 2m and 2m + 1).
+inline void interleave4x8(const __m256 c[4], __m256 out[4]) {
+  const __m256 t0 = _mm256_unpacklo_ps(c[0], c[1]), t1 = _mm256_unpackhi_ps(c[0], c[1]);
+  const __m256 t2 = _mm256_unpacklo_ps(c[2], c[3]), t3 = _mm256_unpackhi_ps(c[2], c[3]);
+  // pixels 0|4, 1|5, 2|6, 3|7
+  const __m256 p04 = _mm256_shuffle_ps(t0, t2, 0x44), p15 = _mm256_shuffle_ps(t0, t2, 0xee);
+  const __m256 p26 = _mm256_shuffle_ps(t1, t3, 0x44), p37 = _mm256_shuffle_ps(t1, t3, 0xee);
+  out[0] = _mm256_permute2f128_ps(p04, p15, 0x20);
+  out[1] = _mm256_permute2f128_ps(p26, p37, 0x20);
+  out[2] = _mm256_permute2f128_ps(p04, p15, 0x31);
+  out[3] = _mm256_permute2f128_ps(p26, p37, 0x31);
 }
 #endif
 

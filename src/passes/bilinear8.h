@@ -26,17 +26,10 @@ struct Bilinear8 {
     width = rp.width;
     base = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rp.base.data() + i));
     consecutive = isConsecutive();
-    // {w0, w1, w2, w3} per pixel to one register per tap: an 8x4 transpose.
+    // {w0, w1, w2, w3} per pixel to one register per tap.
     const float* wp = rp.weights[i].data();
-    const __m256 r0 = _mm256_loadu_ps(wp), r1 = _mm256_loadu_ps(wp + 8), r2 = _mm256_loadu_ps(wp + 16), r3 = _mm256_loadu_ps(wp + 24);
-    const __m256 a = _mm256_permute2f128_ps(r0, r2, 0x20), b = _mm256_permute2f128_ps(r0, r2, 0x31);
-    const __m256 c = _mm256_permute2f128_ps(r1, r3, 0x20), d = _mm256_permute2f128_ps(r1, r3, 0x31);
-    const __m256 t0 = _mm256_unpacklo_ps(a, b), t1 = _mm256_unpackhi_ps(a, b);
-    const __m256 t2 = _mm256_unpacklo_ps(c, d), t3 = _mm256_unpackhi_ps(c, d);
-    weight[0] = _mm256_shuffle_ps(t0, t2, 0x44);
-    weight[1] = _mm256_shuffle_ps(t0, t2, 0xee);
-    weight[2] = _mm256_shuffle_ps(t1, t3, 0x44);
-    weight[3] = _mm256_shuffle_ps(t1, t3, 0xee);
+    const __m256 packed[4] = {_mm256_loadu_ps(wp), _mm256_loadu_ps(wp + 8), _mm256_loadu_ps(wp + 16), _mm256_loadu_ps(wp + 24)};
+    deinterleave4x8(packed, weight);
     return true;
   }
 

@@ -123,9 +123,7 @@ struct TapTest {
     const vf ax = fx - flx, ay = fy - fly, bx = 1.0f - ax, by = 1.0f - ay;
     const vf bilinear[4] = {bx * by, ax * by, bx * ay, ax * ay};
     const vi base = __builtin_convertvector(fly, vi) * w + __builtin_convertvector(flx, vi);
-    vi lane;
-    for (int k = 0; k < kLanes; ++k) lane[k] = k;
-    if (allTrue(base == base[0] + lane)) return bilinearTaps<kZ, kN, kId, kP, true>(bilinear, base, i, y, w, h, out);
+    if (allTrue(base == base[0] + laneIndex())) return bilinearTaps<kZ, kN, kId, kP, true>(bilinear, base, i, y, w, h, out);
     return bilinearTaps<kZ, kN, kId, kP, false>(bilinear, base, i, y, w, h, out);
   }
 
@@ -204,12 +202,12 @@ struct TapTest {
       wt[t] = keepIf(ok, bilinear[t]);
       sum += wt[t];
     }
-    const uint32_t good = laneBits(sum > 1e-4f);
+    const vi accepted = sum > 1e-4f;
+    const uint32_t good = laneBits(accepted);
     if (!good) return 0;
     for (auto& v : wt) v /= sum;
     float* weights = out.weights[i].data();
-    constexpr uint32_t all = (1u << kLanes) - 1u;  // every lane
-    if (good == all) {
+    if (allTrue(accepted)) {
       storeInterleaved4(wt, weights);
       std::memcpy(out.base.data() + i, &base, sizeof base);
       std::memset(out.kind.data() + i, Reprojection::Bilinear, kLanes);
@@ -224,26 +222,23 @@ struct TapTest {
     return good;
   }
 
-  // The per-pixel {w0, w1, w2, w3} layout of four tap vectors: a 4 x 8 transpose per eight
-  // lanes.
+  // The per-pixel {w0, w1, w2, w3} layout of four tap vectors, eight lanes at a time.
   static void storeInterleaved4(const vf (&wt)[4], float* out) {
-    auto transpose8 = [](__m256 w0, __m256 w1, __m256 w2, __m256 w3, float* o) {
-      const __m256 t0 = _mm256_unpacklo_ps(w0, w1), t1 = _mm256_unpackhi_ps(w0, w1);
-      const __m256 t2 = _mm256_unpacklo_ps(w2, w3), t3 = _mm256_unpackhi_ps(w2, w3);
-      const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xee);
-      const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xee);
-      _mm256_storeu_ps(o, _mm256_permute2f128_ps(u0, u1, 0x20));
-      _mm256_storeu_ps(o + 8, _mm256_permute2f128_ps(u2, u3, 0x20));
-      _mm256_storeu_ps(o + 16, _mm256_permute2f128_ps(u0, u1, 0x31));
-      _mm256_storeu_ps(o + 24, _mm256_permute2f128_ps(u2, u3, 0x31));
+    auto store8 = [](const __m256 (&c)[4], float* o) {
+      __m256 packed[4];
+      interleave4x8(c, packed);
+      for (int m = 0; m < 4; ++m) _mm256_storeu_ps(o + 8 * m, packed[m]);
     };
 #ifdef RTD_SIMD_AVX512
-    auto lo = [](vf v) { return _mm512_castps512_ps256(v); };
-    auto hi = [](vf v) { return _mm512_extractf32x8_ps(v, 1); };
-    transpose8(lo(wt[0]), lo(wt[1]), lo(wt[2]), lo(wt[3]), out);
-    transpose8(hi(wt[0]), hi(wt[1]), hi(wt[2]), hi(wt[3]), out + 32);
+    const __m256 lo[4] = {_mm512_castps512_ps256(wt[0]), _mm512_castps512_ps256(wt[1]), _mm512_castps512_ps256(wt[2]),
+                          _mm512_castps512_ps256(wt[3])};
+    const __m256 hi[4] = {_mm512_extractf32x8_ps(wt[0], 1), _mm512_extractf32x8_ps(wt[1], 1),
+                          _mm512_extractf32x8_ps(wt[2], 1), _mm512_extractf32x8_ps(wt[3], 1)};
+    store8(lo, out);
+    store8(hi, out + 32);
 #else
-    transpose8(wt[0], wt[1], wt[2], wt[3], out);
+    const __m256 c[4] = {wt[0], wt[1], wt[2], wt[3]};
+    store8(c, out);
 #endif
   }
 #endif

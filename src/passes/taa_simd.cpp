@@ -153,10 +153,8 @@ void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* p
   catmullRomWeightsLanes(qy - fy, wy);
   const vi col = __builtin_convertvector(fx, vi) - 1, top = __builtin_convertvector(fy, vi) - 1;
   const vi base = top * w + col;
-  vi lane;
-  for (int k = 0; k < kLanes; ++k) lane[k] = k;
   const int first = base[0];
-  const bool consecutive = allTrue(base == first + lane);
+  const bool consecutive = allTrue(base == first + laneIndex());
   int colMin = col[0], colMax = col[0], topMin = top[0], topMax = top[0];
   for (int k = 1; k < kLanes && !consecutive; ++k) {
     colMin = std::min(colMin, col[k]), colMax = std::max(colMax, col[k]);
