@@ -69,6 +69,46 @@ inline void deinterleave8(const float* src, int stride, __m256 out[4]) {
 }
 #endif
 
+#ifdef RTD_SIMD_AVX2
+// importFloatRow's 8-pixel loop for pixels of kStride floats (1: no emission) from pixel x0 to
+// the last whole group of eight; returns the next x.
+template <int kStride>
+int importRow8(const float* src, int x0, int nc, float* const* dst, int w, Bounds b, bool stream, const RowFixes& fixes,
+               SanitizeCounts& bad, bool& offUnit) {
+  const float* const* e = fixes.emission;
+  nc = std::min(nc, kStride);  // (nc <= kStride always; tells the compiler too)
+  for (int c = 0; c < nc; ++c) stream = stream && reinterpret_cast<uintptr_t>(dst[c]) % 32 == 0;
+  LaneCounts counts{_mm256_setzero_si256(), _mm256_setzero_si256()};
+  __m256 off = _mm256_setzero_ps();
+  int x = x0;
+  for (; x + 8 <= w; x += 8) {
+    __m256 v[4];
+    if constexpr (kStride == 1) v[0] = _mm256_loadu_ps(src + x);
+    else deinterleave8(src + size_t(x) * kStride, kStride, v);
+    for (int c = 0; c < nc; ++c) {
+      v[c] = sanitize8(v[c], b, counts);
+      if (e) v[c] = _mm256_max_ps(flush8(_mm256_sub_ps(v[c], _mm256_loadu_ps(e[c] + x))), _mm256_setzero_ps());
+    }
+    if (kStride >= 3 && fixes.unitVectors) {
+      const __m256 l2 = _mm256_add_ps(_mm256_add_ps(squareOrZero8(v[0]), squareOrZero8(v[1])), squareOrZero8(v[2]));
+      const __m256 dev = _mm256_and_ps(_mm256_sub_ps(l2, _mm256_set1_ps(1.0f)), _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+      const __m256 zero = _mm256_setzero_ps();
+      const __m256 some = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(v[0], zero, _CMP_NEQ_UQ), _mm256_cmp_ps(v[1], zero, _CMP_NEQ_UQ)),
+                                       _mm256_cmp_ps(v[2], zero, _CMP_NEQ_UQ));
+      off = _mm256_or_ps(off, _mm256_and_ps(some, _mm256_cmp_ps(dev, _mm256_set1_ps(kUnitCheckTolerance), _CMP_GT_OQ)));
+    }
+    for (int c = 0; c < nc; ++c) {
+      if (stream) _mm256_stream_ps(dst[c] + x, v[c]);
+      else _mm256_storeu_ps(dst[c] + x, v[c]);
+    }
+  }
+  if (stream) _mm_sfence();  // the streamed stores are weakly ordered: complete them before the row is handed on
+  counts.addTo(bad);
+  offUnit = offUnit || _mm256_movemask_ps(off) != 0;
+  return x;
+}
+#endif
+
 #ifdef RTD_SIMD_AVX512
 // Sixteen lanes: sanitize8's rule on mask registers, the counts per lane.
 inline vf sanitize16(vf v, Bounds b, __m512i& nonFiniteCount, __m512i& outOfRangeCount) {
@@ -171,37 +211,12 @@ bool importFloatRow(const float* src, int stride, int nc, float* const* dst, int
   else if (stride == 1 && !e) x = importRow16<1>(src, nc, dst, w, b, stream, fixes, bad, offUnit);
 #endif
 #ifdef RTD_SIMD_AVX2
-  for (int c = 0; c < nc; ++c) stream = stream && reinterpret_cast<uintptr_t>(dst[c]) % 32 == 0;
-  auto store = [&](float* p, __m256 v) {
-    if (stream) _mm256_stream_ps(p, v);
-    else _mm256_storeu_ps(p, v);
-  };
-  LaneCounts counts{_mm256_setzero_si256(), _mm256_setzero_si256()};
-  if (stride >= 2 && stride <= 4) {
-    __m256 off = _mm256_setzero_ps();
-    for (; x + 8 <= w; x += 8) {
-      __m256 v[4];
-      deinterleave8(src + size_t(x) * stride, stride, v);
-      for (int c = 0; c < nc; ++c) {
-        v[c] = sanitize8(v[c], b, counts);
-        if (e) v[c] = _mm256_max_ps(flush8(_mm256_sub_ps(v[c], _mm256_loadu_ps(e[c] + x))), _mm256_setzero_ps());
-      }
-      if (fixes.unitVectors) {
-        const __m256 l2 = _mm256_add_ps(_mm256_add_ps(squareOrZero8(v[0]), squareOrZero8(v[1])), squareOrZero8(v[2]));
-        const __m256 dev = _mm256_and_ps(_mm256_sub_ps(l2, _mm256_set1_ps(1.0f)), _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
-        const __m256 zero = _mm256_setzero_ps();
-        const __m256 some = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(v[0], zero, _CMP_NEQ_UQ), _mm256_cmp_ps(v[1], zero, _CMP_NEQ_UQ)),
-                                         _mm256_cmp_ps(v[2], zero, _CMP_NEQ_UQ));
-        off = _mm256_or_ps(off, _mm256_and_ps(some, _mm256_cmp_ps(dev, _mm256_set1_ps(kUnitCheckTolerance), _CMP_GT_OQ)));
-      }
-      for (int c = 0; c < nc; ++c) store(dst[c] + x, v[c]);
-    }
-    offUnit = offUnit || _mm256_movemask_ps(off) != 0;
-  } else if (stride == 1 && !e) {
-    for (; x + 8 <= w; x += 8) store(dst[0] + x, sanitize8(_mm256_loadu_ps(src + x), b, counts));
-  }
-  counts.addTo(bad);
-  if (stream) _mm_sfence();  // the streamed stores are weakly ordered: complete them before the row is handed on
+  // The stride as a compile-time argument, as the 16-lane loop: with it a run-time value, the
+  // de-interleave's branches and the channel loops stayed in the 8-pixel loop.
+  if (stride == 4) x = importRow8<4>(src, x, nc, dst, w, b, stream, fixes, bad, offUnit);
+  else if (stride == 3) x = importRow8<3>(src, x, nc, dst, w, b, stream, fixes, bad, offUnit);
+  else if (stride == 2) x = importRow8<2>(src, x, nc, dst, w, b, stream, fixes, bad, offUnit);
+  else if (stride == 1 && !e) x = importRow8<1>(src, x, nc, dst, w, b, stream, fixes, bad, offUnit);
 #endif
   for (; x < w; ++x) {
     float v[4];
