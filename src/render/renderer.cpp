@@ -4,6 +4,7 @@
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <atomic>
 #include <chrono>
@@ -207,7 +208,14 @@ struct Renderer::Impl {
         }
       }
     }
-    rtcCommitScene(g->rtc);
+    // Embree's commit turns on FTZ/DAZ on this thread while it builds, and a oneTBB arena
+    // takes the floating-point mode of the thread that initializes it: run as the caller's
+    // first oneTBB work, the build would initialize the caller's implicit arena in that mode,
+    // and every later parallel loop of the application would run with FTZ/DAZ on its workers.
+    // An arena of our own, initialized here in the caller's mode (and as wide as the caller's),
+    // keeps the build's mode to the build (RendererSubnormal test).
+    tbb::task_arena buildArena(tbb::this_task_arena::max_concurrency());
+    buildArena.execute([&] { rtcCommitScene(g->rtc); });
 
     // Light selection: triangles by power (pi A L), the sun and the sky by the
     // power they send through the scene's bounding-sphere cross-section.

@@ -5,7 +5,12 @@
 #ifdef HAVE_RTDENOISE_RENDER
 #include <gtest/gtest.h>
 
+#include <tbb/parallel_for.h>
+
 #include <cmath>
+#include <mutex>
+#include <set>
+#include <thread>
 
 #include "render/render_test_util.h"
 
@@ -19,6 +24,13 @@ namespace {
 unsigned subnormalFlags() {
 #if defined(__x86_64__) || defined(__i386__)
   return _mm_getcsr() & 0x12u;  // underflow | denormal operand
+#else
+  return 0;
+#endif
+}
+unsigned flushModes() {
+#if defined(__x86_64__) || defined(__i386__)
+  return _mm_getcsr() & 0x8040u;  // flush-to-zero | denormals-are-zero
 #else
   return 0;
 #endif
@@ -56,6 +68,31 @@ TEST(RendererSubnormal, BuiltinScenesComputeNoSubnormals) {
       EXPECT_EQ(subnormals(ref), 0u) << name;
     });
   }
+}
+
+// Embree's scene commit turns on flush-to-zero and denormals-are-zero on its calling thread
+// while it builds (and restores them after). A oneTBB arena takes the floating-point mode of
+// the thread that initializes it: where the build was the first oneTBB work of the calling
+// thread, the thread's implicit arena was initialized inside that window and from then on ran
+// every parallel loop of the application (and of the denoisers) with FTZ/DAZ on its worker
+// threads. A new thread has a fresh implicit arena, so the render below is its first oneTBB
+// work, as in a program that renders before anything else.
+TEST(RendererSubnormal, RenderingLeavesTheCallersFloatingPointModeAlone) {
+  ASSERT_EQ(flushModes(), 0u) << "the suite must run in the default floating-point mode";
+  std::set<unsigned> seen;
+  unsigned caller = ~0u;
+  std::thread([&] {
+    Renderer r(Scene::load(Scene::builtinScenes().front()), test::tiny(32, 24));
+    r.render(0);
+    caller = flushModes();
+    std::mutex m;
+    tbb::parallel_for(0, 256, [&](int) {
+      std::lock_guard lock(m);
+      seen.insert(flushModes());
+    });
+  }).join();
+  EXPECT_EQ(caller, 0u);
+  EXPECT_EQ(seen, std::set<unsigned>{0u}) << "a parallel loop after the render ran with FTZ/DAZ";
 }
 
 }  // namespace
