@@ -157,7 +157,8 @@ void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* p
   const bool consecutive = allTrue(base == first + laneIndex());
   if (consecutive) {
     // The common case (locally uniform motion): the taps are vector loads, the 3 x 4 rows
-    // unrolled (rolled, the loop reloaded the row weights per row; 3-4% of BM_Taa).
+    // unrolled (rolled, the loop reloaded the row weights per row: BM_Taa 6-8 % slower;
+    // docs/performance.md, "Session 13").
     vf sum[3];
 #pragma GCC unroll 3
     for (int c = 0; c < 3; ++c) {
