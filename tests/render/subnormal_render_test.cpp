@@ -74,9 +74,10 @@ TEST(RendererSubnormal, BuiltinScenesComputeNoSubnormals) {
 // while it builds (and restores them after). A oneTBB arena takes the floating-point mode of
 // the thread that initializes it: where the build was the first oneTBB work of the calling
 // thread, the thread's implicit arena was initialized inside that window and from then on ran
-// every parallel loop of the application (and of the denoisers) with FTZ/DAZ on its worker
-// threads. A new thread has a fresh implicit arena, so the render below is its first oneTBB
-// work, as in a program that renders before anything else.
+// every parallel loop of the application in that arena with FTZ/DAZ on its worker threads
+// (the denoisers run on their device's own arena). A new thread has a fresh implicit arena,
+// so the render below is its first oneTBB work, as in a program that renders before anything
+// else.
 TEST(RendererSubnormal, RenderingLeavesTheCallersFloatingPointModeAlone) {
   ASSERT_EQ(flushModes(), 0u) << "the suite must run in the default floating-point mode";
   std::set<unsigned> seen;
