@@ -231,6 +231,15 @@ inline vf vfnmadd(vf a, vf b, vf c) {
   return c - a * b;
 #endif
 }
+/// Software prefetch distance of the passes that stream many planes at once, in floats (six
+/// cache lines): the temporal passes read a dozen or more rows of frame-sized planes side by side
+/// (the history's two tap rows of each plane, the current frame's, the outputs), more streams
+/// than the hardware prefetchers follow (docs/performance.md, "Session 14").
+constexpr int kPrefetchAhead = 96;
+/// Asks for p[kPrefetchAhead] to be brought into the cache, for reading or (prefetchAheadForWrite)
+/// for writing; a hint only, never a fault, whatever the address.
+inline void prefetchAhead(const float* p) { __builtin_prefetch(p + kPrefetchAhead); }
+inline void prefetchAheadForWrite(float* p) { __builtin_prefetch(p + kPrefetchAhead, 1); }
 /// Magnitudes below kTiny to 0 (core/flush.h), for every stored value.
 inline vf vflush(vf x) { return keepIf(vabs(x) >= kTiny, x); }
 /// x * x, or 0 where |x| < sqrt(kTiny) (core/flush.h).

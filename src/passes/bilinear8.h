@@ -70,6 +70,14 @@ struct Bilinear8 {
     return consecutive ? _mm256_loadu_ps(p + _mm256_extract_epi32(base, 0)) : _mm256_i32gather_ps(p, base, 4);
   }
 
+  /// Prefetches both tap rows of plane h kPrefetchAhead floats beyond the first pixel's taps
+  /// (where the following groups' taps lie when the motion is locally uniform).
+  void prefetch(const float* h) const {
+    const float* p = h + _mm256_extract_epi32(base, 0);
+    prefetchAhead(p);
+    prefetchAhead(p + width);
+  }
+
   /// The bilinear history of the eight pixels in plane h (the sum in Reprojection::gatherBilinear's order).
   __m256 gather(const float* h) const {
     __m256 v = _mm256_mul_ps(weight[0], tap(h, 0));

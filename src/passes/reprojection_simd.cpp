@@ -123,6 +123,21 @@ struct TapTest {
     const vf ax = fx - flx, ay = fy - fly, bx = 1.0f - ax, by = 1.0f - ay;
     const vf bilinear[4] = {bx * by, ax * by, bx * ay, ax * ay};
     const vi base = __builtin_convertvector(fly, vi) * w + __builtin_convertvector(flx, vi);
+    {
+      // The previous frame's two tap rows and the current frame's planes ahead (kPrefetchAhead).
+      const size_t b0 = size_t(base[0]);
+      auto previous = [&](const float* q) { prefetchAhead(q + b0), prefetchAhead(q + b0 + w); };
+      auto current = [&](const float* q) { prefetchAhead(q + i); };
+      if constexpr (kZ) {
+        previous(zPrev), current(z);
+        if (dzdx) current(dzdx), current(dzdy);
+      }
+      if constexpr (kN)
+        for (int k = 0; k < 3; ++k) previous(nPrev[k]), current(n[k]);
+      if constexpr (kId) previous(idPrev), current(id);
+      if constexpr (kP)
+        for (int k = 0; k < 3; ++k) previous(pPrev[k]), current(p[k]);
+    }
     if (allTrue(base == base[0] + laneIndex())) return bilinearTaps<kZ, kN, kId, kP, true>(bilinear, base, i, y, w, h, out);
     return bilinearTaps<kZ, kN, kId, kP, false>(bilinear, base, i, y, w, h, out);
   }

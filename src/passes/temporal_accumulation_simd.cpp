@@ -36,6 +36,12 @@ void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, con
       for (int k = 0; k < 8; ++k) pixel(x + k);
       continue;
     }
+    for (int k = 0; k < 3; ++k) {  // as accumulateRows
+      taps8.prefetch(hPrev[k]);
+      prefetchAhead(current[k] + x);
+      prefetchAheadForWrite(out[k].ptr() + i);
+    }
+    prefetchAhead(length.ptr() + i);
     const __m256 a = _mm256_max_ps(_mm256_div_ps(one, _mm256_loadu_ps(length.ptr() + i)), vAlpha);
     for (int k = 0; k < 3; ++k)
       _mm256_storeu_ps(out[k].ptr() + i, flush8(_mm256_fmadd_ps(a, _mm256_loadu_ps(current[k] + x),
@@ -145,6 +151,11 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
           for (int k = 0; k < 8; ++k) pixel(i + k);
           continue;
         }
+        // The history rows, the current colour and the outputs ahead (kPrefetchAhead).
+        for (const float* q : {lenPrev, m1Prev, m2Prev, cPrev[0], cPrev[1], cPrev[2]}) taps8.prefetch(q);
+        for (int k = 0; k < 3; ++k) prefetchAhead(color[k].ptr() + i);
+        for (float* q : {h.length.ptr(), h.m1.ptr(), h.m2.ptr(), h.color[0].ptr(), h.color[1].ptr(), h.color[2].ptr()})
+          prefetchAheadForWrite(q + i);
         const __m256 len = taps8.gather(lenPrev);
         __m256 n, a, am;
         if (gradient) {
