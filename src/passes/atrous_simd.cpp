@@ -172,8 +172,13 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, epsRelZ2 = epsRelZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
 
   stridedRows(z.height, lv.step, [&](int y) {
+    // The lowest tap row is the one row of the window the previous row of stridedRows' order
+    // did not read: its planes ahead (kPrefetchAhead), with the centre row's own planes.
+    const ptrdiff_t newRow = ptrdiff_t(z.index(0, y)) + ptrdiff_t(lv.kernel == AtrousKernel::B3Spline5x5 ? 2 : 1) * lv.step * S;
     for (int x = 0; x < w; x += kLanes) {
       const size_t c = z.index(x, y);
+      for (const float* q : {pz, pnx, pny, pnz, pl, pr, pg, pb, pv}) prefetchAhead(q + newRow + x);
+      for (const float* q : {pgx, pgy}) prefetchAhead(q + c);
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ2, gy = load(pgy + c) * sigmaZ2;
       const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
