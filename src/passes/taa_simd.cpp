@@ -156,6 +156,7 @@ void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* p
   const int first = base[0];
   const bool consecutive = allTrue(base == first + laneIndex());
   if (consecutive) {
+    for (int c = 0; c < 3; ++c) prefetchAhead(hist[c].ptr() + first + 3 * size_t(w));
     // The common case (locally uniform motion): the taps are vector loads, the 3 x 4 rows
     // unrolled (rolled, the loop reloaded the row weights per row: BM_Taa 6-8 % slower;
     // docs/performance.md, "Session 13").
