@@ -29,8 +29,9 @@ namespace {
 // cut in one instruction (n is never formed); the other paths take n = round(v), |g| <= 1/2,
 // from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n. As |v| >= 1/2, g is 0
 // or at least 2^-25 in magnitude, so Horner's products do not underflow either. Where v is below
-// `cut` the result is exactly 0 (v = -inf and NaN too). The pass is bound by the FP ports'
-// throughput (about 28 vector operations per tap on AVX-512), so every operation counts.
+// `cut` the result is exactly 0 (v = -inf and NaN too). About 28 vector operations per tap on
+// AVX-512, ~34 on AVX2; the rest of the level's time is memory stalls (the prefetch in
+// atrousRowsT; docs/performance.md, "Session 14").
 constexpr float kLog2e = 1.44269504088896341f, kLn2 = 0.693147180559945f;
 /// v's starting value for a tap of kernel weight h: the -1/2 shift plus log2 h.
 inline float exp2Start(float h) { return -0.5f + std::log2(h); }
