@@ -151,11 +151,15 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
           for (int k = 0; k < 8; ++k) pixel(i + k);
           continue;
         }
-        // The history rows, the current colour and the outputs ahead (kPrefetchAhead).
-        for (const float* q : {lenPrev, m1Prev, m2Prev, cPrev[0], cPrev[1], cPrev[2]}) taps8.prefetch(q);
+        // The history rows, the current colour and the outputs ahead (kPrefetchAhead); the
+        // moments' planes only where they exist.
+        for (const float* q : {lenPrev, cPrev[0], cPrev[1], cPrev[2]}) taps8.prefetch(q);
         for (int k = 0; k < 3; ++k) prefetchAhead(color[k].ptr() + i);
-        for (float* q : {h.length.ptr(), h.m1.ptr(), h.m2.ptr(), h.color[0].ptr(), h.color[1].ptr(), h.color[2].ptr()})
-          prefetchAheadForWrite(q + i);
+        for (float* q : {h.length.ptr(), h.color[0].ptr(), h.color[1].ptr(), h.color[2].ptr()}) prefetchAheadForWrite(q + i);
+        if (moments) {
+          taps8.prefetch(m1Prev), taps8.prefetch(m2Prev);
+          prefetchAheadForWrite(h.m1.ptr() + i), prefetchAheadForWrite(h.m2.ptr() + i);
+        }
         const __m256 len = taps8.gather(lenPrev);
         __m256 n, a, am;
         if (gradient) {
