@@ -151,6 +151,17 @@ struct AtrousLevel {
   /// its mirror pixels apart: their depth and normal are the virtual image's, which compare
   /// with other mirror pixels' but not with the own features of the surface around the mirror.
   const PaddedPlane* surfaceKey = nullptr;
+  /// The last level of a stream that is the method's whole output (SVGF's sum and
+  /// remodulation, Schied Sec. 4, fused into the level that produces it): where set, the
+  /// filtered colour times demodulationFactor(remodulateAlbedo[c]) (the colour itself where
+  /// `remodulateAlbedo` is null) goes to these unpadded planes of the frame's size instead of
+  /// out.color, and no luminance is written (no level reads it); only with propagateVariance
+  /// off (nothing reads the last level's variance either) and without the reflected stream's
+  /// and the glossy terms (spatialFalloff, surfaceKey, indirectDistance). The product is the one the
+  /// separate pass formed from the stored colour, so the result is bit for bit the same; the
+  /// pass no longer writes the level's colour and luminance and reads them back.
+  Plane3* remodulatedOut = nullptr;
+  const std::vector<Plane>* remodulateAlbedo = nullptr;
 };
 
 /// Gersthofer's glossy weight w_r = 0.01 + sqrt(roughness(p)) (Sec. 3.4.3).

@@ -9,6 +9,7 @@
 
 #include "core/parallel.h"
 #include "passes/atrous_kernels.h"
+#include "passes/demodulation.h"
 #include "core/simd.h"
 
 namespace rtd::RTD_SIMD_NS {
@@ -128,7 +129,13 @@ template <class Fn> void stridedRows(int height, int step, Fn&& fn) {
 // kReflection: the reflected stream's terms (Voorhuis), each where its plane is given: Eq. 6's
 // falloff and the surface key. Their own instantiation keeps every other stream's loop free of
 // them (a run-time test in the common loop cost it 5-8 %).
-template <bool kPropagate, bool kLogNormal, bool kMasked, bool kReflection, bool kGlossy>
+// What a level writes: colour and luminance (plain), also the propagated variance, or the
+// remodulated colour alone (AtrousLevel::remodulatedOut). A compile-time switch: tested at run
+// time per group of pixels, the fused output's branch slowed every other level by 6-30 %
+// (BM_AtrousLevel; docs/performance.md, "Session 15").
+enum class LevelOutput { plain, propagate, remodulated };
+
+template <LevelOutput kOut, bool kLogNormal, bool kMasked, bool kReflection, bool kGlossy>
 void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
                 const AtrousTap* taps, int tapCount, float h0) {
   const PaddedPlane& z = g.depth;
@@ -156,6 +163,9 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const float* pziScale = kGlossy ? lv.indirectDistanceScale->data.data() : nullptr;
   const float* pcentre = lv.centreScale ? lv.centreScale->data.data() : nullptr;
   const float* pkey = kReflection && lv.surfaceKey ? lv.surfaceKey->data.data() : nullptr;
+  constexpr bool kPropagate = kOut == LevelOutput::propagate;
+  Plane3* remodulated = lv.remodulatedOut;
+  const std::vector<Plane>* albedo = lv.remodulateAlbedo;
   // A key difference (>= 1) lowers a tap's exponent far below every cut: its weight is 0.
   constexpr float kKeyPenalty = 1e4f;
   // Each tap's starting exponent and cut (exp2Shifted), and its bound on h w_n w_z w_l.
@@ -306,10 +316,28 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         rcp = 1.0f / sw;
       }
       const vf r = vflush(sr * rcp), gg = vflush(sg * rcp), b = vflush(sb * rcp);
+      if constexpr (kPropagate) store(qv + c, vflush(sv * rcp * rcp));
+      if constexpr (kOut == LevelOutput::remodulated) {  // AtrousLevel::remodulatedOut: colour * albedo' into the frame's planes
+        const int n = std::min(kLanes, w - x);  // the row's tail: no access past its end
+        const vf rgb[3] = {r, gg, b};
+        for (int k = 0; k < 3; ++k) {
+          float* o = (*remodulated)[k].row(y) + x;
+          vf v = rgb[k];
+          if (albedo) {
+            const float* a = (*albedo)[k].row(y) + x;
+            vf av = splat(1.0f);
+            if (n == kLanes) av = load(a);
+            else { float t[kLanes] = {}; std::memcpy(t, a, sizeof(float) * n); av = load(t); }
+            v *= av > kAlbedoEpsilon ? av : splat(1.0f);  // demodulationFactor
+          }
+          if (n == kLanes) store(o, v);
+          else { float t[kLanes]; store(t, v); std::memcpy(o, t, sizeof(float) * n); }
+        }
+        continue;
+      }
       store(qr + c, r);
       store(qg + c, gg);
       store(qb + c, b);
-      if constexpr (kPropagate) store(qv + c, vflush(sv * rcp * rcp));
       if (!cie) {
         store(ql + c, vflush(lumVector(lv.luminance, r, gg, b)));
       } else {
@@ -438,27 +466,40 @@ void atrousRows(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& 
   // The series form of w_n is accurate for large exponents (the papers' 64 and 128); small
   // ones use the exact power.
   const bool series = lv.normalExponent >= 16;
-  const bool p = lv.propagateVariance, masked = lv.validIn && lv.validOut;
+  const bool masked = lv.validIn && lv.validOut;
+  assert(!(lv.remodulatedOut && lv.propagateVariance));  // the last level's variance: read by nothing
   const bool reflection = lv.spatialFalloff || lv.surfaceKey;
   const bool glossy = lv.indirectDistance && lv.indirectDistanceScale;
   // One instantiation per combination of the switches (Gersthofer's glossy weights only dense:
   // his masked pixels are black samples, not holes).
   assert(!(glossy && masked));
-  auto run = [&](auto prop, auto logNormal, auto mask, auto fall, auto gl) {
-    atrousRowsT<decltype(prop)::value, decltype(logNormal)::value, decltype(mask)::value, decltype(fall)::value,
+  auto run = [&](auto output, auto logNormal, auto mask, auto fall, auto gl) {
+    atrousRowsT<decltype(output)::value, decltype(logNormal)::value, decltype(mask)::value, decltype(fall)::value,
                 decltype(gl)::value>(g, lv, in, out, taps, tapCount, h0);
   };
   using T = std::true_type;
   using F = std::false_type;
-  auto withFalloff = [&](auto prop, auto logNormal, auto mask, auto gl) {
-    reflection ? run(prop, logNormal, mask, T{}, gl) : run(prop, logNormal, mask, F{}, gl);
+  auto withFalloff = [&](auto output, auto logNormal, auto mask, auto gl) {
+    reflection ? run(output, logNormal, mask, T{}, gl) : run(output, logNormal, mask, F{}, gl);
   };
-  auto withMask = [&](auto prop, auto logNormal) {
-    if (glossy) withFalloff(prop, logNormal, F{}, T{});
-    else masked ? withFalloff(prop, logNormal, T{}, F{}) : withFalloff(prop, logNormal, F{}, F{});
+  auto withMask = [&](auto output, auto logNormal) {
+    if (glossy) withFalloff(output, logNormal, F{}, T{});
+    else masked ? withFalloff(output, logNormal, T{}, F{}) : withFalloff(output, logNormal, F{}, F{});
   };
-  auto withSeries = [&](auto prop) { series ? withMask(prop, T{}) : withMask(prop, F{}); };
-  p ? withSeries(T{}) : withSeries(F{});
+  auto withSeries = [&](auto output) { series ? withMask(output, T{}) : withMask(output, F{}); };
+  using O = LevelOutput;
+  if (lv.remodulatedOut) {
+    // Only the plain weights (SVGF's one stream; AtrousLevel::remodulatedOut): four more
+    // instantiations per path, not twelve.
+    assert(!reflection && !glossy);
+    const std::integral_constant<O, O::remodulated> r;
+    if (series) masked ? run(r, T{}, T{}, F{}, F{}) : run(r, T{}, F{}, F{}, F{});
+    else masked ? run(r, F{}, T{}, F{}, F{}) : run(r, F{}, F{}, F{}, F{});
+  } else if (lv.propagateVariance) {
+    withSeries(std::integral_constant<O, O::propagate>{});
+  } else {
+    withSeries(std::integral_constant<O, O::plain>{});
+  }
 }
 
 void spatialVarianceRows(const AtrousGuide& g, const PaddedPlane& a, const PaddedPlane& b, const Plane& len,

@@ -115,7 +115,15 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
         continue;
       }
       const svgf::Reflections::StreamInputs in = reflections_.stream(frame, st.plan, reprojection_, guide_, k);
-      const AtrousImage& result = filterStream(frame, st, in, suffix, stats);
+      // One stream in the albedo of the frame and nothing between the sum and the remodulation
+      // (no median): the filter writes sum_ remodulated, from its last a-trous level where it
+      // can (AtrousLevel::remodulatedOut), so no pass reads the level back.
+      const bool intoSum = nStreams == 1 && !s.fireflyMedian && in.albedo == albedo;
+      const AtrousImage& result = filterStream(frame, st, in, suffix, stats, albedo, intoSum);
+      if (intoSum) {
+        remodulated = true;
+        continue;
+      }
       if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse) {
         // With the lobes split, the median takes the diffuse lobe only, everywhere: it holds
         // no specular highlights (Voorhuis Sec. 6: "only ... pixels that have a diffuse
@@ -130,11 +138,8 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
         addStream([&](int c, int y) { return lobeMedian_[c].row(y); }, k == 0, in.albedo, albedo);
         continue;
       }
-      // One stream in the albedo of the frame and nothing between the sum and the remodulation
-      // (no median): both in one pass over the planes.
-      remodulated = nStreams == 1 && !s.fireflyMedian && in.albedo == albedo && albedo;
-      PassTimer t(stats, (remodulated ? "sum+remodulate" : "sum") + suffix);
-      addStream([&](int c, int y) { return result.color[c].row(y); }, k == 0, in.albedo, albedo, remodulated);
+      PassTimer t(stats, "sum" + suffix);
+      addStream([&](int c, int y) { return result.color[c].row(y); }, k == 0, in.albedo, albedo);
     }
     stats.notes = std::move(parts.notes);
     Plane3* shown = &sum_;
@@ -188,8 +193,10 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
   // Demodulate and accumulate one stream, then the shared SVGF filter (variance, a-trous
   // levels, feedback); returns the filtered image. `in`: the stream's reprojection, guide and
   // demodulation colour, and the Voorhuis per-pixel inputs (svgf::Reflections::stream).
+  // `intoSum`: the result goes to sum_ instead, remodulated by `albedo` (null: as it is).
   const AtrousImage& filterStream(const FrameData& frame, Stream& st, const svgf::Reflections::StreamInputs& in,
-                                  const std::string& suffix, FrameStats& stats) {
+                                  const std::string& suffix, FrameStats& stats, const std::vector<Plane>* albedo = nullptr,
+                                  bool intoSum = false) {
     const SvgfSettings& s = settings_;
     const svgf::FilterParams p = svgf::filterParams(s, st.plan.indirect);
     const std::vector<Plane>& radiance = frame.planes(st.plan.buffer);
@@ -231,18 +238,19 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     const size_t rowsShortCount = shortCount;
     svgf::FilterExtras extras;
     extras.varianceRowsShortCount = &rowsShortCount;
+    if (intoSum) {  // the result in sum_, remodulated by `albedo`
+      extras.remodulatedOut = &sum_;
+      extras.remodulateAlbedo = albedo;
+    }
     return filter_.run(*in.guide, st.accumulator, st.demod, mask_, fp, stats, suffix, extras);
   }
 
   // sum_ (+)= this stream's filtered illumination, remodulated by the stream's own colour
   // `streamAlbedo` (null: not demodulated) and divided by `albedo`, so that the shared
   // remodulation by `albedo` restores it exactly.
-  // `rows(c, y)`: row y of channel c of the stream's filtered illumination. `remodulate`: the
-  // only stream, in `albedo` (streamAlbedo == albedo): sum_ = illumination * albedo' at once
-  // (remodulateRow's product).
+  // `rows(c, y)`: row y of channel c of the stream's filtered illumination.
   template <class Rows>
-  void addStream(Rows&& rows, bool first, const std::vector<Plane>* streamAlbedo, const std::vector<Plane>* albedo,
-                 bool remodulate = false) {
+  void addStream(Rows&& rows, bool first, const std::vector<Plane>* streamAlbedo, const std::vector<Plane>* albedo) {
     const int w = sum_[0].width;
     const bool same = streamAlbedo == albedo;  // the common case: nothing to convert
     const std::vector<Plane>* times = same ? nullptr : streamAlbedo;
@@ -253,11 +261,6 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
         float* o = sum_[c].row(y);
         const float* m = times ? (*times)[c].row(y) : nullptr;
         const float* a = divide ? (*divide)[c].row(y) : nullptr;
-        if (remodulate) {
-          const float* r = (*albedo)[c].row(y);
-          for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(r[x]);
-          continue;
-        }
         if (!m && !a) {  // the common case, as loops that vectorize
           if (first) std::copy(in, in + w, o);
           else for (int x = 0; x < w; ++x) o[x] += in[x];

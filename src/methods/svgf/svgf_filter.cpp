@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/parallel.h"
+#include "passes/demodulation.h"
 
 namespace rtd::svgf {
 
@@ -39,6 +40,23 @@ void feedbackSampled(const AtrousImage& level, const Plane& mask, Plane3& histor
       float* o = history[c].row(y);
       for (int x = 0; x < w; ++x)
         if (m[x] != 0.0f) o[x] = in[x];
+    }
+  });
+}
+
+// out = colour * albedo' (AtrousLevel::remodulatedOut's product, where no level writes it).
+void remodulateInto(const AtrousImage& level, const std::vector<Plane>* albedo, Plane3& out) {
+  const int w = out[0].width;
+  parallelRows(out[0].height, [&](int y) {
+    for (int c = 0; c < 3; ++c) {
+      const float* in = level.color[c].row(y);
+      float* o = out[c].row(y);
+      if (!albedo) {
+        std::copy(in, in + w, o);
+        continue;
+      }
+      const float* a = (*albedo)[c].row(y);
+      for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(a[x]);
     }
   });
 }
@@ -136,9 +154,14 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
   const int n = p.iterations;
   int steps[8];
   levelSteps(p.levelOrder, n, steps);
+  // The last level writes the remodulated result itself where its colour is not needed as it
+  // is (fed back) and its weights are the plain ones (AtrousLevel::remodulatedOut).
+  const bool fuse = extras.remodulatedOut && n > 0 && p.feedbackLevel != n && !p.spatialFalloff && !p.surfaceKey &&
+                    !extras.indirectDistance;
   int cur = 0;
   for (int i = 0; i < n; ++i) {
-    PassTimer t(stats, "atrous" + std::to_string(i + 1) + suffix);
+    const bool last = fuse && i + 1 == n;
+    PassTimer t(stats, "atrous" + std::to_string(i + 1) + (last ? "+remodulate" : "") + suffix);
     AtrousImage& src = levels_[cur];
     AtrousImage& dst = levels_[cur ^ 1];
     AtrousLevel lv;
@@ -161,6 +184,10 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     lv.centreScale = extras.centreScale;
     lv.spatialFalloff = p.spatialFalloff;
     lv.surfaceKey = p.surfaceKey;
+    if (last) {
+      lv.remodulatedOut = extras.remodulatedOut;
+      lv.remodulateAlbedo = extras.remodulateAlbedo;
+    }
     if (mask) {
       lv.validIn = &valid_[cur];
       lv.validOut = &valid_[cur ^ 1];
@@ -178,6 +205,10 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
   // Without levels the result is the accumulation itself.
   if (n == 0)
     for (int c = 0; c < 3; ++c) levels_[cur].color[c].copyFrom(input[c]);
+  if (extras.remodulatedOut && !fuse) {
+    PassTimer t(stats, "remodulate" + suffix);
+    remodulateInto(levels_[cur], extras.remodulateAlbedo, *extras.remodulatedOut);
+  }
   return levels_[cur];
 }
 

@@ -70,6 +70,12 @@ struct FilterExtras {
   const PaddedPlane* indirectDistance = nullptr;
   const PaddedPlane* indirectDistanceScale = nullptr;
   const PaddedPlane* centreScale = nullptr;
+  /// The stream is the method's whole output: the result goes into these planes, remodulated
+  /// by `remodulateAlbedo` (null: as it is), instead of the returned image. The last level
+  /// writes it (AtrousLevel's fields of the same names) where it can: a level that is neither
+  /// fed back nor has the reflected stream's terms; otherwise a pass after it does.
+  Plane3* remodulatedOut = nullptr;
+  const std::vector<Plane>* remodulateAlbedo = nullptr;
 };
 
 /// The filter's planes, allocated once per size (resize) and reused by every stream.
@@ -82,8 +88,10 @@ class Filter {
   /// p.iterations a-trous levels over `guide`. After executed level p.feedbackLevel its output
   /// replaces accumulator.color() (with `mask`, Dundr Sec. 5: only at pixels sampled this
   /// frame; missing pixels weigh 0 in the levels). Times the passes "variance" + suffix and
-  /// "atrous<i>" + suffix into `stats`. Returns the filtered image (its colour planes hold the
-  /// accumulation when p.iterations is 0); valid until the next run.
+  /// "atrous<i>" + suffix (with extras.remodulatedOut the last "atrous<n>+remodulate", or
+  /// "remodulate" after it) into `stats`. Returns the filtered image (its colour planes hold
+  /// the accumulation when p.iterations is 0; not the result with extras.remodulatedOut);
+  /// valid until the next run.
   const AtrousImage& run(const AtrousGuide& guide, TemporalAccumulator& accumulator, const Plane3& current,
                          const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix = {},
                          const FilterExtras& extras = {});

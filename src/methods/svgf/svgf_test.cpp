@@ -172,6 +172,53 @@ TEST(Atrous, MatchesDoublePrecisionReferenceBothKernels) {
   }
 }
 
+// AtrousLevel::remodulatedOut (SVGF's sum and remodulation fused into the last level): the
+// level's colour times the albedo factor (albedo below kAlbedoEpsilon counts as 1), bit for
+// bit the separate pass's product, at every pixel of a width that leaves a tail on each path
+// (37 = 2 x 16 + 5), masked and dense, with and without albedo.
+TEST(Atrous, RemodulatedLastLevelIsTheLevelTimesTheAlbedoOnEveryPath) {
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
+    for (bool masked : {false, true})
+      for (bool withAlbedo : {true, false}) {
+        Scene s(37, 21, 8);
+        randomScene(s, 11);
+        PaddedPlane validIn, validOut;
+        validIn.resize(s.w, s.h, 8);
+        validOut.resize(s.w, s.h, 8);
+        std::vector<Plane> albedo(3, Plane(s.w, s.h));
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> u(0.0f, 1.0f);
+        for (int y = 0; y < s.h; ++y)
+          for (int x = 0; x < s.w; ++x) {
+            validIn.at(x, y) = (x * 7 + y * 3) % 5 ? 1.0f : 0.0f;
+            for (int c = 0; c < 3; ++c) {
+              const float r = u(rng);
+              albedo[c](x, y) = r < 0.2f ? 0.0f : r < 0.3f ? 5e-4f : r;  // black and dark ones count as 1
+            }
+          }
+        AtrousLevel lv = level(AtrousKernel::B3Spline5x5, 2, &s.inv);
+        lv.propagateVariance = false;  // as a last level
+        if (masked) lv.validIn = &validIn, lv.validOut = &validOut;
+        atrousLevel(s.guide, lv, s.a, s.b);  // the plain level
+        Plane3 out;
+        resize(out, s.w, s.h, -1.0f);
+        lv.remodulatedOut = &out;
+        lv.remodulateAlbedo = withAlbedo ? &albedo : nullptr;
+        AtrousImage other;
+        other.resize(s.w, s.h, 8);
+        atrousLevel(s.guide, lv, s.a, other);
+        for (int y = 0; y < s.h; ++y)
+          for (int x = 0; x < s.w; ++x)
+            for (int c = 0; c < 3; ++c) {
+              const float a = albedo[c](x, y);
+              const float expected = withAlbedo ? s.b.color[c].at(x, y) * (a > 1e-3f ? a : 1.0f) : s.b.color[c].at(x, y);
+              ASSERT_EQ(out[c](x, y), expected) << x << "," << y << " " << cpuPathName(path) << " masked " << masked;
+            }
+      }
+  }
+}
+
 TEST(Atrous, ConstantImageIsAFixedPoint) {
   Scene s(53, 29, 32);
   randomScene(s, 3);  // arbitrary features and variance, constant colour
