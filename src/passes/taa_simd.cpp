@@ -71,7 +71,10 @@ inline vf encodeLanes(vf v) {
 }
 void encodeRow(const float* in, float* out, int n) {
   int x = 0;
-  for (; x + kLanes <= n; x += kLanes) store(out + x, encodeLanes(load(in + x)));
+  for (; x + kLanes <= n; x += kLanes) {
+    prefetchAhead(in + x);
+    store(out + x, encodeLanes(load(in + x)));
+  }
   for (; x < n; ++x) out[x] = tonemap::taaEncode(in[x]);
 }
 // tonemap::taaDecode of an encoded history value in [0, kTaaMaxEncoded], in the blend loop (where
@@ -345,6 +348,11 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       return true;
     };
     for (; x + kLanes <= w && p.catmullRom; x += kLanes) {
+      prefetchAhead(prevX + x), prefetchAhead(prevY + x);
+      // The record two groups ahead: its weights (16 bytes a pixel) line by line.
+      const char* record = reinterpret_cast<const char*>(rp.weights.data() + row + x + 2 * kLanes);
+      for (int b = 0; b < kLanes * 16; b += 64) __builtin_prefetch(record + b);
+      __builtin_prefetch(rp.base.data() + row + x + 2 * kLanes);
       if (catmullRomReady(x)) {
         float* out[3] = {hr + x, hg + x, hb + x};
         catmullRomFetchLanes(hist, prevX + x, prevY + x, w, out);
