@@ -78,6 +78,18 @@ struct Bilinear8 {
     prefetchAhead(p + width);
   }
 
+  /// Prefetches the reprojection's record (load()'s kinds, bases and weights, the weights 16
+  /// bytes a pixel, so two lines per eight pixels) of the eight pixels kPrefetchAhead pixels
+  /// beyond pixel i: at the float planes' distance, as the record streams alongside them.
+  static void prefetchRecord(const Reprojection& rp, size_t i) {
+    const size_t j = i + kPrefetchAhead;
+    const char* weights = reinterpret_cast<const char*>(rp.weights.data() + j);
+    __builtin_prefetch(weights);
+    __builtin_prefetch(weights + 64);
+    __builtin_prefetch(rp.base.data() + j);
+    __builtin_prefetch(rp.kind.data() + j);
+  }
+
   /// The bilinear history of the eight pixels in plane h (the sum in Reprojection::gatherBilinear's order).
   __m256 gather(const float* h) const {
     __m256 v = _mm256_mul_ps(weight[0], tap(h, 0));

@@ -349,10 +349,7 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     };
     for (; x + kLanes <= w && p.catmullRom; x += kLanes) {
       prefetchAhead(prevX + x), prefetchAhead(prevY + x);
-      // The record two groups ahead: its weights (16 bytes a pixel) line by line.
-      const char* record = reinterpret_cast<const char*>(rp.weights.data() + row + x + 2 * kLanes);
-      for (int b = 0; b < kLanes * 16; b += 64) __builtin_prefetch(record + b);
-      __builtin_prefetch(rp.base.data() + row + x + 2 * kLanes);
+      for (int k = x; k < x + kLanes; k += 8) Bilinear8::prefetchRecord(rp, row + k);
       if (catmullRomReady(x)) {
         float* out[3] = {hr + x, hg + x, hb + x};
         catmullRomFetchLanes(hist, prevX + x, prevY + x, w, out);

@@ -32,6 +32,7 @@ void accumulateRow(const Reprojection& rp, const Plane& length, float alpha, con
   const float* hPrev[3] = {history[0].ptr(), history[1].ptr(), history[2].ptr()};
   for (; x + 8 <= w; x += 8) {
     const size_t i = row + x;
+    Bilinear8::prefetchRecord(rp, i);
     if (!taps8.load(rp, i)) {
       for (int k = 0; k < 8; ++k) pixel(x + k);
       continue;
@@ -147,6 +148,7 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
       Bilinear8 taps8;
       for (; x + 8 <= w; x += 8) {
         const size_t i = size_t(y) * w + x;
+        Bilinear8::prefetchRecord(rp, i);
         if (!taps8.load(rp, i)) {
           for (int k = 0; k < 8; ++k) pixel(i + k);
           continue;
