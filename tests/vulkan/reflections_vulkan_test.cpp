@@ -230,6 +230,27 @@ TEST(VulkanReflections, VoorhuisMatchesCpuOnARenderedSequence) {
   }
 }
 
+// As VoorhuisParts.SwitchingThePartsOffLeavesNoneOfTheirStateBehind on the CPU: after a switch
+// to a preset without the parts, the GPU denoiser runs as one that never had them.
+TEST(VulkanReflections, SwitchingThePartsOffLeavesNoneOfTheirStateBehind) {
+  RTD_REQUIRE_VULKAN();
+  const Rendered& r = reflectionFrames();
+  auto switched = vulkanDevice()->createDenoiser("svgf");
+  auto fresh = vulkanDevice()->createDenoiser("svgf");
+  switched->set("variant", "voorhuis");
+  fresh->set("variant", "voorhuisBase");
+  Image a(r.frames[0].width, r.frames[0].height, 3), b(a.width, a.height, 3);
+  for (int i = 0; i < 3; ++i) switched->denoise(r.frames[i].inputs(), a.view());
+  switched->set("variant", "voorhuisBase");
+  switched->reset();
+  for (int i = 3; i < 6; ++i) {
+    switched->denoise(r.frames[i].inputs(), a.view());
+    fresh->denoise(r.frames[i].inputs(), b.view());
+    const ErrorStats e = compare(a, b);
+    for (int c = 0; c < 3; ++c) EXPECT_LE(e.maxAbs[c], 1e-6 * e.maxRef) << "frame " << i << ": " << describe(e);
+  }
+}
+
 }  // namespace
 }  // namespace rtd::test
 #endif

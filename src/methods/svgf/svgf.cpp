@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 #include "backend/cpu/cpu_denoiser.h"
 #include "core/parallel.h"
@@ -100,8 +101,11 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       });
       excludeEmitters(frame, s.emitters, guide_);  // issue 12: emitter pixels weigh 0 as neighbours
     }
-    if (parts.classes) {
-      PassTimer t(stats, "reflections");  // Voorhuis: classes, diamond search, reflected features
+    {
+      // Without parts too: it records that this frame has none (stream(), clipBoxes() and
+      // taaMotion() read them; a previous frame's, before a change of settings, would be stale).
+      std::optional<PassTimer> t;
+      if (parts.classes) t.emplace(stats, "reflections");  // Voorhuis: classes, diamond search, reflected features
       reflections_.prepare(frame, previous, s, parts, lobes, reprojection_);
     }
     bool remodulated = false;

@@ -849,5 +849,28 @@ TEST(VoorhuisParts, DenoiserReportsOffPartsInItsStatistics) {
   EXPECT_THROW(d->denoise(f.inputs(), out.view()), Error);
 }
 
+// The parts' per-frame state (classes, specular record, per-class alpha, clip boxes) belongs to
+// the frame that computed it: after switching to a preset without them, a denoiser runs as
+// one that never had them, frame for frame.
+TEST(VoorhuisParts, SwitchingThePartsOffLeavesNoneOfTheirStateBehind) {
+  MirrorScene m(16, 8);
+  m.shade(nullptr);
+  Frame f = toFrame(m.t.f);
+  auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
+  auto switched = device->createDenoiser("svgf");
+  switched->set("variant", "voorhuis");
+  Image a(16, 8, 3), b(16, 8, 3);
+  for (int i = 0; i < 3; ++i) switched->denoise(f.inputs(), a.view());
+  switched->set("variant", "voorhuisBase");
+  switched->reset();
+  auto fresh = device->createDenoiser("svgf");
+  fresh->set("variant", "voorhuisBase");
+  for (int i = 0; i < 3; ++i) {
+    switched->denoise(f.inputs(), a.view());
+    fresh->denoise(f.inputs(), b.view());
+    ASSERT_EQ(a.pixels, b.pixels) << "frame " << i << " after the switch";
+  }
+}
+
 }  // namespace
 }  // namespace rtd

@@ -87,10 +87,10 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     vk::reproject(rec, frame, previous, s.reprojection, reprojection_);
     rec.pass("features");
     vk::atrousGuide(rec, frame, s.maxDepthSlope, gradient_);
-    if (parts.classes) {
-      rec.pass("reflections");  // Voorhuis: classes, diamond search, reflected features
-      reflections_.prepare(rec, frame, previous, s, parts, lobes, reprojection_);
-    }
+    // Without parts too: it records that this frame has none (stream(), the clipping test and
+    // taaMotion() read them; a previous frame's, before a change of settings, would be stale).
+    if (parts.classes) rec.pass("reflections");  // Voorhuis: classes, diamond search, reflected features
+    reflections_.prepare(rec, frame, previous, s, parts, lobes, reprojection_);
     // Issue 12: emitter pixels weigh 0 as neighbours (a zero guide normal).
     const vk::Planes& guideNormal = vk::emitterGuideNormal(rec, frame, s.emitters, guideNormal_);
     const svgf::GpuGuide primaryGuide{&frame[Buffer::Depth], &guideNormal, &gradient_};
