@@ -60,10 +60,13 @@ void BM_SvgfAfterReset(benchmark::State& state, const char* variant) {
 BENCHMARK_CAPTURE(BM_SvgfAfterReset, schied_1thread, "schied")->Unit(benchmark::kMillisecond);
 
 // One a-trous level (with variance propagation) on flat-ish features and noisy colour; args:
-// the step, and the CPU path (0 sse2, 1 avx2, 2 avx512; -1 the current one, RTD_CPU_PATH).
+// the step, the CPU path (0 sse2, 1 avx2, 2 avx512; -1 the current one, RTD_CPU_PATH) and the
+// height (width 16:9; default 720): at 180 the planes fit in the caches, so the time per pixel
+// against 720's says how much of the level waits on memory.
 void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threads) {
   const int step = int(state.range(0));
   const int path = int(state.range(1));
+  const int h = state.range(2) > 0 ? int(state.range(2)) : 720, w = h * 16 / 9;
   if (path >= 0 && !rtd::cpuPathSupported(rtd::CpuPath(path))) {
     state.SkipWithError("this CPU lacks the path");
     return;
@@ -72,12 +75,12 @@ void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threa
   rtd::AtrousGuide g;
   rtd::AtrousImage a, b;
   rtd::PaddedPlane inv;
-  g.resize(kW, kH, 32);
-  a.resize(kW, kH, 32);
-  b.resize(kW, kH, 32);
-  inv.resize(kW, kH, 32);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
+  g.resize(w, h, 32);
+  a.resize(w, h, 32);
+  b.resize(w, h, 32);
+  inv.resize(w, h, 32);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
       g.depth.at(x, y) = 5.0f + 0.001f * y;
       g.gradY.at(x, y) = 0.001f;
       g.normal[2].at(x, y) = 1.0f;
@@ -97,13 +100,13 @@ void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threa
     benchmark::DoNotOptimize(b.color[0].data.data());
   }
   rtd::setCpuPath(previous);
-  state.SetItemsProcessed(state.iterations() * int64_t(kW) * kH);
+  state.SetItemsProcessed(state.iterations() * int64_t(w) * h);
 }
 BENCHMARK_CAPTURE(BM_AtrousLevel, b3spline5x5_1thread, rtd::AtrousKernel::B3Spline5x5, 1)
-    ->ArgsProduct({{1, 16}, {0, 1, 2}})->ArgNames({"step", "path"})->Unit(benchmark::kMillisecond);
+    ->ArgsProduct({{1, 16}, {0, 1, 2}, {720, 180}})->ArgNames({"step", "path", "height"})->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_AtrousLevel, binomial3x3_1thread, rtd::AtrousKernel::Binomial3x3, 1)
-    ->ArgsProduct({{1, 16}, {0, 1, 2}})->ArgNames({"step", "path"})->Unit(benchmark::kMillisecond);
+    ->ArgsProduct({{1, 16}, {0, 1, 2}, {720, 180}})->ArgNames({"step", "path", "height"})->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_AtrousLevel, b3spline5x5_2threads, rtd::AtrousKernel::B3Spline5x5, 2)
-    ->Args({1, -1})->Args({16, -1})->ArgNames({"step", "path"})->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({1, -1, 720})->Args({16, -1, 720})->ArgNames({"step", "path", "height"})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
