@@ -155,11 +155,11 @@ struct AtrousLevel {
   /// remodulation, Schied Sec. 4, fused into the level that produces it): where set, the
   /// filtered colour times demodulationFactor(remodulateAlbedo[c]) (the colour itself where
   /// `remodulateAlbedo` is null) goes to these unpadded planes of the frame's size instead of
-  /// out.color, and no luminance is written (no level reads it); only with propagateVariance
+  /// out.color, and no luminance is written (no level reads it). Only with propagateVariance
   /// off (nothing reads the last level's variance either) and without the reflected stream's
-  /// and the glossy terms (spatialFalloff, surfaceKey, indirectDistance). The product is the one the
-  /// separate pass formed from the stored colour, so the result is bit for bit the same; the
-  /// pass no longer writes the level's colour and luminance and reads them back.
+  /// and the glossy terms (spatialFalloff, surfaceKey, indirectDistance). The product is the
+  /// one the separate pass formed from the stored colour, so the result is bit for bit the
+  /// same; the level's colour and luminance are no longer written and read back.
   Plane3* remodulatedOut = nullptr;
   const std::vector<Plane>* remodulateAlbedo = nullptr;
 };

@@ -317,8 +317,10 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       }
       const vf r = vflush(sr * rcp), gg = vflush(sg * rcp), b = vflush(sb * rcp);
       if constexpr (kPropagate) store(qv + c, vflush(sv * rcp * rcp));
-      if constexpr (kOut == LevelOutput::remodulated) {  // AtrousLevel::remodulatedOut: colour * albedo' into the frame's planes
-        const int n = std::min(kLanes, w - x);  // the row's tail: no access past its end
+      if constexpr (kOut == LevelOutput::remodulated) {
+        // AtrousLevel::remodulatedOut: colour * albedo' into the frame's (unpadded) planes; the
+        // row's tail is copied through a buffer, so nothing is read or written past its end.
+        const int n = std::min(kLanes, w - x);
         const vf rgb[3] = {r, gg, b};
         for (int k = 0; k < 3; ++k) {
           float* o = (*remodulated)[k].row(y) + x;

@@ -348,6 +348,8 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       return true;
     };
     for (; x + kLanes <= w && p.catmullRom; x += kLanes) {
+      // The positions and the record ahead: read once each, where the history's taps compete
+      // for the cache (BM_Taa 0.84-0.91 with encodeRow's; docs/performance.md, "Session 15").
       prefetchAhead(prevX + x), prefetchAhead(prevY + x);
       for (int k = x; k < x + kLanes; k += 8) Bilinear8::prefetchRecord(rp, row + k);
       if (catmullRomReady(x)) {
