@@ -24,18 +24,17 @@ void demodulate(const std::vector<Plane>& radiance, const std::vector<Plane>* al
   });
 }
 
-void remodulateRow(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out, int y) {
-  const int w = illumination[0].width;
-  for (int c = 0; c < 3; ++c) {
-    const float* in = illumination[c].row(y);
-    float* o = out[c].row(y);
-    if (!albedo) {
-      if (o != in) std::copy(in, in + w, o);
-      continue;
-    }
-    const float* a = (*albedo)[c].row(y);
-    for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(a[x]);
+void remodulateSpan(const float* in, const float* albedo, float* out, int n) {
+  if (!albedo) {
+    if (out != in) std::copy(in, in + n, out);
+    return;
   }
+  for (int x = 0; x < n; ++x) out[x] = in[x] * demodulationFactor(albedo[x]);
+}
+
+void remodulateRow(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out, int y) {
+  for (int c = 0; c < 3; ++c)
+    remodulateSpan(illumination[c].row(y), albedo ? (*albedo)[c].row(y) : nullptr, out[c].row(y), illumination[0].width);
 }
 
 void remodulate(Plane3& illumination, const std::vector<Plane>* albedo) {

@@ -15,6 +15,8 @@ inline float demodulationFactor(float albedo) { return albedo > kAlbedoEpsilon ?
 void demodulate(const std::vector<Plane>& radiance, const std::vector<Plane>* albedo, Plane3& out);
 /// out = illumination * albedo' per channel (in place). With no albedo, nothing.
 void remodulate(Plane3& illumination, const std::vector<Plane>* albedo);
+/// out[x] = in[x] * albedo'[x] for n values (a copy with no albedo); out may be in.
+void remodulateSpan(const float* in, const float* albedo, float* out, int n);
 /// Row y of out = illumination * albedo' (a copy with no albedo); out may be illumination.
 void remodulateRow(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out, int y);
 

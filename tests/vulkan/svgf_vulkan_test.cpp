@@ -87,6 +87,13 @@ TEST(VulkanSvgf, MatchesCpuWithoutTaaAndVarianceFiltering) {
   RTD_REQUIRE_VULKAN();
   runBoth({"taa=false", "varianceFiltering=false", "maxDepthSlope=0.5", "atrousIterations=3"}, false, 4, "options");
 }
+// Where the CPU's last a-trous level cannot write the remodulated output itself (it is fed
+// back, or there is no level), its own pass does (svgf::Filter::run's fallback).
+TEST(VulkanSvgf, MatchesCpuWhereTheLastLevelIsFedBackOrAbsent) {
+  RTD_REQUIRE_VULKAN();
+  runBoth({"feedbackLevel=5"}, false, 4, "last level fed back");
+  runBoth({"atrousIterations=0", "feedbackLevel=0"}, false, 4, "no a-trous level");
+}
 
 }  // namespace
 }  // namespace rtd::test

@@ -46,18 +46,9 @@ void feedbackSampled(const AtrousImage& level, const Plane& mask, Plane3& histor
 
 // out = colour * albedo' (AtrousLevel::remodulatedOut's product, where no level writes it).
 void remodulateInto(const AtrousImage& level, const std::vector<Plane>* albedo, Plane3& out) {
-  const int w = out[0].width;
   parallelRows(out[0].height, [&](int y) {
-    for (int c = 0; c < 3; ++c) {
-      const float* in = level.color[c].row(y);
-      float* o = out[c].row(y);
-      if (!albedo) {
-        std::copy(in, in + w, o);
-        continue;
-      }
-      const float* a = (*albedo)[c].row(y);
-      for (int x = 0; x < w; ++x) o[x] = in[x] * demodulationFactor(a[x]);
-    }
+    for (int c = 0; c < 3; ++c)
+      remodulateSpan(level.color[c].row(y), albedo ? (*albedo)[c].row(y) : nullptr, out[c].row(y), out[0].width);
   });
 }
 
