@@ -159,23 +159,31 @@ void subtractEmissionRow(float* const* v, const float* const* e, int w) {
     for (int x = 0; x < w; ++x) v[c][x] = std::max(0.0f, flushTiny(v[c][x] - e[c][x]));
 }
 
-void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out) {
-  if (isHalf(out.format)) return exportRgbHalf(rgb, emission, out);
-  if (out.format != Format::Float3 && out.format != Format::Float4)
+RgbExport::RgbExport(const ImageView& out, int width, int height, const std::vector<Plane>* emission)
+    : out_(out), emission_(emission), half_(isHalf(out.format)) {
+  if (out.format != Format::Float3 && out.format != Format::Float4 && !half_)
     throw Error("output view must be Float3, Float4, Half3 or Half4");
-  if (out.width != rgb[0].width || out.height != rgb[0].height)
+  if (out.width != width || out.height != height)
     throw Error("output view is " + std::to_string(out.width) + "x" + std::to_string(out.height) +
-                ", the frame is " + std::to_string(rgb[0].width) + "x" + std::to_string(rgb[0].height));
-  const bool alpha = out.format == Format::Float4;
-  const int stride = alpha ? 4 : 3;
-  const bool packed = out.bytesPerPixel() == size_t(stride) * sizeof(float);
-  const bool stream = streamsPastCache(size_t(out.width) * out.height * out.bytesPerPixel());
+                ", the frame is " + std::to_string(width) + "x" + std::to_string(height));
+  const size_t channelBytes = half_ ? 2 : sizeof(float);
+  packed_ = out.bytesPerPixel() == size_t(channelCount(out.format)) * channelBytes;
+  stream_ = !half_ && streamsPastCache(size_t(out.width) * out.height * out.bytesPerPixel());
+}
+
+void RgbExport::row(int y, const float* const rgb[3]) const {
+  const float* e[3] = {nullptr, nullptr, nullptr};
+  if (emission_)
+    for (int k = 0; k < 3; ++k) e[k] = (*emission_)[k].row(y);
+  if (half_) exportHalfRow(rgb, emission_ ? e : nullptr, out_, y, packed_);
+  else RTD_SIMD(exportRow)(rgb, emission_ ? e : nullptr, out_, y, packed_, stream_);
+}
+
+void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out) {
+  const RgbExport rows(out, rgb[0].width, rgb[0].height, emission);
   parallelRows(out.height, [&](int y) {
     const float* c[3] = {rgb[0].row(y), rgb[1].row(y), rgb[2].row(y)};
-    const float* e[3] = {nullptr, nullptr, nullptr};
-    if (emission)
-      for (int k = 0; k < 3; ++k) e[k] = (*emission)[k].row(y);
-    RTD_SIMD(exportRow)(c, emission ? e : nullptr, out, y, packed, stream);
+    rows.row(y, c);
   });
 }
 

@@ -62,8 +62,25 @@ void applyHiddenArea(FrameData& frame);
 /// Import and export use it.
 bool streamsPastCache(size_t bytes);
 
-/// Writes RGB planes, plus the separated emission if not null, into a Float3/Float4 view
-/// (alpha = 1); Half3/Half4 views go to exportRgbHalf() (core/half.h).
+/// The frame's output view, filled row by row from linear RGB rows plus the separated emission
+/// (if not null): alpha 1 in Float4 and Half4 views, halves through exportHalfRow() (core/half.h).
+/// exportRgb() runs it over whole planes; a pass that computes the output row by row (TAA) hands
+/// each row over while it is still in cache, instead of storing planes for a pass to read back.
+class RgbExport {
+ public:
+  /// Throws rtd::Error unless `out` is a Float3, Float4, Half3 or Half4 view of width x height.
+  RgbExport(const ImageView& out, int width, int height, const std::vector<Plane>* emission);
+  /// Row y of the output from rgb[0..2] (width floats each); any thread, each row once.
+  void row(int y, const float* const rgb[3]) const;
+  int height() const { return out_.height; }
+
+ private:
+  ImageView out_;
+  const std::vector<Plane>* emission_;
+  bool half_, packed_, stream_;
+};
+
+/// Writes RGB planes, plus the separated emission if not null, into `out` (RgbExport).
 void exportRgb(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out);
 
 }  // namespace rtd

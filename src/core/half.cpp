@@ -1,11 +1,9 @@
 #include "core/half.h"
 
 #include <cstring>
-#include <string>
+#include <vector>
 
 #include "core/half_kernels.h"
-#include "core/parallel.h"
-#include "rtd/error.h"
 
 namespace rtd {
 
@@ -70,31 +68,20 @@ void importHalfRow(const char* src, size_t pixelStride, int nc, float* const* ds
     for (int c = 0; c < nc; ++c) dst[c][x] = sanitizeValue(row[size_t(x) * stride + c], range, bad);
 }
 
-void exportRgbHalf(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out) {
-  if (out.format != Format::Half3 && out.format != Format::Half4)
-    throw Error("output view must be Float3, Float4, Half3 or Half4");
-  if (out.width != rgb[0].width || out.height != rgb[0].height)
-    throw Error("output view is " + std::to_string(out.width) + "x" + std::to_string(out.height) + ", the frame is " +
-                std::to_string(rgb[0].width) + "x" + std::to_string(rgb[0].height));
+void exportHalfRow(const float* const rgb[3], const float* const* e, const ImageView& out, int y, bool packed) {
+  // The row as interleaved floats, then converted to halves in one go.
   const int stride = channelCount(out.format);
-  const bool packed = out.bytesPerPixel() == size_t(stride) * 2;
-  parallelRows(out.height, [&](int y) {
-    // The row as interleaved floats, then converted to halves in one go.
-    thread_local std::vector<float> row;
-    row.resize(size_t(out.width) * stride);
-    for (int k = 0; k < 3; ++k) {
-      const float* c = rgb[k].row(y);
-      const float* e = emission ? (*emission)[k].row(y) : nullptr;
-      for (int x = 0; x < out.width; ++x) row[size_t(x) * stride + k] = e ? c[x] + e[x] : c[x];
-    }
-    if (stride == 4)
-      for (int x = 0; x < out.width; ++x) row[size_t(x) * 4 + 3] = 1.0f;
-    if (packed) {
-      floatsToHalves(row.data(), out.pixel<char>(0, y), row.size());
-    } else {
-      for (int x = 0; x < out.width; ++x) floatsToHalves(row.data() + size_t(x) * stride, out.pixel<char>(x, y), stride);
-    }
-  });
+  thread_local std::vector<float> row;
+  row.resize(size_t(out.width) * stride);
+  for (int k = 0; k < 3; ++k)
+    for (int x = 0; x < out.width; ++x) row[size_t(x) * stride + k] = e ? rgb[k][x] + e[k][x] : rgb[k][x];
+  if (stride == 4)
+    for (int x = 0; x < out.width; ++x) row[size_t(x) * 4 + 3] = 1.0f;
+  if (packed) {
+    floatsToHalves(row.data(), out.pixel<char>(0, y), row.size());
+  } else {
+    for (int x = 0; x < out.width; ++x) floatsToHalves(row.data() + size_t(x) * stride, out.pixel<char>(x, y), stride);
+  }
 }
 
 }  // namespace rtd

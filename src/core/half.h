@@ -30,7 +30,8 @@ void floatsToHalves(const float* src, void* halves, size_t n);
 void importHalfRow(const char* src, size_t pixelStride, int nc, float* const* dst, int w, ValueRange range,
                    SanitizeCounts& bad);
 
-/// exportRgb() for a Half3/Half4 view: RGB (plus the separated emission if not null), alpha 1.
-void exportRgbHalf(const Plane3& rgb, const std::vector<Plane>* emission, const ImageView& out);
+/// Row y of a Half3/Half4 view (RgbExport::row): RGB plus the separated emission rows e (if
+/// not null), alpha 1; `packed`: the pixels are 3 or 4 halves apart.
+void exportHalfRow(const float* const rgb[3], const float* const* e, const ImageView& out, int y, bool packed);
 
 }  // namespace rtd

@@ -19,8 +19,8 @@ void Taa::resize(int w, int h) {
 }
 
 const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, const TaaSettings& s,
-                       const PixelVector<uint32_t>* keys) {
-  begin(color[0].width, color[0].height, s, keys);
+                       const PixelVector<uint32_t>* keys, const RgbExport* output) {
+  begin(color[0].width, color[0].height, s, keys, output);
   // Chunks of 16-32 rows: each starts its window by building the two rows around its first
   // (buildSlot), so chunks of 4-8 rows had built ~1.3 slots per row.
   tbb::parallel_for(tbb::blocked_range<int>(0, color[0].height, 32), [&](const tbb::blocked_range<int>& range) {
@@ -29,11 +29,12 @@ const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, const TaaSet
   return result();
 }
 
-void Taa::begin(int w, int h, const TaaSettings& s, const PixelVector<uint32_t>* keys) {
+void Taa::begin(int w, int h, const TaaSettings& s, const PixelVector<uint32_t>* keys, const RgbExport* output) {
   if (width_ != w || history_[0][0].height != h) resize(w, h);
   params_ = TaaParams::of(s);
   keys_ = s.taaOwnSurface && keys && keys->size() == size_t(w) * h ? keys->data() : nullptr;
-  if (params_.display && (linear_[0].width != w || linear_[0].height != h)) rtd::resize(linear_, w, h);
+  output_ = output;
+  if (params_.display && !output && (linear_[0].width != w || linear_[0].height != h)) rtd::resize(linear_, w, h);
   cur_ ^= 1;
   first_ = !valid_ || display_ != params_.display;  // a history in the other domain is no history
   display_ = params_.display;
@@ -51,15 +52,20 @@ void Taa::runRows(const Reprojection& rp, const Plane3& color, int rowBegin, int
         std::copy(in, in + n, next[c].row(rowBegin));
         continue;
       }
-      std::copy(in, in + n, linear_[c].row(rowBegin));
+      if (!output_) std::copy(in, in + n, linear_[c].row(rowBegin));
       float* e = next[c].row(rowBegin);
       for (size_t i = 0; i < n; ++i) e[i] = tonemap::taaEncode(in[i]);
+    }
+    for (int y = rowBegin; y < rowEnd && output_; ++y) {
+      const float* in[3] = {color[0].row(y), color[1].row(y), color[2].row(y)};
+      output_->row(y, in);
     }
     return;
   }
   Window& win = windows_.local();
   if (win.rows.size() != size_t(kTaaWindowRows) * w) win.rows.assign(size_t(kTaaWindowRows) * w, 0.0f);
-  RTD_SIMD(taaRows)(rp, color, params_, rowBegin, rowEnd, history_[cur_ ^ 1], next, linear_, win.rows.data(), win.slotRow, keys_);
+  RTD_SIMD(taaRows)(rp, color, params_, rowBegin, rowEnd, history_[cur_ ^ 1], next, linear_, win.rows.data(), win.slotRow,
+                    keys_, output_);
 }
 
 }  // namespace rtd

@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include "core/frame_data.h"
 #include "core/plane.h"
 #include "passes/reprojection.h"
 #include "rtd/methods/taa.h"
@@ -40,16 +41,21 @@ class Taa {
   /// `keys`: the pixels' surface keys (taaSurfaceKeys(), passes/taa_keys.h), read with
   /// s.taaOwnSurface: the clamp box of a pixel then takes only its neighbours of its key;
   /// nullptr: the plain box.
+  /// `output` (or nullptr): the frame's output view, which then receives each row of the
+  /// result as it is blended (RgbExport), and result() is not kept (in the display domain, no
+  /// decoded planes are stored).
   const Plane3& run(const Reprojection& rp, const Plane3& color, const TaaSettings& s,
-                    const PixelVector<uint32_t>* keys = nullptr);
+                    const PixelVector<uint32_t>* keys = nullptr, const RgbExport* output = nullptr);
 
   /// run() in steps, for methods that run their passes on bands of rows: begin() once per
   /// frame, then runRows() once for every row, from any thread, each call once rows
   /// [rowBegin - 1, rowEnd] of `color` are final (the 3x3 box); the output is then result().
-  /// `keys` as in run(); it must stay valid until the last runRows() of the frame.
-  void begin(int width, int height, const TaaSettings& s, const PixelVector<uint32_t>* keys = nullptr);
+  /// `keys` and `output` as in run(); they must stay valid until the last runRows() of the frame.
+  void begin(int width, int height, const TaaSettings& s, const PixelVector<uint32_t>* keys = nullptr,
+             const RgbExport* output = nullptr);
   void runRows(const Reprojection& rp, const Plane3& color, int rowBegin, int rowEnd);
-  /// The linear output: the history itself in the linear domain, its decode in the display one.
+  /// The linear output: the history itself in the linear domain, its decode in the display one
+  /// (not kept in a frame run with an `output` view).
   const Plane3& result() const { return params_.display ? linear_ : history_[cur_]; }
   /// Both histories, the decoded output and this thread's window rows (PlaneVisitor).
   void forEachPlane(const PlaneVisitor& visit) const {
@@ -70,6 +76,7 @@ class Taa {
   int cur_ = 0;
   TaaParams params_{0.1f, 0.0f, false, 0.0f, false, false};
   const uint32_t* keys_ = nullptr;  // this frame's surface keys (taaOwnSurface), or none
+  const RgbExport* output_ = nullptr;  // this frame's output view, filled row by row, or none
   bool display_ = false;  // the domain the history holds
   int width_ = 0;
   tbb::enumerable_thread_specific<Window> windows_;

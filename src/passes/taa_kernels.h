@@ -10,13 +10,14 @@ namespace rtd {
 constexpr int kTaaSlotRows = 10;
 /// The rows of a thread's window after its three slots (each the frame's width): the fetched
 /// history (three), the own-surface box's mixed-key flags and its column flags, the blend
-/// weights; kTaaWindowRows in all.
+/// weights, the decoded output row handed to an output view (three); kTaaWindowRows in all.
 enum TaaWindowRow : int {
   kTaaHistoryRow = 3 * kTaaSlotRows,
   kTaaMixedRow = kTaaHistoryRow + 3,
   kTaaBlendAlphaRow,
   kTaaColumnRow,
-  kTaaWindowRows
+  kTaaOutputRow,
+  kTaaWindowRows = kTaaOutputRow + 3
 };
 /// Catmull-Rom takes a pixel's history only where the reprojection accepted every texel of the
 /// plain 2x2 bilinear footprint weighted above this (taa_simd.cpp, `consistent`; taa.comp,
@@ -33,8 +34,9 @@ RTD_SIMD_DECLARE(
 /// (TaaWindowRow).
 /// `next` receives the clamped blend (the next frame's history); with p.display, `linearOut`
 /// receives its taaDecode (otherwise it is unused: `next` is the output). `keys` (or nullptr):
-/// the surface keys of the own-surface box (TaaSettings::taaOwnSurface).
+/// the surface keys of the own-surface box (TaaSettings::taaOwnSurface). `output` (or
+/// nullptr): receives each output row once it is final; `linearOut` is then unused.
 void taaRows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd,
              const Plane3& history, Plane3& next, Plane3& linearOut, float* window, int slotRow[3],
-             const uint32_t* keys);
+             const uint32_t* keys, const RgbExport* output);
 )

@@ -260,7 +260,7 @@ void blendWeights(const float* prevX, const float* prevY, int w, float alpha, fl
 
 template <bool kDisplay>
 void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
-          Plane3& next, Plane3& linearOut, float* window, int slotRow[3], const uint32_t* keys) {
+          Plane3& next, Plane3& linearOut, float* window, int slotRow[3], const uint32_t* keys, const RgbExport* output) {
   const float cw = p.crossWeight;
   const int w = color[0].width, h = color[0].height;
   constexpr int kSlotRows = kTaaSlotRows;
@@ -381,10 +381,11 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     // Clamp to the 3x3 YCoCg box (moved towards the 5-tap cross's bounds by cw) and blend
     // (vectorized over the row).
     float *n[3] = {next[0].row(y), next[1].row(y), next[2].row(y)};
-    // With kDisplay, the decoded output too, in the same loop (tonemap::taaDecode).
+    // With kDisplay, the decoded output too, in the same loop (tonemap::taaDecode): into the
+    // window for an output view, which takes the row from there while it is in cache.
     float* lin[3] = {nullptr, nullptr, nullptr};
     if constexpr (kDisplay)
-      for (int k = 0; k < 3; ++k) lin[k] = linearOut[k].row(y);
+      for (int k = 0; k < 3; ++k) lin[k] = output ? window + size_t(kTaaOutputRow + k) * w : linearOut[k].row(y);
 #pragma GCC ivdep  // outputs never alias the window rows: lets GCC vectorize
     for (int x = 0; x < w; ++x) {
       float hc[3] = {0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x], 0.5f * hr[x] - 0.5f * hb[x],
@@ -493,14 +494,18 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
           for (int k = 0; k < 3; ++k) lin[k][x] = decode(n[k][x]);
       }
     }
+    if (output) {
+      const float* rgb[3] = {kDisplay ? lin[0] : n[0], kDisplay ? lin[1] : n[1], kDisplay ? lin[2] : n[2]};
+      output->row(y, rgb);
+    }
   }
 }
 }  // namespace
 
 void taaRows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int rowBegin, int rowEnd, const Plane3& hist,
-             Plane3& next, Plane3& linearOut, float* window, int slotRow[3], const uint32_t* keys) {
-  if (p.display) rows<true>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow, keys);
-  else rows<false>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow, keys);
+             Plane3& next, Plane3& linearOut, float* window, int slotRow[3], const uint32_t* keys, const RgbExport* output) {
+  if (p.display) rows<true>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow, keys, output);
+  else rows<false>(rp, color, p, rowBegin, rowEnd, hist, next, linearOut, window, slotRow, keys, output);
 }
 
 }  // namespace rtd::RTD_SIMD_NS

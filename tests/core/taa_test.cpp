@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <utility>
 #include <vector>
 #include <string>
@@ -670,6 +671,64 @@ TEST(Taa, CatmullRomBlursLessThanBilinearUnderSubPixelMotion) {
         }
       }
     }
+}
+
+// A frame run with an output view (RgbExport: each row handed over as it is blended, as the
+// methods' last pass writes the output) writes exactly what exporting the plain run's result
+// writes, and keeps the same history: both domains and history filters, with and without
+// surface keys and emission, every output layout, the first frame (no history) and later
+// ones, the rows in one run() or in bands as BMFR runs them, on every CPU path.
+TEST(Taa, RowsHandedToAnOutputViewEqualTheExportOfTheResult) {
+  constexpr int w = 53, h = 21;  // several 16-pixel groups and a tail
+  std::vector<Plane> emission(3);
+  for (int c = 0; c < 3; ++c) {
+    emission[size_t(c)].resize(w, h);
+    for (int i = 0; i < w * h; ++i) emission[size_t(c)].data[size_t(i)] = float((i * 7 + c * 3) % 11) / 4.0f;
+  }
+  PixelVector<uint32_t> keys(size_t(w) * h);
+  for (int i = 0; i < w * h; ++i) keys[size_t(i)] = (i % w) + (i / w) / 3 < 30 ? 1u : 2u;
+  auto frame = [&](int f) {
+    return test::imageOf(w, h, [f](int x, int y, int c) {
+      return 0.02f + float(((x + 2 * f) * 37 + y * 11 + c * 5) % 97) / 20.0f;
+    });
+  };
+  struct Layout { Format format; int extraChannels; };
+  const Layout layouts[] = {{Format::Float3, 0}, {Format::Float4, 0}, {Format::Float4, 1}, {Format::Half3, 0}, {Format::Half4, 1}};
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
+    for (TaaDomain d : {TaaDomain::linear, TaaDomain::display})
+      for (TaaHistoryFilter filter : kFilters)
+        for (bool keyed : {false, true})
+          for (bool withEmission : {false, true})
+            for (const Layout& layout : layouts)
+              for (bool banded : {false, true}) {
+                TaaSettings s = settings(0.1f, d, TaaNeighbourhood::box3x3, filter);
+                s.taaSubpixelAlpha = 2.0f;
+                s.taaOwnSurface = keyed;
+                const std::vector<Plane>* e = withEmission ? &emission : nullptr;
+                const size_t channelBytes = isHalf(layout.format) ? 2 : 4;
+                const size_t pixelBytes = (size_t(channelCount(layout.format)) + layout.extraChannels) * channelBytes;
+                Taa plain, handed;
+                for (int f = 0; f < 3; ++f) {
+                  const Plane3 color = frame(f);
+                  const Reprojection rp = test::shiftedReprojection(w, h, 0.3f + 0.2f * f, -0.45f);
+                  std::vector<unsigned char> want(pixelBytes * w * h, 0xab), got(want.size(), 0xab);
+                  const ImageView wantView{want.data(), w, h, layout.format, pixelBytes};
+                  const ImageView gotView{got.data(), w, h, layout.format, pixelBytes};
+                  exportRgb(plain.run(rp, color, s, &keys), e, wantView);
+                  const RgbExport rows(gotView, w, h, e);
+                  if (banded) {
+                    handed.begin(w, h, s, &keys, &rows);
+                    for (int y = 0; y < h; y += 5) handed.runRows(rp, color, y, std::min(y + 5, h));
+                  } else {
+                    handed.run(rp, color, s, &keys, &rows);
+                  }
+                  ASSERT_EQ(std::memcmp(got.data(), want.data(), got.size()), 0)
+                      << cpuPathName(path) << " domain " << int(d) << " " << name(filter) << " keys " << keyed << " emission "
+                      << withEmission << " format " << int(layout.format) << " banded " << banded << " frame " << f;
+                }
+              }
+  }
 }
 
 }  // namespace

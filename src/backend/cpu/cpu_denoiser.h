@@ -86,11 +86,15 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
         reset();
       }
       if (hasPrevious_) previous_.camera = jitterCompensated(previous_.camera, conventions, w, h);
+      const std::vector<Plane>* emission = current_.has(Buffer::Emission) ? &current_.planes(Buffer::Emission) : nullptr;
+      const RgbExport outputRows(output, w, h, emission);
+      outputRows_ = &outputRows;
+      exported_ = false;
       const Plane3& result = process(current_, hasPrevious_ ? &previous_ : nullptr, output_, stats);
-      {
+      outputRows_ = nullptr;
+      if (!exported_) {
         PassTimer t(stats, "export");
-        const bool addEmission = current_.has(Buffer::Emission) && !resultHasEmission_;
-        exportRgb(result, addEmission ? &current_.planes(Buffer::Emission) : nullptr, output);
+        exportRgb(result, resultHasEmission_ ? nullptr : emission, output);
       }
       std::swap(current_, previous_);
       hasPrevious_ = true;
@@ -113,6 +117,14 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
   virtual void resetHistory() = 0;
   /// Every plane the method keeps (PlaneInspection).
   virtual void visitMethodPlanes(const PlaneVisitor& visit) const = 0;
+  /// For process()'s last pass: the frame's output view with the separated emission added
+  /// (RgbExport), to be written row by row while the rows are in cache. Taking it promises
+  /// that every row is written (the planes process() returns are then not exported) and that
+  /// the result does not hold the emission (resultHasEmission_ stays false).
+  const RgbExport* takeOutputRows() {
+    exported_ = true;
+    return outputRows_;
+  }
 
 
   tbb::task_arena& arena_;
@@ -125,6 +137,10 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
   /// Set by a process() whose result already holds the separated emission (post-processing
   /// such as a tone map must see it), so that the export does not add it again.
   bool resultHasEmission_ = false;
+
+ private:
+  const RgbExport* outputRows_ = nullptr;  // during process()
+  bool exported_ = false;                  // process() took outputRows_
 };
 
 }  // namespace rtd

@@ -118,10 +118,10 @@ class AsvgfCpu final : public CpuDenoiser<AsvgfSettings> {
       });
     }
     if (!s.taa.taa) return result_;
-    PassTimer t(stats, "taa");
+    PassTimer t(stats, "taa+export");  // writes the output view (takeOutputRows)
     // The own-surface box's keys: object id (A-SVGF excludes no emitters).
     const bool keyed = s.taa.taaOwnSurface && taaSurfaceKeys(frame, nullptr, nullptr, taaKeys_);
-    return taa_.run(reprojection_, result_, s.taa, keyed ? &taaKeys_ : nullptr);
+    return taa_.run(reprojection_, result_, s.taa, keyed ? &taaKeys_ : nullptr, takeOutputRows());
   }
 
  private:

@@ -198,7 +198,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
     // I of a band's rows, the fit of its blocks and phase III run while the band is in cache;
     // the fit's reads of nine planes per block would otherwise come from memory.
     const std::vector<rtd::bmfr::RowBand> bands = rtd::bmfr::rowBands(grid_);
-    BandPassTimes times({"reproject", "accumulateNoisy", "fit", s.fit ? "synthesize+accumulate+remodulate" : "accumulate+remodulate", "taa"});
+    BandPassTimes times({"reproject", "accumulateNoisy", "fit", s.fit ? "synthesize+accumulate+remodulate" : "accumulate+remodulate", "taa+export"});
     if (s.taa.taa) {
       // The own-surface box's keys (TaaSettings::taaOwnSurface): object id and the emitters
       // the fits leave out; computed before the bands, which read any row's neighbours.
@@ -207,7 +207,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
         PassTimer t(stats, "taa keys");
         keyed = taaSurfaceKeys(frame, &s.emitters, nullptr, taaKeys_);
       }
-      taa_.begin(frame.width, frame.height, s.taa, keyed ? &taaKeys_ : nullptr);
+      taa_.begin(frame.width, frame.height, s.taa, keyed ? &taaKeys_ : nullptr, takeOutputRows());
     }
     tbb::parallel_for(tbb::blocked_range<size_t>(0, bands.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
       Scratch& scratch = scratch_.local();

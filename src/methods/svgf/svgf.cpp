@@ -164,9 +164,9 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       PassTimer t(stats, "taa keys");
       keyed = taaSurfaceKeys(frame, &s.emitters, parts.classes ? &reflections_.classes() : nullptr, taaKeys_);
     }
-    PassTimer t(stats, "taa");
+    PassTimer t(stats, "taa+export");  // writes the output view (takeOutputRows)
     return taa_.run(reflections_.taaMotion(frame, reprojection_, s.taaGlossyReflectionMotion, s.taaMirrorHistory), *shown, s.taa,
-                    keyed ? &taaKeys_ : nullptr);
+                    keyed ? &taaKeys_ : nullptr, takeOutputRows());
   }
 
  private:
