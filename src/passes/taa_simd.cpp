@@ -223,7 +223,7 @@ bool catmullRomReady8(const Reprojection& rp, size_t i, const float* prevX, cons
                     _mm256_and_ps(_mm256_cmp_ps(qy, one, _CMP_GE_OQ), _mm256_cmp_ps(qy, _mm256_set1_ps(float(h - 2)), _CMP_LT_OQ)));
   if (_mm256_movemask_ps(inside) != 0xff) return false;
   Bilinear8 record, plain;
-  if (!record.load(rp, i) || !plain.footprint(prevX, prevY, w, h)) return false;
+  if (!record.load(rp, i, false) || !plain.footprint(prevX, prevY, w, h, false)) return false;
   if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(record.base, plain.base)) != -1) return false;
   const __m256 zero = _mm256_setzero_ps(), negligible = _mm256_set1_ps(kTaaNegligibleTap);
   __m256 dropped = zero;  // a tap the plain footprint weighs and the record does not
@@ -386,8 +386,41 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     float* lin[3] = {nullptr, nullptr, nullptr};
     if constexpr (kDisplay)
       for (int k = 0; k < 3; ++k) lin[k] = output ? window + size_t(kTaaOutputRow + k) * w : linearOut[k].row(y);
-#pragma GCC ivdep  // outputs never alias the window rows: lets GCC vectorize
-    for (int x = 0; x < w; ++x) {
+    // kLanes pixels at a time, written out: GCC's vectorizer left the plain loop scalar on AVX2
+    // at the slightest change (a clamp per channel in the decode, the decode from registers),
+    // and it read each stored history value back for the decode and divided there.
+    x = 0;
+    for (; x + kLanes <= w; x += kLanes) {
+      const vf hR = load(hr + x), hG = load(hg + x), hB = load(hb + x);
+      vf hc[3] = {0.25f * hR + 0.5f * hG + 0.25f * hB, 0.5f * hR - 0.5f * hB, -0.25f * hR + 0.5f * hG - 0.25f * hB};
+      for (int k = 0; k < 3; ++k) {
+        const vf aMid = load(a + k * w + x), bMid = load(b + k * w + x);
+        const vf cLo = load(c + (3 + k) * w + x), cHi = load(c + (6 + k) * w + x);
+        const vf boxLo = vmin(vmin(load(a + (3 + k) * w + x), cLo), load(b + (3 + k) * w + x));
+        const vf boxHi = vmax(vmax(load(a + (6 + k) * w + x), cHi), load(b + (6 + k) * w + x));
+        const vf crossLo = vmin(vmin(aMid, cLo), bMid), crossHi = vmax(vmax(aMid, cHi), bMid);
+        const vf lo = boxLo + cw * (crossLo - boxLo), hi = boxHi + cw * (crossHi - boxHi);
+        hc[k] = vmin(vmax(hc[k], lo), hi);
+      }
+      const vf alpha = load(blendAlpha + x), keep = 1.0f - alpha;
+      const vf by = alpha * load(c + x) + keep * hc[0];
+      const vf bco = alpha * load(c + w + x) + keep * hc[1];
+      const vf bcg = alpha * load(c + 2 * w + x) + keep * hc[2];
+      vf rgb[3] = {vmax(by + bco - bcg, splat(0.0f)), vmax(by + bcg, splat(0.0f)), vmax(by - bco - bcg, splat(0.0f))};
+      if constexpr (kDisplay) {
+        const vf top = vmax(vmax(load(a + 9 * w + x), load(c + 9 * w + x)), load(b + 9 * w + x));
+        for (int k = 0; k < 3; ++k) rgb[k] = vmin(rgb[k], top);
+      }
+      for (int k = 0; k < 3; ++k) {
+        rgb[k] = vflush(rgb[k]);
+        store(n[k] + x, rgb[k]);
+        if constexpr (kDisplay) {  // decode(): t / (1 - t), t = y^2, by the reciprocal (vrcp)
+          const vf t = rgb[k] * rgb[k];
+          store(lin[k] + x, t * vrcp(1.0f - t));
+        }
+      }
+    }
+    for (; x < w; ++x) {
       float hc[3] = {0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x], 0.5f * hr[x] - 0.5f * hb[x],
                      -0.25f * hr[x] + 0.5f * hg[x] - 0.25f * hb[x]};
       for (int k = 0; k < 3; ++k) {
