@@ -189,7 +189,7 @@ RTDError rtdResetDenoiser(RTDDenoiser denoiser);
 
 /* ---- Timings of the last rtdDenoise --------------------------------------------------- */
 
-/** Passes of the last frame, in order ("import", ..., "export"; GPU times on Vulkan). */
+/** Passes of the last frame, in order ("import", ..., "export", or "taa+export" where the TAA writes the output; GPU times on Vulkan). */
 int rtdGetPassCount(RTDDenoiser denoiser);
 const char* rtdGetPassName(RTDDenoiser denoiser, int index);
 /** Milliseconds of pass `index`; -1 (and RTD_ERROR_INVALID_ARGUMENT) out of range. */

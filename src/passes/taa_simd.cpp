@@ -77,11 +77,10 @@ void encodeRow(const float* in, float* out, int n) {
   }
   for (; x < n; ++x) out[x] = tonemap::taaEncode(in[x]);
 }
-// tonemap::taaDecode of an encoded history value in [0, kTaaMaxEncoded], in the blend loop (where
-// the history is still in registers; decoding the rows afterwards waited on reloading them).
-// taaDecode's clamp is the blend's display bound `top`, which buildSlot caps at
-// kTaaMaxEncoded: a clamp per channel here was one conditional too many for GCC, which then
-// left the blend loop scalar on AVX2.
+// tonemap::taaDecode of an encoded history value in [0, kTaaMaxEncoded], in the blend loop's
+// scalar tail and the own-surface box (the vector loop decodes by vrcp, from registers: decoding
+// the rows afterwards waited on reloading them). taaDecode's clamp is the blend's display bound
+// `top`, which buildSlot caps at kTaaMaxEncoded.
 inline float decode(float y) {
   const float t = y * y;
   return t / (1.0f - t);

@@ -138,7 +138,7 @@ def test_timings_and_stats():
     f["color"][0, 0, 0] = np.nan
     den.denoise(**f)
     t = den.timings
-    assert list(t)[0] == "import" and list(t)[-1] == "export"
+    assert list(t)[0] == "import" and list(t)[-1].endswith("export")  # "taa+export" where TAA writes the output
     assert all(v >= 0 for v in t.values())
     s = den.stats
     assert s["sanitized_values"] == 1 and s["pixels"] == H * W and s["total_ms"] > 0
