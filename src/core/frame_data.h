@@ -72,7 +72,6 @@ class RgbExport {
   RgbExport(const ImageView& out, int width, int height, const std::vector<Plane>* emission);
   /// Row y of the output from rgb[0..2] (width floats each); any thread, each row once.
   void row(int y, const float* const rgb[3]) const;
-  int height() const { return out_.height; }
 
  private:
   ImageView out_;
