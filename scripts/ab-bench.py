@@ -89,6 +89,9 @@ def main():
     p.add_argument("--frames", type=int, default=12)
     p.add_argument("--warmup", type=int, default=4)
     p.add_argument("--benchmark", help="an rtd_bench --benchmark_filter instead of the pipeline")
+    p.add_argument("--statistic", choices=("median", "min"), default="median",
+                   help="per side over the rounds (default median); min where the host's load only adds time "
+                        "and comes and goes within the run")
     p.add_argument("--build", default=os.path.join(ROOT, "build", "release"), help="the current build")
     p.add_argument("method", nargs="?", help="rtdenoise bench --method")
     p.add_argument("extra", nargs=argparse.REMAINDER, help="more rtdenoise bench options (--set k=v ...)")
@@ -111,14 +114,16 @@ def main():
               f"current {runs['current'][-1][key]:.2f} ms", file=sys.stderr)
 
     what = args.benchmark or " ".join([args.method, *args.extra])
-    print(f"{what}: {args.rounds} alternations, CPU path {cpu_path}, medians over the rounds (ms)")
+    print(f"{what}: {args.rounds} alternations, CPU path {cpu_path}, {args.statistic}s over the rounds (ms)")
     # Every figure of either side: a pass that one build merged into another or split shows
     # on its own side only ("-" on the other).
     names = sorted(set().union(*runs["baseline"], *runs["current"]), key=lambda n: (n == "total", n))
 
     def median(side, name):
         values = [f[name] for f in runs[side] if name in f]
-        return statistics.median(values) if values else None
+        if not values:
+            return None
+        return min(values) if args.statistic == "min" else statistics.median(values)
 
     print(f"| {'figure':<44} | baseline | current | current / baseline |")
     print(f"|{'-' * 46}|----------|---------|--------------------|")

@@ -82,6 +82,27 @@ inline vf load(const float* p) {
   return v;
 }
 inline void store(float* p, vf v) { std::memcpy(p, &v, sizeof v); }
+/// Whether p is aligned for streamStore.
+inline bool streamAligned(const float* p) { return reinterpret_cast<uintptr_t>(p) % sizeof(vf) == 0; }
+/// A non-temporal store (p aligned to the vector's size): for planes written now and read next
+/// frame, which would otherwise be read into the cache first (write-allocate) and push out what
+/// the pass is still reading. Weakly ordered: streamFence() before other threads read them.
+inline void streamStore(float* p, vf v) {
+#if defined(RTD_SIMD_AVX512)
+  _mm512_stream_ps(p, v);
+#elif defined(RTD_SIMD_AVX2)
+  _mm256_stream_ps(p, v);
+#elif defined(RTD_SIMD_X86)
+  _mm_stream_ps(p, v);
+#else
+  store(p, v);
+#endif
+}
+inline void streamFence() {
+#ifdef RTD_SIMD_X86
+  _mm_sfence();
+#endif
+}
 /// x in every lane (x - 0 is x for every x, -0 included, so GCC emits one broadcast; vf{} + x
 /// would cost an addition first).
 inline vf splat(float x) { return x - vf{}; }

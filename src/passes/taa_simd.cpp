@@ -388,6 +388,9 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     // kLanes pixels at a time, written out: GCC's vectorizer left the plain loop scalar on AVX2
     // at the slightest change (a clamp per channel in the decode, the decode from registers),
     // and it read each stored history value back for the decode and divided there.
+    // The next history is read again only in the next frame: streamed past the cache where its
+    // rows are aligned.
+    const bool stream = streamAligned(n[0]) && streamAligned(n[1]) && streamAligned(n[2]);
     x = 0;
     for (; x + kLanes <= w; x += kLanes) {
       const vf hR = load(hr + x), hG = load(hg + x), hB = load(hb + x);
@@ -412,13 +415,15 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       }
       for (int k = 0; k < 3; ++k) {
         rgb[k] = vflush(rgb[k]);
-        store(n[k] + x, rgb[k]);
+        if (stream) streamStore(n[k] + x, rgb[k]);
+        else store(n[k] + x, rgb[k]);
         if constexpr (kDisplay) {  // decode(): t / (1 - t), t = y^2, by the reciprocal (vrcp)
           const vf t = rgb[k] * rgb[k];
           store(lin[k] + x, t * vrcp(1.0f - t));
         }
       }
     }
+    if (stream) streamFence();
     for (; x < w; ++x) {
       float hc[3] = {0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x], 0.5f * hr[x] - 0.5f * hb[x],
                      -0.25f * hr[x] + 0.5f * hg[x] - 0.25f * hb[x]};

@@ -286,6 +286,86 @@ TEST(CpuPath, ReprojectionTapsAreTheSameOnEveryPath) {
   }
 }
 
+// The vector paths read a group's bilinear taps with vector loads where the footprints are
+// consecutive, as selections between loads of two or three rows where each lane's footprint
+// starts at most one column right of consecutive and at most one row lower (smooth motion),
+// and with gathers otherwise. Four motion fields make each layout the common case (classified
+// here, groups of eight); every previous texel passes the current pixels' depth, normal and id
+// tests or fails them at random, so a tap read from a wrong texel changes which taps are
+// accepted. On every path the record equals the sse2 path's (scalar taps).
+TEST(CpuPath, ReprojectionTapsOfEveryGroupLayoutAreTheSameOnEveryPath) {
+  const int w = 101, h = 23;
+  enum Field { Uniform, Stepped, Straddling, Scattered };
+  for (const Field field : {Uniform, Stepped, Straddling, Scattered}) {
+    SCOPED_TRACE("motion field " + std::to_string(int(field)));
+    std::mt19937 rng(17u + unsigned(field));
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    FrameData prev, cur;
+    for (FrameData* f : {&prev, &cur}) {
+      f->width = w, f->height = h;
+      f->buffers[int(Buffer::Depth)] = {Plane(w, h)};
+      f->buffers[int(Buffer::Normal)] = {Plane(w, h), Plane(w, h), Plane(w, h)};
+      f->buffers[int(Buffer::ObjectId)] = {Plane(w, h)};
+    }
+    cur.buffers[int(Buffer::Motion)] = {Plane(w, h), Plane(w, h)};
+    int fx[w], fy[w];
+    size_t layouts[4] = {};
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        prev.plane(Buffer::Depth)(x, y) = 1.0f + u(rng);  // within 0.25 of the current 1.5: half
+        const bool facing = u(rng) < 0.8f;
+        prev.plane(Buffer::Normal, facing ? 2 : 0)(x, y) = 1.0f;
+        prev.plane(Buffer::ObjectId)(x, y) = u(rng) < 0.9f ? 3.0f : 4.0f;
+        cur.plane(Buffer::Depth)(x, y) = 1.5f;
+        cur.plane(Buffer::Normal, 2)(x, y) = 1.0f;
+        cur.plane(Buffer::ObjectId)(x, y) = 3.0f;
+        float dx = 2.3f, dy = -0.6f;                      // Uniform: consecutive groups
+        if (field == Stepped) dx += 0.11f * float(x);      // a one-column step every ~9 pixels
+        if (field == Straddling) dx = 1.0f + 1e-4f * (u(rng) - 0.5f), dy = -1.0f + 1e-4f * (u(rng) - 0.5f);
+        if (field == Scattered) dx = 16.0f * u(rng) - 8.0f, dy = 16.0f * u(rng) - 8.0f;
+        cur.plane(Buffer::Motion, 0)(x, y) = dx;
+        cur.plane(Buffer::Motion, 1)(x, y) = dy;
+        fx[x] = int(std::floor(float(x) + dx)), fy[x] = int(std::floor(float(y) + dy));
+      }
+      for (int x = 0; x + 8 <= w; x += 8) {
+        bool inside = true, consecutive = true;
+        int shiftMin = fx[x], shiftMax = fx[x], topMin = fy[x], topMax = fy[x];
+        for (int k = 0; k < 8; ++k) {
+          inside = inside && fx[x + k] >= 0 && fy[x + k] >= 0 && fx[x + k] < w - 1 && fy[x + k] < h - 1;
+          consecutive = consecutive && fy[x + k] == fy[x] && fx[x + k] == fx[x] + k;
+          shiftMin = std::min(shiftMin, fx[x + k] - k), shiftMax = std::max(shiftMax, fx[x + k] - k);
+          topMin = std::min(topMin, fy[x + k]), topMax = std::max(topMax, fy[x + k]);
+        }
+        if (!inside) continue;
+        const bool window = shiftMax - shiftMin <= 1 && topMax - topMin <= 1;
+        ++layouts[consecutive ? Uniform : window ? (topMax == topMin ? Stepped : Straddling) : Scattered];
+      }
+    }
+    const size_t groups = layouts[0] + layouts[1] + layouts[2] + layouts[3];
+    ASSERT_GT(layouts[field], groups / 2) << layouts[0] << " " << layouts[1] << " " << layouts[2] << " " << layouts[3];
+    ReprojectionSettings s;
+    s.depthTolerance = 0.25f / 1.5f;
+    Reprojection ref;
+    {
+      ScopedCpuPath force(CpuPath::Sse2);
+      reproject(cur, &prev, s, ref);
+    }
+    const auto counts = ref.counts();
+    EXPECT_GT(counts[Reprojection::Bilinear], size_t(w * h / 4));
+    for (CpuPath p : supportedCpuPaths()) {
+      ScopedCpuPath force(p);
+      Reprojection rp;
+      reproject(cur, &prev, s, rp);
+      for (size_t i = 0; i < rp.kind.size(); ++i) {
+        ASSERT_EQ(rp.kind[i], ref.kind[i]) << cpuPathName(p) << " pixel " << i;
+        if (rp.kind[i] == Reprojection::None) continue;
+        ASSERT_EQ(rp.base[i], ref.base[i]) << cpuPathName(p) << " pixel " << i;
+        for (int t = 0; t < 4; ++t) ASSERT_NEAR(rp.weights[i][t], ref.weights[i][t], 1e-6f) << cpuPathName(p) << " pixel " << i;
+      }
+    }
+  }
+}
+
 // Output of `frames` frames of the synthetic scene with a method on the current path.
 Image runMethod(const std::string& method, const std::vector<std::pair<std::string, std::string>>& settings, int frames) {
   synthetic::Scene scene;
