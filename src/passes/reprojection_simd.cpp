@@ -9,6 +9,7 @@
 
 #include "passes/reprojection.h"
 #include "core/simd.h"
+#include "passes/shifted_footprints.h"
 
 namespace rtd::RTD_SIMD_NS {
 
@@ -112,13 +113,9 @@ struct TapTest {
   // features in registers (a run-time test per feature and tap kept the loop rolled and
   // spilled the features; docs/performance.md, "Session 12").
   // How the lanes' footprints lie (bilinearLanes): consecutive (vector loads), shifted by at
-  // most one column and one row from consecutive (selections between loads), or anywhere (gathers).
-  enum class Layout { consecutive, window, scattered };
-  struct Window {
-    size_t first = 0;  // index of the first lane's footprint if it had no shift: top row, shiftMin
-    vi right{}, lower{};  // lanes whose footprint starts one column right / one row lower
-    bool twoRows = false;  // any lane lower
-  };
+  // most one column and one row from consecutive (passes/shifted_footprints.h), or anywhere
+  // (gathers).
+  enum class Layout { consecutive, shifted, scattered };
 
   template <bool kZ, bool kN, bool kId, bool kP>
   uint32_t bilinearLanes(int x, int y, int w, int h, Reprojection& out) const {
@@ -147,35 +144,15 @@ struct TapTest {
       if constexpr (kP)
         for (int k = 0; k < 3; ++k) previous(pPrev[k]), current(p[k]);
     }
-    if (allTrue(base == base[0] + laneIndex())) return bilinearTaps<kZ, kN, kId, kP, Layout::consecutive>(bilinear, base, Window{}, i, y, w, h, out);
-    // Smooth motion: each lane's footprint starts 0 or 1 column right of the first lane's column
-    // plus the lane, and on the same row as the others or one lower (a camera's motion field
-    // over kLanes pixels). The taps are then selections between vector loads of the two or three
-    // rows, where gathers cost ~4x as much (26-31 % of the groups in the synthetic scene).
-    // Tested with vector compares against the first lane (a minimum over the lanes cost more
-    // than the gathers it saves where the motion is noisy).
-    const vi col = __builtin_convertvector(flx, vi), top = __builtin_convertvector(fly, vi);
-    const vi shift = col - laneIndex();
-    const vi ds = shift - shift[0], dt = top - top[0];
-    const bool sUp = allTrue((ds == 0) | (ds == 1)), sDown = !sUp && allTrue((ds == 0) | (ds == -1));
-    const bool tUp = allTrue((dt == 0) | (dt == 1)), tDown = !tUp && allTrue((dt == 0) | (dt == -1));
-    if ((sUp || sDown) && (tUp || tDown)) {
-      const int shiftMin = shift[0] - sDown, topMin = top[0] - tDown;
-      const bool twoRows = !allTrue(top == topMin);
-      // The loads read columns shiftMin .. shiftMin + kLanes + 1 of rows topMin .. topMin + 2:
-      // past a row's end into the next row (or before its start into the row above), never
-      // outside the plane.
-      const ptrdiff_t first = ptrdiff_t(topMin) * w + shiftMin;
-      if (first >= 0 && size_t(first) + size_t(1 + twoRows) * w + kLanes + 2 <= size_t(width) * height) {
-        const Window win{size_t(first), shift != shiftMin, top != topMin, twoRows};
-        return bilinearTaps<kZ, kN, kId, kP, Layout::window>(bilinear, base, win, i, y, w, h, out);
-      }
-    }
-    return bilinearTaps<kZ, kN, kId, kP, Layout::scattered>(bilinear, base, Window{}, i, y, w, h, out);
+    ShiftedFootprints shifted;
+    if (allTrue(base == base[0] + laneIndex())) return bilinearTaps<kZ, kN, kId, kP, Layout::consecutive>(bilinear, base, shifted, i, y, w, h, out);
+    if (shifted.classify(__builtin_convertvector(flx, vi), __builtin_convertvector(fly, vi), w, size_t(width) * height, 2, 2))
+      return bilinearTaps<kZ, kN, kId, kP, Layout::shifted>(bilinear, base, shifted, i, y, w, h, out);
+    return bilinearTaps<kZ, kN, kId, kP, Layout::scattered>(bilinear, base, shifted, i, y, w, h, out);
   }
 
   template <bool kZ, bool kN, bool kId, bool kP, Layout kLayout>
-  uint32_t bilinearTaps(const vf (&bilinear)[4], vi base, const Window& win, size_t i, int y, int w, int h,
+  uint32_t bilinearTaps(const vf (&bilinear)[4], vi base, const ShiftedFootprints& shifted, size_t i, int y, int w, int h,
                         Reprojection& out) const {
     using RTD_SIMD_NS::load;
     // Tap t (0 top left, 1 top right, 2 bottom left, 3 bottom right) of plane q.
@@ -183,11 +160,8 @@ struct TapTest {
       const float* o = q + (t & 1) + (t >> 1) * w;
       if constexpr (kLayout == Layout::consecutive) {
         return load(o + base[0]);
-      } else if constexpr (kLayout == Layout::window) {
-        const float* r = o + win.first;
-        vf v = win.right ? load(r + 1) : load(r);
-        if (win.twoRows) v = win.lower ? (win.right ? load(r + w + 1) : load(r + w)) : v;
-        return v;
+      } else if constexpr (kLayout == Layout::shifted) {
+        return shifted.tap(q, t & 1, t >> 1, w);
       } else {
         return vgather(o, base);
       }
