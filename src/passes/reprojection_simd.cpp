@@ -103,20 +103,21 @@ struct TapTest {
   }
 
 #ifdef RTD_SIMD_AVX2
-  // Pixels x..x+kLanes-1 of row y (1 <= x, x + kLanes < w) whose four bilinear taps all lie
-  // inside the previous frame: the tests of valid() on kLanes pixels at once (8 on avx2, 16
-  // on avx512), the four taps of each read with vector loads where the footprints are
-  // consecutive, with gathers otherwise. Writes kind, base and weights of the lanes with a valid
-  // tap (sum of accepted bilinear weights > 1e-4) and returns their bit mask; the other lanes
-  // are left to the caller. The tests a frame has (kZ depth, kN normal, kId object id, kP
-  // position; the pointers above) are template arguments, so the four taps unroll with the
-  // features in registers (a run-time test per feature and tap kept the loop rolled and
-  // spilled the features; docs/performance.md, "Session 12").
   // How the lanes' footprints lie (bilinearLanes): consecutive (vector loads), shifted by at
   // most one column and one row from consecutive (passes/shifted_footprints.h), or anywhere
   // (gathers).
   enum class Layout { consecutive, shifted, scattered };
 
+  // Pixels x..x+kLanes-1 of row y (x + kLanes <= w; a row's end takes the scalar tests'
+  // one-sided neighbours) whose four bilinear taps all lie inside the previous frame: the tests
+  // of valid() on kLanes pixels at once (8 on avx2, 16 on avx512), the four taps of each read
+  // with vector loads where the footprints are consecutive, as selections between loads where
+  // they are shifted (passes/shifted_footprints.h), with gathers otherwise. Writes kind, base
+  // and weights of the lanes with a valid tap (sum of accepted bilinear weights > 1e-4) and
+  // returns their bit mask; the other lanes are left to the caller. The tests a frame has (kZ
+  // depth, kN normal, kId object id, kP position; the pointers above) are template arguments,
+  // so the four taps unroll with the features in registers (a run-time test per feature and
+  // tap kept the loop rolled and spilled the features; docs/performance.md, "Session 12").
   template <bool kZ, bool kN, bool kId, bool kP>
   uint32_t bilinearLanes(int x, int y, int w, int h, Reprojection& out) const {
     using RTD_SIMD_NS::load;  // the vector load, not Pixel load()
@@ -166,6 +167,16 @@ struct TapTest {
         return vgather(o, base);
       }
     };
+    // The row neighbours (dx = -1, 1) of plane q's values `centre` at the group's pixels: at a
+    // row's end the pixel itself (`self`: the depth slope's one-sided difference) or the
+    // neighbour on the other side (the position footprint's), as the scalar tests.
+    const bool atLeft = i == size_t(y) * w, atRight = i + kLanes == size_t(y + 1) * w;
+    auto rowNeighbour = [&](const float* q, vf centre, int dx, bool self) __attribute__((always_inline)) {
+      if (dx < 0 ? !atLeft : !atRight) return load(q + i + dx);
+      const int end = dx < 0 ? 0 : kLanes - 1;  // the lane at the row's end
+      const vi index = laneIndex() == end ? vi{} + (self ? end : end - dx) : laneIndex() + dx;
+      return vpermute2(centre, centre, index);
+    };
     // The current pixels' features.
     vf tol{}, cz{}, cn[3] = {}, cid{}, cp[3] = {}, positionTol2{};
     vi background{};
@@ -175,10 +186,11 @@ struct TapTest {
       if (dzdx) {
         slope = vmax(vabs(load(dzdx + i)), vabs(load(dzdy + i)));
       } else {
-        auto diff = [&](const float* q) { return vabs(load(q) - cz); };
+        auto diff = [&](vf v) { return vabs(v - cz); };
         const float* up = z + i - (y > 0 ? size_t(w) : 0);
         const float* down = z + i + (y < h - 1 ? size_t(w) : 0);
-        slope = vmax(vmin(diff(z + i - 1), diff(z + i + 1)), vmin(diff(up), diff(down)));
+        slope = vmax(vmin(diff(rowNeighbour(z, cz, -1, true)), diff(rowNeighbour(z, cz, 1, true))),
+                     vmin(diff(load(up)), diff(load(down))));
       }
       tol = s.depthTolerance * cz + s.depthGradientScale * slope;
     }
@@ -189,17 +201,19 @@ struct TapTest {
     if constexpr (kId) cid = load(id + i);
     if constexpr (kP) {
       for (int k = 0; k < 3; ++k) cp[k] = load(p[k] + i);
-      // positionTolerance2() for interior pixels (one-sided only at the top and bottom).
+      // positionTolerance2(): the other side's neighbour at the frame's border.
       const size_t up = y > 0 ? i - w : i + w, down = y < h - 1 ? i + w : i - w;
-      auto d2 = [&](size_t j) {
+      auto d2 = [&](auto neighbour) {
         vf r{};
         for (int k = 0; k < 3; ++k) {
-          const vf d = load(p[k] + j) - cp[k];
+          const vf d = neighbour(k) - cp[k];
           r += d * d;
         }
         return r;
       };
-      const vf f2 = vmax(vmin(d2(i - 1), d2(i + 1)), vmin(d2(up), d2(down)));
+      auto row = [&](int dx) { return [&, dx](int k) { return rowNeighbour(p[k], cp[k], dx, false); }; };
+      auto column = [&](size_t j) { return [&, j](int k) { return load(p[k] + j); }; };
+      const vf f2 = vmax(vmin(d2(row(-1)), d2(row(1))), vmin(d2(column(up)), d2(column(down))));
       const vf t = s.positionTolerance + s.positionFootprints * vsqrt(f2);
       positionTol2 = t * t;
     }
@@ -297,6 +311,15 @@ struct TapTest {
 
 }  // namespace
 
+#ifdef RTD_SIMD_AVX2
+// Where the row's vector groups start. On avx512 at its first pixel, so that the current
+// frame's planes are read with aligned loads (from the second, every 64-byte load straddled two
+// cache lines; BM_Reproject 0.90, BMFR's tests 0.85). On avx2, where every other 32-byte load
+// straddles, the two starts differed by the test set (BM_Reproject 1.10-1.15 from the first
+// pixel, BMFR's tests 0.90), so it keeps the second.
+constexpr int kFirstGroup = kLanes == 16 ? 0 : 1;
+#endif
+
 void reprojectRows(const FrameData& cur, const FrameData* previous, const ReprojectionSettings& s, Reprojection& out,
                    int rowBegin, int rowEnd) {
   const int w = cur.width, h = cur.height;
@@ -381,12 +404,11 @@ void reprojectRows(const FrameData& cur, const FrameData* previous, const Reproj
     int x = 0;
 #ifdef RTD_SIMD_AVX2
     // kLanes pixels at a time where every footprint is inside the frame (the common case);
-    // lanes with no valid bilinear tap go through the scalar path. The first and last pixel
-    // of a row always do (their depth slope is one-sided).
-    if (w >= kLanes + 2) {
-      classify(0, y);
+    // lanes with no valid bilinear tap go through the scalar path. From kFirstGroup.
+    if (w >= kLanes + kFirstGroup) {
+      for (x = 0; x < kFirstGroup; ++x) classify(x, y);
       auto groups = [&](auto kZ, auto kN, auto kId, auto kP) {
-        for (x = 1; x + kLanes <= w - 1; x += kLanes) {
+        for (x = kFirstGroup; x + kLanes <= w; x += kLanes) {
           const uint32_t bilinear =
               test.bilinearLanes<decltype(kZ)::value, decltype(kN)::value, decltype(kId)::value, decltype(kP)::value>(
                   x, y, w, h, out);

@@ -196,11 +196,7 @@ void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* p
     }
     return;
   }
-  int colMin = col[0], colMax = col[0], topMin = top[0], topMax = top[0];
-  for (int k = 1; k < kLanes; ++k) {
-    colMin = std::min(colMin, col[k]), colMax = std::max(colMax, col[k]);
-    topMin = std::min(topMin, top[k]), topMax = std::max(topMax, top[k]);
-  }
+  const int colMin = minLane(col), colMax = maxLane(col), topMin = minLane(top), topMax = maxLane(top);
   // The last window row's two vectors end inside the plane (they may run past the row's end).
   const bool windowed = colMax - colMin <= 2 * kLanes - 4 && topMax - topMin <= 1 &&
                         size_t(topMax + 3) * w + colMin + 2 * kLanes <= hist[0].size();

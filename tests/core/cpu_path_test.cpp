@@ -215,9 +215,13 @@ TEST(CpuPath, ImportRenormalizesAndSeparatesEmissionAsTheScalarRulesDo) {
 
 // Every combination of tap tests the vector paths compile separately (depth, normal, object
 // id, position: template arguments of TapTest::bilinear8) against the scalar tests.
+// Widths 83 and 96: a row ending in the scalar tail, and one whose last vector group ends at the
+// border (its one-sided depth slope and other-side position footprint, as the first group's).
 TEST(CpuPath, ReprojectionTapsAreTheSameOnEveryPath) {
+  for (const int width : {83, 96}) {
+  SCOPED_TRACE("width " + std::to_string(width));
   synthetic::Scene scene;
-  scene.width = 83;
+  scene.width = width;
   scene.height = 47;
   const Frame f0 = synthetic::makeFrame(scene, 0), f1 = synthetic::makeFrame(scene, 1);
   FrameData d0, d1;
@@ -282,6 +286,62 @@ TEST(CpuPath, ReprojectionTapsAreTheSameOnEveryPath) {
         for (int t = 0; t < 4; ++t)
           ASSERT_NEAR(rp.weights[i][t], ref.weights[i][t], 1e-6f) << c.name << ", " << cpuPathName(p) << " pixel " << i;
       }
+    }
+  }
+  }
+}
+
+// The tolerances at a row's ends take the one-sided neighbours of the scalar tests: the depth
+// slope the pixel itself (a slope of 0 there), the position footprint the neighbour on the other
+// side. Depth ramps by 0.01 a column, the previous frame 0.005 deeper at the same texels, and
+// the motion moves the footprints 0.3 right in the left half and 0.3 left in the right one (so
+// both row ends' footprints lie inside and their groups take the vector path). With only the
+// slope term (2 x 0.01) every interior pixel keeps both taps and the two end pixels keep none.
+// Positions 0.01 apart along x, the previous 0.004 further, with a tolerance of one footprint:
+// every pixel keeps a tap, the end pixels too. (A vector lane that keeps no tap is redone by the
+// scalar test, so of the two conventions only a too-wide tolerance, the depth case's, could
+// change the record; the position case checks the result.) Width 96, a multiple of every
+// path's group. On every path.
+TEST(CpuPath, ReprojectionRowEndsTakeTheScalarTestsOneSidedNeighbours) {
+  const int w = 96, h = 6;
+  for (const bool position : {false, true}) {
+    SCOPED_TRACE(position ? "position footprint" : "depth slope");
+    FrameData prev, cur;
+    for (FrameData* f : {&prev, &cur}) {
+      f->width = w, f->height = h;
+      f->buffers[int(Buffer::Depth)] = {Plane(w, h)};
+      f->buffers[int(Buffer::Normal)] = {Plane(w, h), Plane(w, h), Plane(w, h)};
+      f->buffers[int(Buffer::Position)] = {Plane(w, h), Plane(w, h), Plane(w, h)};
+    }
+    cur.buffers[int(Buffer::Motion)] = {Plane(w, h), Plane(w, h)};
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        cur.plane(Buffer::Depth)(x, y) = 1.0f + 0.01f * float(x);
+        prev.plane(Buffer::Depth)(x, y) = cur.plane(Buffer::Depth)(x, y) + 0.005f;
+        cur.plane(Buffer::Position, 0)(x, y) = 0.01f * float(x);
+        prev.plane(Buffer::Position, 0)(x, y) = 0.01f * float(x) + 0.004f;
+        cur.plane(Buffer::Position, 1)(x, y) = prev.plane(Buffer::Position, 1)(x, y) = 1e-4f * float(y);
+        cur.plane(Buffer::Normal, 2)(x, y) = prev.plane(Buffer::Normal, 2)(x, y) = 1.0f;
+        cur.plane(Buffer::Motion, 0)(x, y) = x < w / 2 ? 0.3f : -0.3f;
+      }
+    ReprojectionSettings s;
+    s.fallback3x3 = false;
+    if (position) {
+      s.testDepth = false;
+      s.positionFootprints = 1.0f;
+    } else {
+      s.depthTolerance = 0.0f;  // the slope term alone
+    }
+    for (CpuPath p : supportedCpuPaths()) {
+      ScopedCpuPath force(p);
+      Reprojection rp;
+      reproject(cur, &prev, s, rp);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const bool end = x == 0 || x == w - 1;
+          const auto want = !position && end ? Reprojection::None : Reprojection::Bilinear;
+          ASSERT_EQ(rp.kind[size_t(y) * w + x], want) << cpuPathName(p) << " pixel " << x << "," << y;
+        }
     }
   }
 }
