@@ -219,75 +219,75 @@ TEST(CpuPath, ImportRenormalizesAndSeparatesEmissionAsTheScalarRulesDo) {
 // border (its one-sided depth slope and other-side position footprint, as the first group's).
 TEST(CpuPath, ReprojectionTapsAreTheSameOnEveryPath) {
   for (const int width : {83, 96}) {
-  SCOPED_TRACE("width " + std::to_string(width));
-  synthetic::Scene scene;
-  scene.width = width;
-  scene.height = 47;
-  const Frame f0 = synthetic::makeFrame(scene, 0), f1 = synthetic::makeFrame(scene, 1);
-  FrameData d0, d1;
-  importFrame(f0.inputs(), {Buffer::Color}, d0);
-  importFrame(f1.inputs(), {Buffer::Color}, d1);
-  ASSERT_TRUE(d1.has(Buffer::Position) && d1.has(Buffer::ObjectId) && !d1.has(Buffer::DepthGradient));
-  struct Case {
-    const char* name;
-    ReprojectionSettings settings;
-    bool normals = true;
-    bool depthGradient = false;  // the frame's own slope planes instead of neighbour differences
-  };
-  std::vector<Case> cases;
-  cases.push_back({"defaults (depth, normal, id)", {}});
-  cases.push_back({"defaults, depth gradient given", {}, true, true});
-  cases.push_back({"BMFR (normal, position)", BmfrSettings{}.reprojection});
-  Case all{"depth, normal, id, position", {}};
-  all.settings.positionFootprints = 4.0f;
-  cases.push_back(all);
-  Case tight{"normal, position within half a footprint (rejects taps)", BmfrSettings{}.reprojection};
-  tight.settings.positionFootprints = 0.5f;
-  cases.push_back(tight);
-  Case depthOnly{"depth", {}, false};
-  depthOnly.settings.testObjectId = false;
-  cases.push_back(depthOnly);
-  Case idOnly{"id", {}, false};
-  idOnly.settings.testDepth = false;
-  cases.push_back(idOnly);
-  Case none{"no test", {}, false};
-  none.settings.testDepth = none.settings.testObjectId = false;
-  cases.push_back(none);
-  for (Case& c : cases) {
-    c.settings.fallback3x3 = true;
-    FrameData cur = d1, prev = d0;
-    if (!c.normals) cur.buffers[int(Buffer::Normal)].clear(), prev.buffers[int(Buffer::Normal)].clear();
-    if (c.depthGradient) {
-      // Central differences of the depth, halved at the borders' one-sided ends.
-      const Plane& z = cur.plane(Buffer::Depth);
-      Plane gx(z.width, z.height), gy(z.width, z.height);
-      for (int y = 0; y < z.height; ++y)
-        for (int x = 0; x < z.width; ++x) {
-          gx(x, y) = 0.5f * (z(std::min(x + 1, z.width - 1), y) - z(std::max(x - 1, 0), y));
-          gy(x, y) = 0.5f * (z(x, std::min(y + 1, z.height - 1)) - z(x, std::max(y - 1, 0)));
+    SCOPED_TRACE("width " + std::to_string(width));
+    synthetic::Scene scene;
+    scene.width = width;
+    scene.height = 47;
+    const Frame f0 = synthetic::makeFrame(scene, 0), f1 = synthetic::makeFrame(scene, 1);
+    FrameData d0, d1;
+    importFrame(f0.inputs(), {Buffer::Color}, d0);
+    importFrame(f1.inputs(), {Buffer::Color}, d1);
+    ASSERT_TRUE(d1.has(Buffer::Position) && d1.has(Buffer::ObjectId) && !d1.has(Buffer::DepthGradient));
+    struct Case {
+      const char* name;
+      ReprojectionSettings settings;
+      bool normals = true;
+      bool depthGradient = false;  // the frame's own slope planes instead of neighbour differences
+    };
+    std::vector<Case> cases;
+    cases.push_back({"defaults (depth, normal, id)", {}});
+    cases.push_back({"defaults, depth gradient given", {}, true, true});
+    cases.push_back({"BMFR (normal, position)", BmfrSettings{}.reprojection});
+    Case all{"depth, normal, id, position", {}};
+    all.settings.positionFootprints = 4.0f;
+    cases.push_back(all);
+    Case tight{"normal, position within half a footprint (rejects taps)", BmfrSettings{}.reprojection};
+    tight.settings.positionFootprints = 0.5f;
+    cases.push_back(tight);
+    Case depthOnly{"depth", {}, false};
+    depthOnly.settings.testObjectId = false;
+    cases.push_back(depthOnly);
+    Case idOnly{"id", {}, false};
+    idOnly.settings.testDepth = false;
+    cases.push_back(idOnly);
+    Case none{"no test", {}, false};
+    none.settings.testDepth = none.settings.testObjectId = false;
+    cases.push_back(none);
+    for (Case& c : cases) {
+      c.settings.fallback3x3 = true;
+      FrameData cur = d1, prev = d0;
+      if (!c.normals) cur.buffers[int(Buffer::Normal)].clear(), prev.buffers[int(Buffer::Normal)].clear();
+      if (c.depthGradient) {
+        // Central differences of the depth, halved at the borders' one-sided ends.
+        const Plane& z = cur.plane(Buffer::Depth);
+        Plane gx(z.width, z.height), gy(z.width, z.height);
+        for (int y = 0; y < z.height; ++y)
+          for (int x = 0; x < z.width; ++x) {
+            gx(x, y) = 0.5f * (z(std::min(x + 1, z.width - 1), y) - z(std::max(x - 1, 0), y));
+            gy(x, y) = 0.5f * (z(x, std::min(y + 1, z.height - 1)) - z(x, std::max(y - 1, 0)));
+          }
+        cur.buffers[int(Buffer::DepthGradient)] = {gx, gy};
+      }
+      Reprojection ref;
+      {
+        ScopedCpuPath force(CpuPath::Sse2);  // the scalar tap tests
+        reproject(cur, &prev, c.settings, ref);
+      }
+      const auto counts = ref.counts();
+      EXPECT_GT(counts[Reprojection::Bilinear], size_t(scene.width * scene.height / 2)) << c.name;
+      for (CpuPath p : supportedCpuPaths()) {
+        ScopedCpuPath force(p);
+        Reprojection rp;
+        reproject(cur, &prev, c.settings, rp);
+        for (size_t i = 0; i < rp.kind.size(); ++i) {
+          ASSERT_EQ(rp.kind[i], ref.kind[i]) << c.name << ", " << cpuPathName(p) << " pixel " << i;
+          if (rp.kind[i] == Reprojection::None) continue;
+          ASSERT_EQ(rp.base[i], ref.base[i]) << c.name << ", " << cpuPathName(p) << " pixel " << i;
+          for (int t = 0; t < 4; ++t)
+            ASSERT_NEAR(rp.weights[i][t], ref.weights[i][t], 1e-6f) << c.name << ", " << cpuPathName(p) << " pixel " << i;
         }
-      cur.buffers[int(Buffer::DepthGradient)] = {gx, gy};
-    }
-    Reprojection ref;
-    {
-      ScopedCpuPath force(CpuPath::Sse2);  // the scalar tap tests
-      reproject(cur, &prev, c.settings, ref);
-    }
-    const auto counts = ref.counts();
-    EXPECT_GT(counts[Reprojection::Bilinear], size_t(scene.width * scene.height / 2)) << c.name;
-    for (CpuPath p : supportedCpuPaths()) {
-      ScopedCpuPath force(p);
-      Reprojection rp;
-      reproject(cur, &prev, c.settings, rp);
-      for (size_t i = 0; i < rp.kind.size(); ++i) {
-        ASSERT_EQ(rp.kind[i], ref.kind[i]) << c.name << ", " << cpuPathName(p) << " pixel " << i;
-        if (rp.kind[i] == Reprojection::None) continue;
-        ASSERT_EQ(rp.base[i], ref.base[i]) << c.name << ", " << cpuPathName(p) << " pixel " << i;
-        for (int t = 0; t < 4; ++t)
-          ASSERT_NEAR(rp.weights[i][t], ref.weights[i][t], 1e-6f) << c.name << ", " << cpuPathName(p) << " pixel " << i;
       }
     }
-  }
   }
 }
 
