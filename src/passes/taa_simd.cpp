@@ -98,14 +98,19 @@ template <bool kDisplay> void buildSlot(const Plane3& color, int y, int w, float
     encodeRow(g, c[1], w);
     encodeRow(b, c[2], w);
     r = c[0], g = c[1], b = c[2];
+    // Capped at decode's bound (min with it commutes with the max). From the channels directly:
+    // in place over a row of channel maxima, the left neighbour's value carried from one pixel
+    // to the next kept the loop scalar (a third of buildSlot's time).
     float* m = slot + 9 * w;
+    constexpr float kCap = tonemap::kTaaMaxEncoded;
+    auto channelMax = [&](int x) { return fmax(fmax(r[x], g[x]), b[x]); };
+    if (w == 1) {
+      m[0] = fmin(channelMax(0), kCap);
+    } else {
+      m[0] = fmin(fmax(channelMax(0), channelMax(1)), kCap);
 #pragma GCC ivdep
-    for (int x = 0; x < w; ++x) m[x] = fmin(fmax(fmax(r[x], g[x]), b[x]), tonemap::kTaaMaxEncoded);  // decode's bound
-    float prev = m[0];
-    for (int x = 0; x < w; ++x) {  // in place: keep the left neighbour's original value
-      const float cur = m[x], next = m[x + 1 < w ? x + 1 : x];
-      m[x] = fmax(fmax(prev, cur), next);
-      prev = cur;
+      for (int x = 1; x < w - 1; ++x) m[x] = fmin(fmax(fmax(channelMax(x - 1), channelMax(x)), channelMax(x + 1)), kCap);
+      m[w - 1] = fmin(fmax(channelMax(w - 2), channelMax(w - 1)), kCap);
     }
   }
 #pragma GCC ivdep
