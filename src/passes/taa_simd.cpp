@@ -150,9 +150,10 @@ inline void catmullRomWeightsLanes(vf t, vf w[4]) {
 // vector loads where the footprints are consecutive (locally uniform motion). Otherwise the
 // footprints usually still start within 2 kLanes - 4 columns and on two neighbouring rows at
 // most (a step in the motion between the lanes, or positions near a texel centre line that
-// round to different rows: a third of the groups at 1280x720 in BM_Taa): the taps are then
-// permutations of a two-vector window of each row (vpermute2), picked per lane between the two
-// rows; gathers only where even that does not hold.
+// round to different rows: a third of the groups at 1280x720 in BM_Taa): the taps are then, on
+// avx2 where each lane is at most one column and one row off consecutive, selections between
+// vector loads (ShiftedFootprints), else permutations of a two-vector window of each row
+// (vpermute2), picked per lane between the two rows; gathers only where even that does not hold.
 void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* prevY, int w, float* out[3]) {
   const vf qx = load(prevX) - 0.5f, qy = load(prevY) - 0.5f;
   const vf fx = vfloor(qx), fy = vfloor(qy);
