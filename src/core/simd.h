@@ -232,16 +232,21 @@ inline uint32_t laneBits(vi mask) {
 inline bool anyTrue(vi mask) { return laneBits(mask) != 0; }
 /// Whether every lane of a comparison's result is true.
 inline bool allTrue(vi mask) { return laneBits(mask) == (1u << kLanes) - 1u; }
+#ifdef RTD_SIMD_AVX2
+/// The smallest of eight int lanes (also for passes/bilinear8.h's eight-lane registers on avx512).
+inline int minLane8(__m256i m) {
+  m = _mm256_min_epi32(m, _mm256_permute2x128_si256(m, m, 1));
+  m = _mm256_min_epi32(m, _mm256_shuffle_epi32(m, 0x4e));
+  return _mm256_cvtsi256_si32(_mm256_min_epi32(m, _mm256_shuffle_epi32(m, 0xb1)));
+}
+#endif
 /// The smallest and the largest lane (a reduction in registers: reading the lanes one by one
 /// costs a store and kLanes loads).
 inline int minLane(vi v) {
 #if defined(RTD_SIMD_AVX512)
   return _mm512_reduce_min_epi32((__m512i)v);
 #elif defined(RTD_SIMD_AVX2)
-  __m256i m = (__m256i)v;
-  m = _mm256_min_epi32(m, _mm256_permute2x128_si256(m, m, 1));
-  m = _mm256_min_epi32(m, _mm256_shuffle_epi32(m, 0x4e));
-  return _mm256_cvtsi256_si32(_mm256_min_epi32(m, _mm256_shuffle_epi32(m, 0xb1)));
+  return minLane8((__m256i)v);
 #else
   int r = v[0];
   for (int k = 1; k < kLanes; ++k) r = v[k] < r ? v[k] : r;

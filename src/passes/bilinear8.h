@@ -68,12 +68,6 @@ struct Bilinear8 {
     return true;
   }
 
-  static int minLane(__m256i v) {
-    v = _mm256_min_epi32(v, _mm256_permute2x128_si256(v, v, 1));
-    v = _mm256_min_epi32(v, _mm256_shuffle_epi32(v, 0x4e));
-    return _mm256_cvtsi256_si32(_mm256_min_epi32(v, _mm256_shuffle_epi32(v, 0xb1)));
-  }
-
   /// The layout of the footprints in planes of `planeSize` floats.
   void classify(size_t planeSize) {
     const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
@@ -85,9 +79,9 @@ struct Bilinear8 {
     // Lanes more than half a row past the top-most footprint start a row lower: their place in
     // the window row above is base - width. (Which lanes are called lower does not change where
     // a tap is read, window row + column = base + tap offset, only whether the window fits.)
-    const __m256i lowerLanes = _mm256_cmpgt_epi32(_mm256_sub_epi32(base, _mm256_set1_epi32(minLane(base))), _mm256_set1_epi32(width / 2));
+    const __m256i lowerLanes = _mm256_cmpgt_epi32(_mm256_sub_epi32(base, _mm256_set1_epi32(minLane8(base))), _mm256_set1_epi32(width / 2));
     const __m256i upper = _mm256_sub_epi32(base, _mm256_and_si256(lowerLanes, _mm256_set1_epi32(width)));
-    anchor = minLane(upper);
+    anchor = minLane8(upper);
     column[0] = _mm256_sub_epi32(upper, _mm256_set1_epi32(anchor));
     column[1] = _mm256_add_epi32(column[0], _mm256_set1_epi32(1));
     const bool twoRows = _mm256_movemask_epi8(lowerLanes) != 0;
