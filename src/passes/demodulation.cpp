@@ -19,7 +19,10 @@ void demodulate(const std::vector<Plane>& radiance, const std::vector<Plane>* al
         continue;
       }
       const float* a = (*albedo)[c].row(y);
-      for (int x = 0; x < w; ++x) o[x] = in[x] / demodulationFactor(a[x]);
+      for (int x = 0; x < w; ++x) {
+        const float factor = demodulationFactor(a[x]), radianceX = in[x];  // named: see remodulateSpan
+        o[x] = radianceX / factor;
+      }
     }
   });
 }
@@ -29,7 +32,12 @@ void remodulateSpan(const float* in, const float* albedo, float* out, int n) {
     if (out != in) std::copy(in, in + n, out);
     return;
   }
-  for (int x = 0; x < n; ++x) out[x] = in[x] * demodulationFactor(albedo[x]);
+  // Both operands named before the product: written as in[x] * demodulationFactor(albedo[x]),
+  // GCC moved the product into the select's one branch and left the loop scalar and branchy.
+  for (int x = 0; x < n; ++x) {
+    const float factor = demodulationFactor(albedo[x]), illumination = in[x];
+    out[x] = illumination * factor;
+  }
 }
 
 void remodulateRow(const Plane3& illumination, const std::vector<Plane>* albedo, Plane3& out, int y) {
