@@ -412,8 +412,13 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
     // The next history is read again only in the next frame: streamed past the cache where its
     // rows are aligned.
     const bool stream = streamAligned(n[0]) && streamAligned(n[1]) && streamAligned(n[2]);
+    // The colour rows that the next row's slot (y + 2) encodes, one line of each plane per
+    // group: encodeRow waited on them from memory (BM_Taa 0.92-0.97; docs/performance.md, "Session 18").
+    const int ahead = std::min(y + 2, h - 1);
+    const float* nextColour[3] = {color[0].row(ahead), color[1].row(ahead), color[2].row(ahead)};
     x = 0;
     for (; x + kLanes <= w; x += kLanes) {
+      for (const float* q : nextColour) __builtin_prefetch(q + x);
       const vf hR = load(hr + x), hG = load(hg + x), hB = load(hb + x);
       vf hc[3] = {0.25f * hR + 0.5f * hG + 0.25f * hB, 0.5f * hR - 0.5f * hB, -0.25f * hR + 0.5f * hG - 0.25f * hB};
       for (int k = 0; k < 3; ++k) {
