@@ -327,6 +327,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
           vf v = rgb[k];
           if (albedo) {
             const float* a = (*albedo)[k].row(y) + x;
+            prefetchAhead(a);  // read once per frame here: from memory
             vf av = splat(1.0f);
             if (n == kLanes) av = load(a);
             else { float t[kLanes] = {}; std::memcpy(t, a, sizeof(float) * n); av = load(t); }

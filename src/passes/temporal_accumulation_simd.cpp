@@ -157,6 +157,8 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
         // moments' planes only where they exist.
         for (const float* q : {lenPrev, cPrev[0], cPrev[1], cPrev[2]}) taps8.prefetch(q);
         for (int k = 0; k < 3; ++k) prefetchAhead(color[k].ptr() + i);
+        if (albedo)  // demodulated here: its loads waited on memory (a fifth of the pass's samples)
+          for (int k = 0; k < 3; ++k) prefetchAhead(albedo[k].ptr() + i);
         for (float* q : {h.length.ptr(), h.color[0].ptr(), h.color[1].ptr(), h.color[2].ptr()}) prefetchAheadForWrite(q + i);
         if (moments) {
           taps8.prefetch(m1Prev), taps8.prefetch(m2Prev);
