@@ -251,6 +251,27 @@ TEST(VulkanReflections, SwitchingThePartsOffLeavesNoneOfTheirStateBehind) {
   }
 }
 
+// The parts' device planes are allocated when the parts first run (GpuReflections::resize): a
+// denoiser that ran plain SVGF before it switched to voorhuis runs as one that had the parts
+// from the start.
+TEST(VulkanReflections, SwitchingThePartsOnRunsAsADenoiserThatHadThem) {
+  RTD_REQUIRE_VULKAN();
+  const Rendered& r = reflectionFrames();
+  auto switched = vulkanDevice()->createDenoiser("svgf");
+  auto fresh = vulkanDevice()->createDenoiser("svgf");
+  fresh->set("variant", "voorhuis");
+  Image a(r.frames[0].width, r.frames[0].height, 3), b(a.width, a.height, 3);
+  for (int i = 0; i < 3; ++i) switched->denoise(r.frames[i].inputs(), a.view());
+  switched->set("variant", "voorhuis");
+  switched->reset();
+  for (int i = 3; i < 6; ++i) {
+    switched->denoise(r.frames[i].inputs(), a.view());
+    fresh->denoise(r.frames[i].inputs(), b.view());
+    const ErrorStats e = compare(a, b);
+    for (int c = 0; c < 3; ++c) EXPECT_LE(e.maxAbs[c], 1e-6 * e.maxRef) << "frame " << i << ": " << describe(e);
+  }
+}
+
 }  // namespace
 }  // namespace rtd::test
 #endif

@@ -7,18 +7,20 @@
 
 namespace rtd::svgf {
 
-void Reflections::resize(int w, int h, int pad) {
-  reflectedGuide_.resize(w, h, pad);
-  falloff_.resize(w, h, pad);
-  mirrorKey_.resize(w, h, pad);
-  virtualDepth_.resize(w, h);
-  normals_.assign(3, Plane(w, h));
-  gradient_.assign(2, Plane(w, h));
-  alpha_.resize(w, h);
-  for (auto& a : albedo_) a.assign(3, Plane(w, h));
-  rtd::resize(clipLow_, w, h);
-  rtd::resize(clipHigh_, w, h);
-  rtd::resize(clipScratch_, w, h);
+void Reflections::resize(int /*w*/, int /*h*/, int pad) {
+  // Each part's per-frame planes are allocated when the part first runs at this size (prepare,
+  // stream; clipBox sizes its own): with none of Voorhuis' parts on, as in plain SVGF and
+  // Dundr, none of them is kept (they were ~30 full-frame planes, 110 MB at 1280x720).
+  pad_ = pad;
+  reflectedGuide_ = {};
+  falloff_ = {};
+  mirrorKey_ = {};
+  virtualDepth_ = {};
+  normals_.clear();
+  gradient_.clear();
+  alpha_ = {};
+  for (auto& a : albedo_) a.clear();
+  clipLow_ = clipHigh_ = clipScratch_ = {};
   hasPreviousClasses_ = false;
 }
 
@@ -64,14 +66,24 @@ void Reflections::prepare(const FrameData& f, const FrameData* previous, const S
                          &motionStats_);
   }
 
-  if (parts.materialAlpha)
+  if (parts.materialAlpha) {
+    if (alpha_.empty()) alpha_.resize(w, h);
     parallelRows(h, [&](int y) {
       float* a = alpha_.row(y);
       for (int x = 0; x < w; ++x)
         a[x] = isSpecular(SurfaceClass(cls_[size_t(y) * w + x])) ? s.alphaSpecular : s.alphaColor;
     });
+  }
 
   if (parts.reflectedFeatures) {
+    const bool grad = f.has(Buffer::DepthGradient);
+    if (virtualDepth_.empty()) {
+      virtualDepth_.resize(w, h);
+      normals_.assign(3, Plane(w, h));
+      reflectedGuide_.resize(w, h, pad_);
+      mirrorKey_.resize(w, h, pad_);
+    }
+    if (grad && gradient_.empty()) gradient_.assign(2, Plane(w, h));
     // Sec. 4.1: mirror pixels stop on the features of the first non-pure-specular hit: its
     // normal, and the view depth of its virtual image (the primary depth scaled by the whole
     // path length over the primary distance; a mirror showing the sky gets kMissDepth).
@@ -100,7 +112,6 @@ void Reflections::prepare(const FrameData& f, const FrameData* previous, const S
         for (int k = 0; k < 3; ++k) normals_[k].data[i] = n[k];
       }
     });
-    const bool grad = f.has(Buffer::DepthGradient);
     if (grad) {
       // The frame's exact gradient elsewhere; at mirror pixels the smaller one-sided
       // difference of the virtual depth (as AtrousGuide::build does without a gradient).
@@ -134,6 +145,7 @@ void Reflections::prepare(const FrameData& f, const FrameData* previous, const S
   }
 
   if (parts.glossyBandwidth) {
+    if (falloff_.data.empty()) falloff_.resize(w, h, pad_);
     const Plane& fp = f.plane(Buffer::ReflectedFootprint);
     parallelRows(h, [&](int y) {
       float* o = falloff_.row(y);
@@ -181,6 +193,7 @@ Reflections::StreamInputs Reflections::stream(const FrameData& f, const StreamPl
   const int w = f.width, h = f.height;
   const bool tint = !base && plan.lobe == Lobe::specular && f.has(Buffer::Metalness) && f.has(Buffer::Albedo);
   std::vector<Plane>& out = albedo_[index];
+  if (out.empty()) out.assign(3, Plane(w, h));
   parallelRows(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;

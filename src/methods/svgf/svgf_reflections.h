@@ -114,6 +114,8 @@ inline SurfaceClassThresholds classThresholds(const SvgfSettings& s) {
 /// The CPU side of the Voorhuis mode for one frame (svgf.cpp drives it).
 class Reflections {
  public:
+  /// A new frame size: drops the per-frame planes, which each part allocates at the frame's
+  /// size when it first runs (none are kept while no part is on).
   void resize(int w, int h, int pad);
   void reset() { hasPreviousClasses_ = false; }
 
@@ -154,6 +156,7 @@ class Reflections {
 
  private:
   ReflectionParts parts_;
+  int pad_ = 0;  ///< the a-trous border of the padded planes (resize)
   bool lobes_ = false, hasPreviousClasses_ = false;
   PixelVector<uint8_t> cls_, prevCls_, clipMask_;
   PixelVector<uint32_t> surface_;  ///< clipping's surface keys (surfaceKeys)

@@ -19,6 +19,8 @@ struct GpuGuide {
 
 class GpuReflections {
  public:
+  /// A new frame size: drops every plane; prepare allocates them at the frame's size when the
+  /// parts first run (none are kept while no part is on).
   void resize(vk::Context& ctx, int w, int h);
   void reset() { hasPreviousClasses_ = false; }
 
@@ -49,6 +51,7 @@ class GpuReflections {
   const vk::Planes& specularReprojection() const { return specular_; }
 
  private:
+  void allocate(vk::Context& ctx, int w, int h);
   ReflectionParts parts_;
   bool lobes_ = false, hasPreviousClasses_ = false;
   vk::Planes cls_[2];
