@@ -102,7 +102,7 @@ int importRow8(const float* src, int x0, int nc, float* const* dst, int w, Bound
       else _mm256_storeu_ps(dst[c] + x, v[c]);
     }
   }
-  if (stream) _mm_sfence();  // the streamed stores are weakly ordered: complete them before the row is handed on
+  if (stream) streamFence();  // the streamed stores are weakly ordered: complete them before the row is handed on
   counts.addTo(bad);
   offUnit = offUnit || _mm256_movemask_ps(off) != 0;
   return x;
@@ -164,7 +164,7 @@ template <int kStride>
 int importRow16(const float* src, int nc, float* const* dst, int w, Bounds b, bool stream, const RowFixes& fixes,
                 SanitizeCounts& bad, bool& offUnit) {
   const float* const* e = fixes.emission;
-  for (int c = 0; c < nc; ++c) stream = stream && reinterpret_cast<uintptr_t>(dst[c]) % 64 == 0;
+  for (int c = 0; c < nc; ++c) stream = stream && streamAligned(dst[c]);
   __m512i nonFinite = _mm512_setzero_si512(), outOfRange = _mm512_setzero_si512();
   __mmask16 off = 0;
   int x = 0;
@@ -183,11 +183,11 @@ int importRow16(const float* src, int nc, float* const* dst, int w, Bounds b, bo
       off |= some & _mm512_cmp_ps_mask(vabs(l2 - 1.0f), splat(kUnitCheckTolerance), _CMP_GT_OQ);
     }
     for (int c = 0; c < nc; ++c) {
-      if (stream) _mm512_stream_ps(dst[c] + x, v[c]);
+      if (stream) streamStore(dst[c] + x, v[c]);
       else store(dst[c] + x, v[c]);
     }
   }
-  if (stream) _mm_sfence();  // the streamed stores are weakly ordered: complete them before the row is handed on
+  if (stream) streamFence();  // the streamed stores are weakly ordered: complete them before the row is handed on
   bad.nonFinite += uint64_t(_mm512_reduce_add_epi32(nonFinite));
   bad.outOfRange += uint64_t(_mm512_reduce_add_epi32(outOfRange));
   offUnit = offUnit || off != 0;
@@ -277,7 +277,7 @@ template <int kStride, int kPart> inline vf interleave16(vf r, vf g, vf b) {
 }
 // exportRow's 16-pixel loop (packed Float3 or Float4); returns the next x.
 template <int kStride> int exportRow16(const float* const c[3], const float* const* e, float* row, int w, bool stream) {
-  stream = stream && reinterpret_cast<uintptr_t>(row) % 64 == 0;
+  stream = stream && streamAligned(row);
   int x = 0;
   for (; x + 16 <= w; x += 16) {
     vf v[3];
@@ -289,11 +289,11 @@ template <int kStride> int exportRow16(const float* const c[3], const float* con
     if constexpr (kStride == 4) o[3] = interleave16<kStride, 3>(v[0], v[1], v[2]);
     for (int k = 0; k < kStride; ++k) {
       float* dst = row + size_t(x) * kStride + 16 * k;
-      if (stream) _mm512_stream_ps(dst, o[k]);
+      if (stream) streamStore(dst, o[k]);
       else store(dst, o[k]);
     }
   }
-  if (stream) _mm_sfence();
+  if (stream) streamFence();
   return x;
 }
 }  // namespace
@@ -326,7 +326,7 @@ void exportRow(const float* const c[3], const float* const* e, const ImageView& 
         else _mm256_storeu_ps(dst, p[k]);
       }
     }
-    if (nonTemporal) _mm_sfence();
+    if (nonTemporal) streamFence();
   }
 #endif
   for (; x < out.width; ++x) {
