@@ -230,25 +230,32 @@ TEST(VulkanReflections, VoorhuisMatchesCpuOnARenderedSequence) {
   }
 }
 
-// As VoorhuisParts.SwitchingThePartsOffLeavesNoneOfTheirStateBehind on the CPU: after a switch
-// to a preset without the parts, the GPU denoiser runs as one that never had them.
-TEST(VulkanReflections, SwitchingThePartsOffLeavesNoneOfTheirStateBehind) {
-  RTD_REQUIRE_VULKAN();
+// A denoiser that ran three frames as `before` and was then switched to `after` and reset runs
+// the next three frames as a fresh `after` denoiser ("" is plain SVGF).
+void expectSwitchedRunsAsFresh(const char* before, const char* after) {
   const Rendered& r = reflectionFrames();
   auto switched = vulkanDevice()->createDenoiser("svgf");
   auto fresh = vulkanDevice()->createDenoiser("svgf");
-  switched->set("variant", "voorhuis");
-  fresh->set("variant", "voorhuisBase");
+  if (*before) switched->set("variant", before);
+  fresh->set("variant", after);
   Image a(r.frames[0].width, r.frames[0].height, 3), b(a.width, a.height, 3);
   for (int i = 0; i < 3; ++i) switched->denoise(r.frames[i].inputs(), a.view());
-  switched->set("variant", "voorhuisBase");
+  switched->set("variant", after);
   switched->reset();
   for (int i = 3; i < 6; ++i) {
     switched->denoise(r.frames[i].inputs(), a.view());
     fresh->denoise(r.frames[i].inputs(), b.view());
     const ErrorStats e = compare(a, b);
-    for (int c = 0; c < 3; ++c) EXPECT_LE(e.maxAbs[c], 1e-6 * e.maxRef) << "frame " << i << ": " << describe(e);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_LE(e.maxAbs[c], 1e-6 * e.maxRef) << before << " -> " << after << ", frame " << i << ": " << describe(e);
   }
+}
+
+// As VoorhuisParts.SwitchingThePartsOffLeavesNoneOfTheirStateBehind on the CPU: after a switch
+// to a preset without the parts, the GPU denoiser runs as one that never had them.
+TEST(VulkanReflections, SwitchingThePartsOffLeavesNoneOfTheirStateBehind) {
+  RTD_REQUIRE_VULKAN();
+  expectSwitchedRunsAsFresh("voorhuis", "voorhuisBase");
 }
 
 // The parts' device planes are allocated when the parts first run (GpuReflections::resize): a
@@ -256,20 +263,7 @@ TEST(VulkanReflections, SwitchingThePartsOffLeavesNoneOfTheirStateBehind) {
 // from the start.
 TEST(VulkanReflections, SwitchingThePartsOnRunsAsADenoiserThatHadThem) {
   RTD_REQUIRE_VULKAN();
-  const Rendered& r = reflectionFrames();
-  auto switched = vulkanDevice()->createDenoiser("svgf");
-  auto fresh = vulkanDevice()->createDenoiser("svgf");
-  fresh->set("variant", "voorhuis");
-  Image a(r.frames[0].width, r.frames[0].height, 3), b(a.width, a.height, 3);
-  for (int i = 0; i < 3; ++i) switched->denoise(r.frames[i].inputs(), a.view());
-  switched->set("variant", "voorhuis");
-  switched->reset();
-  for (int i = 3; i < 6; ++i) {
-    switched->denoise(r.frames[i].inputs(), a.view());
-    fresh->denoise(r.frames[i].inputs(), b.view());
-    const ErrorStats e = compare(a, b);
-    for (int c = 0; c < 3; ++c) EXPECT_LE(e.maxAbs[c], 1e-6 * e.maxRef) << "frame " << i << ": " << describe(e);
-  }
+  expectSwitchedRunsAsFresh("", "voorhuis");
 }
 
 }  // namespace
