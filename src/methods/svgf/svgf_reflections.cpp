@@ -10,7 +10,7 @@ namespace rtd::svgf {
 void Reflections::resize(int /*w*/, int /*h*/, int pad) {
   // Each part's per-frame planes are allocated when the part first runs at this size (prepare,
   // stream; clipBox sizes its own): with none of Voorhuis' parts on, as in plain SVGF and
-  // Dundr, none of them is kept (they were ~30 full-frame planes, 110 MB at 1280x720).
+  // Dundr, none of them is kept (they were ~30 full-frame planes, 112 MB at 1280x720).
   pad_ = pad;
   reflectedGuide_ = {};
   falloff_ = {};

@@ -7,7 +7,7 @@ namespace rtd::svgf {
 
 void GpuReflections::resize(vk::Context& /*ctx*/, int /*w*/, int /*h*/) {
   // As on the CPU (Reflections::resize): the ~50 planes are allocated when the parts first run
-  // at this size (allocate, from prepare), so plain SVGF and Dundr keep none of them (185 MB
+  // at this size (allocate, from prepare), so plain SVGF and Dundr keep none of them (184 MB
   // of device memory at 1280x720).
   *this = GpuReflections();
 }
