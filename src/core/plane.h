@@ -109,6 +109,11 @@ using Plane3 = std::array<Plane, 3>;
 inline void resize(Plane3& p, int w, int h, float fill = 0.0f) {
   for (auto& c : p) c.resize(w, h, fill);
 }
+/// Allocates p at w x h (zeros) where it is empty, for planes a pass allocates on first use
+/// (released on a size change by assigning {}).
+inline void allocateOnce(Plane3& p, int w, int h) {
+  if (p[0].empty()) resize(p, w, h);
+}
 
 /// Receives every float array an object keeps (name, data, count): tests check invariants on
 /// intermediate results with it (no subnormal anywhere, core/flush.h).

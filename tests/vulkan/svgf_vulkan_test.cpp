@@ -13,8 +13,9 @@ namespace {
 // keep the tolerance above.
 constexpr double kFlippedShare = 0.01;
 
+// `splitFrom`: the frames before it have the colour only (the second stream appears then).
 void runBoth(const std::vector<std::string>& settings, bool split, int frames, const std::string& what,
-             bool emission = false, bool decisions = false, bool reflectanceless = false) {
+             bool emission = false, bool decisions = false, bool reflectanceless = false, int splitFrom = 0) {
   auto cpuDevice = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto cpu = cpuDevice->createDenoiser("svgf");
   auto gpu = vulkanDevice()->createDenoiser("svgf");
@@ -26,7 +27,7 @@ void runBoth(const std::vector<std::string>& settings, bool split, int frames, c
   auto seq = syntheticFrames(frames);
   for (size_t i = 0; i < seq.size(); ++i) {
     Frame& f = seq[i];
-    if (split) {  // diffuse 70 % and specular 30 % of the colour: two streams
+    if (split && int(i) >= splitFrom) {  // diffuse 70 % and specular 30 % of the colour: two streams
       f[Buffer::Diffuse] = f[Buffer::Color];
       f[Buffer::Specular] = f[Buffer::Color];
       for (auto& v : f[Buffer::Diffuse].pixels) v *= 0.7f;
@@ -82,6 +83,14 @@ TEST(VulkanSvgf, MatchesCpuGersthofer) {
 TEST(VulkanSvgf, MatchesCpuVoorhuisWithSplitComponents) {
   RTD_REQUIRE_VULKAN();
   runBoth({"variant=voorhuisRobustness"}, true, 5, "voorhuis, diffuse/specular");
+}
+// Each stream's history is allocated when the input first has the stream (svgf.cpp,
+// svgf_vulkan.cpp): the diffuse / specular split appears at the third frame, the median's planes
+// with the first frame that has the lobes (voorhuis's fireflyMedian).
+TEST(VulkanSvgf, MatchesCpuWhereTheSecondStreamAppearsMidSequence) {
+  RTD_REQUIRE_VULKAN();
+  runBoth({"variant=dundr"}, true, 5, "dundr, split from frame 2", false, false, false, 2);
+  runBoth({"variant=voorhuisRobustness"}, true, 5, "voorhuis, split from frame 2", false, false, false, 2);
 }
 TEST(VulkanSvgf, MatchesCpuWithoutTaaAndVarianceFiltering) {
   RTD_REQUIRE_VULKAN();

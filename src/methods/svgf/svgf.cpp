@@ -45,13 +45,12 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     guide_.resize(w, h, pad);
     reflections_.resize(w, h, pad);
     filter_.resize(w, h, pad);
-    for (auto& s : streams_) {
-      rtd::resize(s.demod, w, h);
-      s.accumulator.resize(w, h);
-    }
+    // A stream's planes are allocated when a frame first has the stream (chooseStreams), the
+    // median's when it runs: one-stream input keeps no second history (55 MB at 1280x720).
+    for (auto& s : streams_) s = Stream{};
     rtd::resize(sum_, w, h);
-    rtd::resize(display_, w, h);
-    rtd::resize(lobeMedian_, w, h);
+    display_ = {};
+    lobeMedian_ = {};
     taa_.resize(w, h);
   }
   void resetHistory() override {
@@ -135,6 +134,8 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
         // scales it.
         {
           PassTimer t(stats, "median" + suffix);
+          allocateOnce(display_, frame.width, frame.height);
+          allocateOnce(lobeMedian_, frame.width, frame.height);
           for (int c = 0; c < 3; ++c) result.color[c].copyTo(display_[c]);
           svgf::median3x3(display_, nullptr, lobeMedian_);
         }
@@ -149,6 +150,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     Plane3* shown = &sum_;
     if (s.fireflyMedian && !lobes) {
       PassTimer t(stats, "median");
+      allocateOnce(display_, frame.width, frame.height);
       svgf::median3x3(sum_, frame.has(Buffer::Roughness) ? &frame.plane(Buffer::Roughness) : nullptr, display_);
       shown = &display_;
     }
@@ -190,6 +192,10 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
       Stream& st = streams_[k];
       if (st.plan.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
       st.plan = plan[k];
+      if (st.demod[0].empty()) {  // the first frame with a k-th stream at this size (resizeHistory)
+        rtd::resize(st.demod, f.width, f.height);
+        st.accumulator.resize(f.width, f.height);
+      }
     }
     return n;
   }

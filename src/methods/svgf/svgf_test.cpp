@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "backend/cpu/cpu_denoiser.h"
 #include "methods/svgf/svgf_filter.h"
 #include "methods/svgf/svgf_passes.h"
 #include "passes/atrous.h"
@@ -803,6 +804,51 @@ TEST(SvgfEndToEnd, SplitStreamWithZeroIndirectEqualsColorStream) {
     return n;
   }();
   EXPECT_NE(std::find(names.begin(), names.end(), "atrous1.indirect"), names.end());
+}
+
+// A stream's history is allocated when a frame first has the stream, the median's planes when
+// it runs: one-stream input keeps one history (PlaneInspection), and a denoiser whose input
+// gains the Direct / Indirect split mid-sequence then runs, after a reset, as a fresh one.
+TEST(SvgfEndToEnd, AStreamsHistoryIsAllocatedWhenTheInputFirstHasIt) {
+  const auto scene = svgfScene();
+  const size_t plane = size_t(scene.width) * scene.height;
+  auto frame = [&](int i, bool split) {
+    Frame f = synthetic::makeFrame(scene, i);
+    if (split) {  // 0.7 and 0.3 of the colour: two streams with different content
+      f[Buffer::Direct] = f[Buffer::Indirect] = f[Buffer::Color];
+      for (float& v : f[Buffer::Direct].pixels) v *= 0.7f;
+      for (float& v : f[Buffer::Indirect].pixels) v *= 0.3f;
+    }
+    return f;
+  };
+  auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
+  auto floatsIn = [](const Denoiser& d, std::string_view name) {
+    size_t n = 0;
+    dynamic_cast<const PlaneInspection&>(d).forEachPlane([&](std::string_view p, const float*, size_t count) {
+      if (p == name) n += count;
+    });
+    return n;
+  };
+  auto gaining = device->createDenoiser("svgf");
+  Image a(scene.width, scene.height, 3), b(scene.width, scene.height, 3);
+  for (int i = 0; i < 3; ++i) gaining->denoise(frame(i, false).inputs(), a.view());
+  EXPECT_EQ(floatsIn(*gaining, "demodulated"), 3 * plane);
+  EXPECT_EQ(floatsIn(*gaining, "history length"), 2 * plane);  // this frame's and the previous
+  EXPECT_EQ(floatsIn(*gaining, "display"), 0u);
+  EXPECT_EQ(floatsIn(*gaining, "diffuse lobe median"), 0u);
+  gaining->reset();
+  auto fresh = device->createDenoiser("svgf");
+  for (int i = 3; i < 6; ++i) {
+    const Frame f = frame(i, true);
+    gaining->denoise(f.inputs(), a.view());
+    fresh->denoise(f.inputs(), b.view());
+    ASSERT_EQ(a.pixels, b.pixels) << "frame " << i;
+  }
+  EXPECT_EQ(floatsIn(*gaining, "demodulated"), 6 * plane);
+  // The median's planes once it runs (fireflyMedian, the voorhuis preset's).
+  gaining->set("fireflyMedian", "true");
+  gaining->denoise(frame(6, false).inputs(), a.view());
+  EXPECT_EQ(floatsIn(*gaining, "display"), 3 * plane);
 }
 
 // Issue 12 item 4: each preset filters the streams its paper describes, and a components

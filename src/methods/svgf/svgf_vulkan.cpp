@@ -38,12 +38,11 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     gradient_.allocate(ctx_, w, h, 2);
     guideNormal_.allocate(ctx_, w, h, 3);
     filter_.resize(ctx_, w, h);
-    for (auto& s : streams_) {
-      s.demod.allocate(ctx_, w, h, 3);
-      s.accumulator.resize(ctx_, w, h);
-    }
+    // As svgf.cpp: a stream's planes when a frame first has it (chooseStreams), the median's
+    // when it runs.
+    for (auto& s : streams_) s = GpuStream{};
     sum_.allocate(ctx_, w, h, 3);
-    display_.allocate(ctx_, w, h, 3);
+    display_ = {};
     remodulated_.allocate(ctx_, w, h, 3);
     taa_.resize(ctx_, w, h);
     reflections_.resize(ctx_, w, h);
@@ -107,6 +106,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse && st.plan.filtered) {
         // The diffuse lobe's median, everywhere (as svgf.cpp).
         rec.pass("median" + suffix);
+        if (display_.buffer.empty()) display_.allocate(ctx_, frame.width, frame.height, 3);
         struct PC {
           uint32_t width, height, hasRoughness, skipWhenMasked;
         } pc{uint32_t(frame.width), uint32_t(frame.height), 0, 0};
@@ -127,6 +127,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     const vk::Planes* shown = &sum_;
     if (s.fireflyMedian && !lobes) {
       rec.pass("median");
+      if (display_.buffer.empty()) display_.allocate(ctx_, frame.width, frame.height, 3);
       struct PC {
         uint32_t width, height, hasRoughness, skipWhenMasked;
       } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::Roughness), 0};
@@ -155,6 +156,11 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       GpuStream& st = streams_[k];
       if (st.plan.buffer != plan[k].buffer) st.accumulator.reset();  // another stream's history is meaningless
       st.plan = plan[k];
+      if (st.demod.buffer.empty()) {  // the first frame with a k-th stream at this size (resizeHistory)
+        st.demod.allocate(ctx_, f.width, f.height, 3);
+        st.accumulator.resize(ctx_, f.width, f.height);
+        st.accumulator.reset();  // device memory starts undefined: lengths 0 before the first run
+      }
     }
     return n;
   }
