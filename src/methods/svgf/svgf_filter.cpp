@@ -115,9 +115,15 @@ void luminanceSigmaScale(const Plane& len, const FilterParams& p, PaddedPlane& o
 void Filter::resize(int w, int h, int pad) {
   pad_ = pad;
   for (auto& im : levels_) im.resize(w, h, pad);
-  sigmaScale_.resize(w, h, pad);
-  for (auto& v : valid_) v.resize(w, h, pad);
   for (auto& v : scratch_) v.resize(w, h, pad);
+  // What only some settings use is allocated by run() when they first do.
+  sigmaScale_ = {};
+  for (auto& v : valid_) v = {};
+  prefilteredVariance_ = {};
+}
+
+void Filter::allocateOnce(PaddedPlane& p) {
+  if (p.data.empty()) p.resize(levels_[0].var.width, levels_[0].var.height, pad_);
 }
 
 const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& acc, const Plane3& current,
@@ -135,11 +141,18 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
       estimateVariance(guide, in, p.variance, levels_[0], scratch_);
     // k(p) is 1 everywhere unless short histories change it: then no plane (every level reads
     // one value less per pixel, and this pass writes none).
-    if (usesSigmaScale(p)) luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);
-    if (mask) markValid(acc.historyLength(), valid_[0]);
+    if (usesSigmaScale(p)) {
+      allocateOnce(sigmaScale_);
+      luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);
+    }
+    if (mask) {
+      for (auto& v : valid_) allocateOnce(v);
+      markValid(acc.historyLength(), valid_[0]);
+    }
     if (p.variancePrefilter == SvgfVariancePrefilter::once) {
-      gaussian3x3(levels_[0].var, levels_[2].var);
-      std::swap(levels_[0].var, levels_[2].var);
+      allocateOnce(prefilteredVariance_);
+      gaussian3x3(levels_[0].var, prefilteredVariance_);
+      std::swap(levels_[0].var, prefilteredVariance_);
     }
   }
   const int n = p.iterations;

@@ -107,15 +107,20 @@ class Filter {
   /// Every plane the filter keeps (CPU denoisers' PlaneInspection).
   void forEachPlane(const PlaneVisitor& visit) const {
     for (const auto& im : levels_) im.forEachPlane(visit);
+    prefilteredVariance_.visit(visit, "prefiltered variance");
     sigmaScale_.visit(visit, "sigma scale");
     for (const auto& v : valid_) v.visit(visit, "valid");
     for (const auto& v : scratch_) v.visit(visit, "variance window input");
   }
 
  private:
-  AtrousImage levels_[3];
-  PaddedPlane sigmaScale_;
-  PaddedPlane valid_[2], scratch_[2];
+  /// p at the levels' size, where it is not allocated yet (resize releases it).
+  void allocateOnce(PaddedPlane& p);
+  AtrousImage levels_[2];  ///< the levels' input and output, in turn
+  PaddedPlane prefilteredVariance_;  ///< variancePrefilter = once
+  PaddedPlane sigmaScale_;  ///< usesSigmaScale
+  PaddedPlane valid_[2];  ///< with a sample mask
+  PaddedPlane scratch_[2];  ///< the spatial variance's windowed moments
   int pad_ = 0;
 };
 

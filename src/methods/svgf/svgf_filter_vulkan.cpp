@@ -6,11 +6,17 @@ namespace rtd::svgf {
 void GpuFilter::resize(vk::Context& ctx, int w, int h) {
   for (auto& l : levels_) l.allocate(ctx, w, h, 5);
   sigmaScale_.allocate(ctx, w, h, 1);
-  for (auto& v : valid_) v.allocate(ctx, w, h, 1);
+  // As the CPU's Filter: what only some settings use, when they first run.
+  prefilteredVariance_ = {};
+  for (auto& v : valid_) v = {};
+}
+
+void GpuFilter::allocateOnce(vk::Context& ctx, vk::Planes& p) {
+  if (p.buffer.empty()) p.allocate(ctx, levels_[0].width, levels_[0].height, 1);
 }
 
 uint64_t GpuFilter::bytes() const {
-  uint64_t n = sigmaScale_.buffer.size();
+  uint64_t n = sigmaScale_.buffer.size() + prefilteredVariance_.buffer.size();
   for (const auto& l : levels_) n += l.buffer.size();
   for (const auto& v : valid_) n += v.buffer.size();
   return n;
@@ -48,14 +54,17 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
                   key ? vk::Binding(*key) : vk::Binding(rec.context().dummy())},
                  pc, width, height);
     if (p.variancePrefilter == SvgfVariancePrefilter::once) {
-      vk::gaussian3x3(rec, levels_[0], 4, levels_[2], 4);
-      rec.copy(levels_[2].buffer, levels_[0].buffer, planeBytes, 4 * planeBytes, 4 * planeBytes);
+      allocateOnce(rec.context(), prefilteredVariance_);
+      vk::gaussian3x3(rec, levels_[0], 4, prefilteredVariance_, 0);
+      rec.copy(prefilteredVariance_.buffer, levels_[0].buffer, planeBytes, 0, 4 * planeBytes);
     }
   }
   const int n = p.iterations;
   int steps[8];
   levelSteps(p.levelOrder, n, steps);
   int cur = 0;
+  if (mask)
+    for (auto& v : valid_) allocateOnce(rec.context(), v);
   for (int i = 0; i < n; ++i) {
     rec.pass("atrous" + std::to_string(i + 1) + suffix);
     vk::GpuAtrousLevel lv;

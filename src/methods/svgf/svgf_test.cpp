@@ -851,6 +851,40 @@ TEST(SvgfEndToEnd, AStreamsHistoryIsAllocatedWhenTheInputFirstHasIt) {
   EXPECT_EQ(floatsIn(*gaining, "display"), 3 * plane);
 }
 
+// The filter's planes for settings that only some presets use (variancePrefilter = once,
+// the short-history bandwidth's sigma scale) are allocated when those first run: plain SVGF
+// keeps none, and switched on mid-sequence they give what a fresh denoiser with the same
+// settings gives.
+TEST(SvgfFilter, PlanesOfOptionalSettingsAreAllocatedWhenTheyFirstRun) {
+  const auto scene = svgfScene();
+  auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
+  auto floatsIn = [](const Denoiser& d, std::string_view name) {
+    size_t n = 0;
+    dynamic_cast<const PlaneInspection&>(d).forEachPlane([&](std::string_view p, const float*, size_t count) {
+      if (p == name) n += count;
+    });
+    return n;
+  };
+  auto switched = device->createDenoiser("svgf"), fresh = device->createDenoiser("svgf");
+  Image a(scene.width, scene.height, 3), b(scene.width, scene.height, 3);
+  for (int i = 0; i < 3; ++i) switched->denoise(synthetic::makeFrame(scene, i).inputs(), a.view());
+  for (const char* plane : {"prefiltered variance", "sigma scale", "valid"})
+    EXPECT_EQ(floatsIn(*switched, plane), 0u) << plane << " kept by plain SVGF";
+  for (Denoiser* d : {switched.get(), fresh.get()}) {
+    d->set("variancePrefilter", "once");
+    d->set("shortHistoryBandwidth", "true");
+  }
+  switched->reset();
+  for (int i = 3; i < 6; ++i) {
+    const Frame f = synthetic::makeFrame(scene, i);
+    switched->denoise(f.inputs(), a.view());
+    fresh->denoise(f.inputs(), b.view());
+    ASSERT_EQ(a.pixels, b.pixels) << "frame " << i;
+  }
+  EXPECT_GT(floatsIn(*switched, "prefiltered variance"), size_t(scene.width) * scene.height);  // padded
+  EXPECT_GT(floatsIn(*switched, "sigma scale"), size_t(scene.width) * scene.height);
+}
+
 // Issue 12 item 4: each preset filters the streams its paper describes, and a components
 // setting given after the preset wins.
 TEST(SvgfSettingsTest, PresetsChooseTheirPapersStreams) {
