@@ -4,17 +4,18 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "passes/demodulation.h"
 #include "passes/temporal_accumulation_kernels.h"
 
 namespace rtd {
 
-void TemporalAccumulator::resize(int w, int h) {
+void TemporalAccumulator::resize(int w, int h, bool moments) {
   for (int k = 0; k < 2; ++k) {
     rtd::resize(color_[k], w, h);
-    m1_[k].resize(w, h);
-    m2_[k].resize(w, h);
+    m1_[k] = moments ? Plane(w, h) : Plane();
+    m2_[k] = moments ? Plane(w, h) : Plane();
     length_[k].resize(w, h);
   }
   cur_ = 0;
@@ -55,6 +56,8 @@ void TemporalAccumulator::run(const Reprojection& rp, const Plane* color, float 
 void TemporalAccumulator::accumulateRows(const Reprojection& rp, const Plane* color, float alpha, float momentsAlpha,
                                          int maxHistoryLength, const AccumulationOptions& options, int rowBegin,
                                          int rowEnd) {
+  if (options.moments && m1_[cur_].size() != length_[cur_].size())
+    throw std::logic_error("TemporalAccumulator: moments accumulated into a history resized without them");
   const int prev = cur_ ^ 1;
   const AccumulationHistory h{color_[prev], m1_[prev], m2_[prev], length_[prev],
                               color_[cur_], m1_[cur_], m2_[cur_], length_[cur_]};

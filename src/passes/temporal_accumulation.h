@@ -123,7 +123,9 @@ struct AccumulationOptions {
 /// second raw moments of its luminance, and the history length, double-buffered.
 class TemporalAccumulator {
  public:
-  void resize(int w, int h);
+  /// `moments` false: no moment planes are kept; every run must then set
+  /// AccumulationOptions::moments = false (BMFR).
+  void resize(int w, int h, bool moments = true);
   void reset();
 
   /// Accumulates `color` (demodulated) with reprojection `rp`, shared between streams.

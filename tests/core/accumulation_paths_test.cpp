@@ -196,6 +196,39 @@ TEST(SharedPassPaths, AccumulationWithoutMomentsKeepsColourAndLength) {
   for (size_t i = 0; i < size_t(w) * h; ++i) ASSERT_EQ(without.moment1().data[i], staleM1.data[i]) << i;
 }
 
+// An accumulator resized without moments (BMFR's) keeps no moment planes, accumulates what one
+// with them accumulates, and refuses a run that asks for moments.
+TEST(SharedPassPaths, AccumulatorResizedWithoutMomentsKeepsNoMomentPlanes) {
+  const int w = kWidth, h = kHeight;
+  Lcg rnd;
+  const TwoFrames frames(rnd);
+  Plane3 first, second;
+  resize(first, w, h);
+  resize(second, w, h);
+  for (auto* p : {&first, &second})
+    for (auto& c : *p)
+      for (float& v : c.data) v = rnd();
+  TemporalAccumulator with, without;
+  with.resize(w, h);
+  without.resize(w, h, /*moments=*/false);
+  size_t kept = 0;
+  without.forEachPlane([&](std::string_view name, const float*, size_t n) {
+    if (name.substr(0, 6) == "moment") kept += n;
+  });
+  EXPECT_EQ(kept, 0u);
+  AccumulationOptions noMoments;
+  noMoments.moments = false;
+  for (auto* acc : {&with, &without}) {
+    for (int k = 0; k < 3; ++k) acc->run(frames.none, first, 0.2f, 0.2f, 255, noMoments);
+    acc->run(frames.rp, second, 0.2f, 0.2f, 255, noMoments);
+  }
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    ASSERT_EQ(without.historyLength().data[i], with.historyLength().data[i]) << i;
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(without.color()[c].data[i], with.color()[c].data[i]) << i;
+  }
+  EXPECT_THROW(without.run(frames.rp, second, 0.2f, 0.2f, 255), std::logic_error);
+}
+
 // Demodulating on the fly (AccumulationOptions::albedo) gives exactly what demodulate()
 // followed by the accumulation gives, albedo below the epsilon included, on every CPU path;
 // AccumulationOptions::current then holds exactly demodulate()'s planes (SVGF's variance

@@ -122,7 +122,7 @@ class BmfrCpu final : public CpuDenoiser<BmfrSettings> {
 
  protected:
   void resizeHistory(int w, int h) override {
-    noisy_.resize(w, h);
+    noisy_.resize(w, h, /*moments=*/false);  // BMFR reads no variance
     for (auto& f : filtered_) resize(f, w, h);
     resize(fitted_, w, h);
     resize(remodulated_, w, h);
