@@ -53,7 +53,8 @@ struct SanitizeCounts {
 struct MemoryUse {
   /// "frames": the imported inputs (this frame's and the previous frame's buffers, the
   /// G-buffer's counterpart); "history": what carries over to the next frame; "intermediate":
-  /// per-frame working planes.
+  /// per-frame working planes; "planes": history and working planes together, where a method
+  /// does not tell them apart (float planes; small integer arrays are not counted).
   std::string category;
   uint64_t bytes = 0;
 };
@@ -67,8 +68,9 @@ struct FrameStats {
   /// The same per buffer, indexed by int(Buffer).
   std::array<SanitizeCounts, kBufferCount> sanitized{};
   uint64_t pixels = 0;
-  /// Memory held after the call, by category; filled by the methods that account for it
-  /// (svgf with components = composite), empty otherwise.
+  /// Memory held after the call, by category: on the CPU backend "frames" and "planes" for
+  /// every method, Gersthofer's categories for svgf with components = composite (also on
+  /// Vulkan); empty otherwise.
   std::vector<MemoryUse> memory;
   /// Parts of the method that were asked for but did not run on this frame, and why (e.g.
   /// "glossyBandwidth off: the frame has no 'reflectedFootprint' buffer").

@@ -99,9 +99,24 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
       std::swap(current_, previous_);
       hasPrevious_ = true;
     });
+    if (stats.memory.empty()) stats.memory = memoryUse();
     stats.pixels = uint64_t(width_) * height_;
     stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     stats_ = std::move(stats);
+  }
+
+  /// FrameStats::memory for the methods that do not account for it themselves: the imported
+  /// frames, and every other float plane kept (PlaneInspection; integer arrays such as the
+  /// reprojection's taps are not counted).
+  std::vector<MemoryUse> memoryUse() const {
+    uint64_t frames = 0, planes = 0;
+    for (const FrameData* f : {&current_, &previous_})
+      for (const auto& buffer : f->buffers)
+        for (const Plane& p : buffer) frames += uint64_t(p.size()) * sizeof(float);
+    visitPlanes([&](std::string_view, const float*, size_t n) { planes += uint64_t(n) * sizeof(float); }, "output",
+                output_);
+    visitMethodPlanes([&](std::string_view, const float*, size_t n) { planes += uint64_t(n) * sizeof(float); });
+    return {{"frames", frames}, {"planes", planes}};
   }
 
  protected:

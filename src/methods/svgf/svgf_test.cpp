@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <map>
 #include <cmath>
 #include <random>
 
@@ -849,6 +850,35 @@ TEST(SvgfEndToEnd, AStreamsHistoryIsAllocatedWhenTheInputFirstHasIt) {
   gaining->set("fireflyMedian", "true");
   gaining->denoise(frame(6, false).inputs(), a.view());
   EXPECT_EQ(floatsIn(*gaining, "display"), 3 * plane);
+}
+
+// FrameStats::memory on the CPU: "frames" holds the imported buffers of this and the previous
+// frame, "planes" the rest. Input gaining the Direct / Indirect split adds exactly two imported
+// RGB buffers per frame kept (12 planes) and one stream's history (15 planes: demodulated
+// colour 3, accumulated colour 2 x 3, both moments and the length 2 x 3).
+TEST(SvgfEndToEnd, MemoryAccountingCountsTheSecondStreamsPlanes) {
+  const auto scene = svgfScene();
+  const uint64_t plane = uint64_t(scene.width) * scene.height * sizeof(float);
+  auto memory = [](const Denoiser& d) {
+    std::map<std::string, uint64_t> m;
+    for (const MemoryUse& u : d.stats().memory) m[u.category] = u.bytes;
+    return m;
+  };
+  auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
+  auto one = device->createDenoiser("svgf"), two = device->createDenoiser("svgf");
+  Image out(scene.width, scene.height, 3);
+  for (int i = 0; i < 2; ++i) {
+    Frame f = synthetic::makeFrame(scene, i);
+    one->denoise(f.inputs(), out.view());
+    f[Buffer::Direct] = f[Buffer::Indirect] = f[Buffer::Color];
+    for (float& v : f[Buffer::Indirect].pixels) v *= 0.5f;
+    two->denoise(f.inputs(), out.view());
+  }
+  const auto a = memory(*one), b = memory(*two);
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_EQ(b.at("frames") - a.at("frames"), 12 * plane);
+  EXPECT_EQ(b.at("planes") - a.at("planes"), 15 * plane);
 }
 
 // The filter's planes for settings that only some presets use (variancePrefilter = once,
