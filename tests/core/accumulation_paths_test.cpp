@@ -161,6 +161,15 @@ TEST(SharedPassPaths, AdaptiveAccumulationMatchesTheDefinitionOnRandomMotion) {
     }
 }
 
+// Three planes of uniform random values in [0, 1).
+Plane3 randomColour(Lcg& rnd, int w, int h) {
+  Plane3 p;
+  resize(p, w, h);
+  for (auto& c : p)
+    for (float& v : c.data) v = rnd();
+  return p;
+}
+
 // Without moments (AccumulationOptions::moments = false, BMFR's phase I), the colour and the
 // history length are exactly those with moments, whether run whole or in bands of rows, and
 // the moment planes are left as they were.
@@ -168,12 +177,7 @@ TEST(SharedPassPaths, AccumulationWithoutMomentsKeepsColourAndLength) {
   const int w = kWidth, h = kHeight;
   Lcg rnd;
   const TwoFrames frames(rnd);
-  Plane3 first, second;
-  resize(first, w, h);
-  resize(second, w, h);
-  for (auto* p : {&first, &second})
-    for (auto& c : *p)
-      for (float& v : c.data) v = rnd();
+  const Plane3 first = randomColour(rnd, w, h), second = randomColour(rnd, w, h);
   TemporalAccumulator with, without;
   with.resize(w, h);
   without.resize(w, h);
@@ -202,12 +206,7 @@ TEST(SharedPassPaths, AccumulatorResizedWithoutMomentsKeepsNoMomentPlanes) {
   const int w = kWidth, h = kHeight;
   Lcg rnd;
   const TwoFrames frames(rnd);
-  Plane3 first, second;
-  resize(first, w, h);
-  resize(second, w, h);
-  for (auto* p : {&first, &second})
-    for (auto& c : *p)
-      for (float& v : c.data) v = rnd();
+  const Plane3 first = randomColour(rnd, w, h), second = randomColour(rnd, w, h);
   TemporalAccumulator with, without;
   with.resize(w, h);
   without.resize(w, h, /*moments=*/false);

@@ -8,7 +8,6 @@
 #include <string_view>
 #include <vector>
 
-#include "backend/cpu/cpu_denoiser.h"
 #include "core/frame_data.h"
 #include "methods/svgf/svgf_reflections.h"
 #include "passes/neighbourhood_clipping.h"
@@ -16,6 +15,7 @@
 #include "passes/temporal_accumulation.h"
 #include "rtd/rtd.h"
 #include "support/cpu_paths.h"
+#include "support/planes_kept.h"
 
 namespace rtd {
 namespace {
@@ -880,13 +880,6 @@ TEST(VoorhuisParts, PlanesOfThePartsAreKeptOnlyOnceThePartsRun) {
   MirrorScene m(16, 8);
   m.shade(nullptr);
   Frame f = toFrame(m.t.f);
-  auto floatsIn = [](const Denoiser& d, std::string_view plane) {
-    size_t n = 0;
-    dynamic_cast<const PlaneInspection&>(d).forEachPlane([&](std::string_view name, const float*, size_t count) {
-      if (name == plane) n += count;
-    });
-    return n;
-  };
   const std::string_view parts[] = {"virtual depth", "reflected normal", "virtual depth gradient", "Eq. 6 falloff",
                                     "mirror key", "blend floor", "stream albedo", "clip low", "clip high",
                                     "clip prefilter"};
@@ -894,7 +887,7 @@ TEST(VoorhuisParts, PlanesOfThePartsAreKeptOnlyOnceThePartsRun) {
   auto switched = device->createDenoiser("svgf");
   Image a(16, 8, 3), b(16, 8, 3);
   for (int i = 0; i < 3; ++i) switched->denoise(f.inputs(), a.view());
-  for (std::string_view p : parts) EXPECT_EQ(floatsIn(*switched, p), 0u) << p << " kept by plain SVGF";
+  for (std::string_view p : parts) EXPECT_EQ(test::floatsKept(*switched, p), 0u) << p << " kept by plain SVGF";
   switched->set("variant", "voorhuis");
   switched->reset();
   auto fresh = device->createDenoiser("svgf");
@@ -905,11 +898,11 @@ TEST(VoorhuisParts, PlanesOfThePartsAreKeptOnlyOnceThePartsRun) {
     ASSERT_EQ(a.pixels, b.pixels) << "frame " << i << " after the switch";
   }
   // The parts that ran now hold their planes at the frame's size.
-  EXPECT_EQ(floatsIn(*switched, "virtual depth"), 16u * 8u);
-  EXPECT_EQ(floatsIn(*switched, "reflected normal"), 3u * 16u * 8u);
-  EXPECT_EQ(floatsIn(*switched, "blend floor"), 16u * 8u);
-  EXPECT_EQ(floatsIn(*switched, "clip low"), 3u * 16u * 8u);
-  EXPECT_GT(floatsIn(*switched, "mirror key"), 16u * 8u);  // padded
+  EXPECT_EQ(test::floatsKept(*switched, "virtual depth"), 16u * 8u);
+  EXPECT_EQ(test::floatsKept(*switched, "reflected normal"), 3u * 16u * 8u);
+  EXPECT_EQ(test::floatsKept(*switched, "blend floor"), 16u * 8u);
+  EXPECT_EQ(test::floatsKept(*switched, "clip low"), 3u * 16u * 8u);
+  EXPECT_GT(test::floatsKept(*switched, "mirror key"), 16u * 8u);  // padded
 }
 
 }  // namespace

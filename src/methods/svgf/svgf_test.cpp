@@ -6,12 +6,12 @@
 #include <cmath>
 #include <random>
 
-#include "backend/cpu/cpu_denoiser.h"
 #include "methods/svgf/svgf_filter.h"
 #include "methods/svgf/svgf_passes.h"
 #include "passes/atrous.h"
 #include "rtd/rtd.h"
 #include "support/cpu_paths.h"
+#include "support/planes_kept.h"
 #include "synthetic/synthetic.h"
 
 namespace rtd {
@@ -823,20 +823,13 @@ TEST(SvgfEndToEnd, AStreamsHistoryIsAllocatedWhenTheInputFirstHasIt) {
     return f;
   };
   auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
-  auto floatsIn = [](const Denoiser& d, std::string_view name) {
-    size_t n = 0;
-    dynamic_cast<const PlaneInspection&>(d).forEachPlane([&](std::string_view p, const float*, size_t count) {
-      if (p == name) n += count;
-    });
-    return n;
-  };
   auto gaining = device->createDenoiser("svgf");
   Image a(scene.width, scene.height, 3), b(scene.width, scene.height, 3);
   for (int i = 0; i < 3; ++i) gaining->denoise(frame(i, false).inputs(), a.view());
-  EXPECT_EQ(floatsIn(*gaining, "demodulated"), 3 * plane);
-  EXPECT_EQ(floatsIn(*gaining, "history length"), 2 * plane);  // this frame's and the previous
-  EXPECT_EQ(floatsIn(*gaining, "display"), 0u);
-  EXPECT_EQ(floatsIn(*gaining, "diffuse lobe median"), 0u);
+  EXPECT_EQ(test::floatsKept(*gaining, "demodulated"), 3 * plane);
+  EXPECT_EQ(test::floatsKept(*gaining, "history length"), 2 * plane);  // this frame's and the previous
+  EXPECT_EQ(test::floatsKept(*gaining, "display"), 0u);
+  EXPECT_EQ(test::floatsKept(*gaining, "diffuse lobe median"), 0u);
   gaining->reset();
   auto fresh = device->createDenoiser("svgf");
   for (int i = 3; i < 6; ++i) {
@@ -845,11 +838,11 @@ TEST(SvgfEndToEnd, AStreamsHistoryIsAllocatedWhenTheInputFirstHasIt) {
     fresh->denoise(f.inputs(), b.view());
     ASSERT_EQ(a.pixels, b.pixels) << "frame " << i;
   }
-  EXPECT_EQ(floatsIn(*gaining, "demodulated"), 6 * plane);
+  EXPECT_EQ(test::floatsKept(*gaining, "demodulated"), 6 * plane);
   // The median's planes once it runs (fireflyMedian, the voorhuis preset's).
   gaining->set("fireflyMedian", "true");
   gaining->denoise(frame(6, false).inputs(), a.view());
-  EXPECT_EQ(floatsIn(*gaining, "display"), 3 * plane);
+  EXPECT_EQ(test::floatsKept(*gaining, "display"), 3 * plane);
 }
 
 // FrameStats::memory on the CPU: "frames" holds the imported buffers of this and the previous
@@ -888,18 +881,11 @@ TEST(SvgfEndToEnd, MemoryAccountingCountsTheSecondStreamsPlanes) {
 TEST(SvgfFilter, PlanesOfOptionalSettingsAreAllocatedWhenTheyFirstRun) {
   const auto scene = svgfScene();
   auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
-  auto floatsIn = [](const Denoiser& d, std::string_view name) {
-    size_t n = 0;
-    dynamic_cast<const PlaneInspection&>(d).forEachPlane([&](std::string_view p, const float*, size_t count) {
-      if (p == name) n += count;
-    });
-    return n;
-  };
   auto switched = device->createDenoiser("svgf"), fresh = device->createDenoiser("svgf");
   Image a(scene.width, scene.height, 3), b(scene.width, scene.height, 3);
   for (int i = 0; i < 3; ++i) switched->denoise(synthetic::makeFrame(scene, i).inputs(), a.view());
   for (const char* plane : {"prefiltered variance", "sigma scale", "valid"})
-    EXPECT_EQ(floatsIn(*switched, plane), 0u) << plane << " kept by plain SVGF";
+    EXPECT_EQ(test::floatsKept(*switched, plane), 0u) << plane << " kept by plain SVGF";
   for (Denoiser* d : {switched.get(), fresh.get()}) {
     d->set("variancePrefilter", "once");
     d->set("shortHistoryBandwidth", "true");
@@ -911,8 +897,8 @@ TEST(SvgfFilter, PlanesOfOptionalSettingsAreAllocatedWhenTheyFirstRun) {
     fresh->denoise(f.inputs(), b.view());
     ASSERT_EQ(a.pixels, b.pixels) << "frame " << i;
   }
-  EXPECT_GT(floatsIn(*switched, "prefiltered variance"), size_t(scene.width) * scene.height);  // padded
-  EXPECT_GT(floatsIn(*switched, "sigma scale"), size_t(scene.width) * scene.height);
+  EXPECT_GT(test::floatsKept(*switched, "prefiltered variance"), size_t(scene.width) * scene.height);  // padded
+  EXPECT_GT(test::floatsKept(*switched, "sigma scale"), size_t(scene.width) * scene.height);
 }
 
 // Issue 12 item 4: each preset filters the streams its paper describes, and a components
