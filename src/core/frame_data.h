@@ -22,6 +22,13 @@ struct FrameData {
   Plane& plane(Buffer b, int c = 0) { return buffers[int(b)][c]; }
   /// The three planes of an RGB/XYZ buffer.
   const std::vector<Plane>& planes(Buffer b) const { return buffers[int(b)]; }
+  /// Bytes of the imported planes.
+  uint64_t bytes() const {
+    uint64_t n = 0;
+    for (const auto& buffer : buffers)
+      for (const Plane& p : buffer) n += uint64_t(p.size()) * sizeof(float);
+    return n;
+  }
 };
 
 /// True for buffers holding radiance.

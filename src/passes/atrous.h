@@ -39,6 +39,11 @@ struct PaddedPlane {
   void copyTo(Plane& p) const;
   void visit(const PlaneVisitor& v, std::string_view name) const { v(name, data.data(), data.size()); }
 };
+/// Allocates p (zeros) where it is empty, for planes a pass allocates on first use (core/plane.h's
+/// allocateOnce for Plane3).
+inline void allocateOnce(PaddedPlane& p, int w, int h, int padding) {
+  if (p.data.empty()) p.resize(w, h, padding);
+}
 
 // ---- Edge-stopping weights (Schied et al. 2017 Eq. 3), reference scalar forms ----
 // Each is exactly 0 where it would fall below 2^kMinWeightExp2 (core/flush.h: never a

@@ -109,14 +109,10 @@ template <class S> class CpuDenoiser : public TypedSettings<S, Denoiser>, public
   /// frames, and every other float plane kept (PlaneInspection; integer arrays such as the
   /// reprojection's taps are not counted).
   std::vector<MemoryUse> memoryUse() const {
-    uint64_t frames = 0, planes = 0;
-    for (const FrameData* f : {&current_, &previous_})
-      for (const auto& buffer : f->buffers)
-        for (const Plane& p : buffer) frames += uint64_t(p.size()) * sizeof(float);
-    visitPlanes([&](std::string_view, const float*, size_t n) { planes += uint64_t(n) * sizeof(float); }, "output",
-                output_);
-    visitMethodPlanes([&](std::string_view, const float*, size_t n) { planes += uint64_t(n) * sizeof(float); });
-    return {{"frames", frames}, {"planes", planes}};
+    uint64_t all = 0;
+    forEachPlane([&](std::string_view, const float*, size_t n) { all += uint64_t(n) * sizeof(float); });
+    const uint64_t frames = current_.bytes() + previous_.bytes();
+    return {{"frames", frames}, {"planes", all - frames}};
   }
 
  protected:

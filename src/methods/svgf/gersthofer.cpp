@@ -321,11 +321,5 @@ std::array<size_t, 2> exchangeIndirectDiffuse(GersthoferEye& left, const FrameDa
   return {nl, nr};
 }
 
-uint64_t frameBytes(const FrameData& f) {
-  uint64_t b = 0;
-  for (const auto& planes : f.buffers)
-    for (const auto& p : planes) b += uint64_t(p.size()) * sizeof(float);
-  return b;
-}
 
 }  // namespace rtd::svgf

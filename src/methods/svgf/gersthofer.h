@@ -100,7 +100,4 @@ class GersthoferEye {
 std::array<size_t, 2> exchangeIndirectDiffuse(GersthoferEye& left, const FrameData& leftFrame, GersthoferEye& right,
                                               const FrameData& rightFrame, const SvgfSettings& s);
 
-/// Bytes of a frame's imported planes.
-uint64_t frameBytes(const FrameData& f);
-
 }  // namespace rtd::svgf

@@ -180,7 +180,7 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     gersthofer_->front(frame, previous, settings_, stats);
     const Plane3& result = gersthofer_->back(frame, settings_, stats, resultHasEmission_);
     stats.memory = gersthofer_->memory();
-    stats.memory.push_back({"frames", svgf::frameBytes(current_) + svgf::frameBytes(previous_)});
+    stats.memory.push_back({"frames", current_.bytes() + previous_.bytes()});
     return result;
   }
 

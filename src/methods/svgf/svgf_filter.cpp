@@ -122,14 +122,12 @@ void Filter::resize(int w, int h, int pad) {
   prefilteredVariance_ = {};
 }
 
-void Filter::allocateOnce(PaddedPlane& p) {
-  if (p.data.empty()) p.resize(levels_[0].var.width, levels_[0].var.height, pad_);
-}
 
 const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& acc, const Plane3& current,
                                const Plane* mask, const FilterParams& p, FrameStats& stats, const std::string& suffix,
                                const FilterExtras& extras) {
   const Plane3& input = extras.input ? *extras.input : acc.color();
+  const int w = levels_[0].var.width, h = levels_[0].var.height;  // what run() allocates on first use
   {
     PassTimer t(stats, "variance" + suffix);
     VarianceInputs in{&acc.historyLength(), &acc.moment1(), &acc.moment2(), &current, &input,
@@ -142,15 +140,15 @@ const AtrousImage& Filter::run(const AtrousGuide& guide, TemporalAccumulator& ac
     // k(p) is 1 everywhere unless short histories change it: then no plane (every level reads
     // one value less per pixel, and this pass writes none).
     if (usesSigmaScale(p)) {
-      allocateOnce(sigmaScale_);
+      allocateOnce(sigmaScale_, w, h, pad_);
       luminanceSigmaScale(acc.historyLength(), p, sigmaScale_);
     }
     if (mask) {
-      for (auto& v : valid_) allocateOnce(v);
+      for (auto& v : valid_) allocateOnce(v, w, h, pad_);
       markValid(acc.historyLength(), valid_[0]);
     }
     if (p.variancePrefilter == SvgfVariancePrefilter::once) {
-      allocateOnce(prefilteredVariance_);
+      allocateOnce(prefilteredVariance_, w, h, pad_);
       gaussian3x3(levels_[0].var, prefilteredVariance_);
       std::swap(levels_[0].var, prefilteredVariance_);
     }

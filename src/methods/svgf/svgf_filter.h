@@ -114,8 +114,6 @@ class Filter {
   }
 
  private:
-  /// p at the levels' size, where it is not allocated yet (resize releases it).
-  void allocateOnce(PaddedPlane& p);
   AtrousImage levels_[2];  ///< the levels' input and output, in turn
   PaddedPlane prefilteredVariance_;  ///< variancePrefilter = once
   PaddedPlane sigmaScale_;  ///< usesSigmaScale

@@ -145,7 +145,7 @@ void Reflections::prepare(const FrameData& f, const FrameData* previous, const S
   }
 
   if (parts.glossyBandwidth) {
-    if (falloff_.data.empty()) falloff_.resize(w, h, pad_);
+    allocateOnce(falloff_, w, h, pad_);
     const Plane& fp = f.plane(Buffer::ReflectedFootprint);
     parallelRows(h, [&](int y) {
       float* o = falloff_.row(y);

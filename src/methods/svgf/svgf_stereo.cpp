@@ -75,7 +75,7 @@ class SvgfStereoCpu final : public StereoPair {
         stats[e].memory = eye.pipeline.memory();
         std::swap(eye.current, eye.previous);
         eye.hasPrevious = true;
-        stats[e].memory.push_back({"frames", svgf::frameBytes(eye.current) + svgf::frameBytes(eye.previous)});
+        stats[e].memory.push_back({"frames", eye.current.bytes() + eye.previous.bytes()});
         eyeMs[e] += msSince(t0);
       }
     });
