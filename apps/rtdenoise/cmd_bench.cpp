@@ -178,7 +178,7 @@ void runBench(const BenchOptions& o) {
   const double cpu = median(cpuTimes);
   std::printf("  %-24s %9.3f ms\n", "cpu time (all threads)", cpu);
   j["cpuMedianMs"] = cpu;
-  for (const auto& m : last.memory) {  // FrameStats::memory: every CPU method, Gersthofer on both backends
+  for (const auto& m : last.memory) {  // FrameStats::memory: every method, both backends
     std::printf("  memory %-17s %9.2f MiB\n", m.category.c_str(), double(m.bytes) / (1 << 20));
     j["memoryBytes"][m.category] = m.bytes;
   }

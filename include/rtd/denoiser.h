@@ -54,7 +54,10 @@ struct MemoryUse {
   /// "frames": the imported inputs (this frame's and the previous frame's buffers, the
   /// G-buffer's counterpart); "history": what carries over to the next frame; "intermediate":
   /// per-frame working planes; "planes": history and working planes together, where a method
-  /// does not tell them apart (float planes; small integer arrays are not counted).
+  /// does not tell them apart (float planes on the CPU, where small integer arrays are not
+  /// counted; every other device-local buffer on Vulkan); "staging" (Vulkan): host-visible
+  /// upload, read-back and counter buffers. The categories of one report add up to all the
+  /// denoiser holds.
   std::string category;
   uint64_t bytes = 0;
 };
@@ -68,9 +71,10 @@ struct FrameStats {
   /// The same per buffer, indexed by int(Buffer).
   std::array<SanitizeCounts, kBufferCount> sanitized{};
   uint64_t pixels = 0;
-  /// Memory held after the call, by category: on the CPU backend "frames" and "planes" for
-  /// every method, Gersthofer's categories for svgf with components = composite (also on
-  /// Vulkan); empty otherwise.
+  /// Memory held after the call, by category (MemoryUse): "frames" and "planes" for every
+  /// method on both backends, plus "staging" on Vulkan; svgf with components = composite
+  /// reports Gersthofer's "history" and "intermediate" in place of (CPU) or beside (Vulkan)
+  /// "planes".
   std::vector<MemoryUse> memory;
   /// Parts of the method that were asked for but did not run on this frame, and why (e.g.
   /// "glossyBandwidth off: the frame has no 'reflectedFootprint' buffer").

@@ -12,8 +12,9 @@
 namespace rtd {
 
 void Taa::resize(int w, int h) {
-  for (auto& hst : history_) rtd::resize(hst, w, h);
+  for (auto& hst : history_) hst = Plane3{};  // allocated by the first run (none where TAA is off)
   width_ = w;
+  height_ = h;
   windows_.clear();  // re-sized on first use per thread
   valid_ = false;
 }
@@ -30,7 +31,8 @@ const Plane3& Taa::run(const Reprojection& rp, const Plane3& color, const TaaSet
 }
 
 void Taa::begin(int w, int h, const TaaSettings& s, const PixelVector<uint32_t>* keys, const RgbExport* output) {
-  if (width_ != w || history_[0][0].height != h) resize(w, h);
+  if (width_ != w || height_ != h) resize(w, h);
+  for (auto& hst : history_) allocateOnce(hst, w, h);
   params_ = TaaParams::of(s);
   keys_ = s.taaOwnSurface && keys && keys->size() == size_t(w) * h ? keys->data() : nullptr;
   output_ = output;

@@ -32,6 +32,8 @@ struct TaaParams {
 
 class Taa {
  public:
+  /// A new frame size: the history planes are allocated by the first run() (none where TAA
+  /// is off).
   void resize(int w, int h);
   void reset() { valid_ = false; }
   /// `color` is the current remodulated output (linear); returns the result, linear, valid
@@ -78,7 +80,7 @@ class Taa {
   const uint32_t* keys_ = nullptr;  // this frame's surface keys (taaOwnSurface), or none
   const RgbExport* output_ = nullptr;  // this frame's output view, filled row by row, or none
   bool display_ = false;  // the domain the history holds
-  int width_ = 0;
+  int width_ = 0, height_ = 0;
   tbb::enumerable_thread_specific<Window> windows_;
   bool valid_ = false;
   bool first_ = false;  // this frame has no history: the output is the input

@@ -5,6 +5,7 @@
 #if __has_include("rtd/methods/svgf.h")
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "backend/vulkan/context.h"
 #include "backend/vulkan/passes.h"
@@ -250,6 +251,27 @@ TEST(VulkanGersthofer, StereoMatchesCpuWithAndWithoutEyeReprojection) {
     EXPECT_EQ(std::count(names.begin(), names.end(), "eyeReprojection"), share ? 1 : 0);
     EXPECT_EQ(std::count(names.begin(), names.end(), "(other eye)"), 0);
   }
+}
+
+// Gersthofer's memory categories (his Table 5.4) on Vulkan as on the CPU: per eye the composite
+// and indirect diffuse accumulators (2 x 6 planes each, double-buffered) and the indirect ray
+// length (2 planes), 26 float planes, TAA off in the preset; the frames and the rest besides.
+TEST(VulkanGersthofer, StereoMemoryReportHasHisCategories) {
+  RTD_REQUIRE_VULKAN();
+  const auto frames = gersthoferFrames(6);
+  auto gpu = vulkanDevice()->createStereoDenoiser(SvgfSettings::forVariant(SvgfVariant::gersthofer));
+  StereoFrameInputs in;
+  in.eye[0] = frames[0].inputs();
+  in.eye[1] = frames[5].inputs();
+  Image l(kWidth, kHeight, 3), r = l;
+  gpu->denoise(in, l.view(), r.view());
+  std::map<std::string, uint64_t> m;
+  for (const MemoryUse& u : gpu->stats().memory) m[u.category] += u.bytes;
+  const uint64_t px = uint64_t(kWidth) * kHeight;
+  EXPECT_EQ(m["history"], 2 * 26 * 4 * px);
+  EXPECT_GT(m["intermediate"], 2 * 30 * 4 * px);
+  EXPECT_GT(m["frames"], 2 * 10 * 4 * px);
+  EXPECT_GT(m["staging"], 0u);
 }
 
 }  // namespace

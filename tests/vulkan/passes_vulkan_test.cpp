@@ -294,7 +294,7 @@ TEST(VulkanPasses, TaaMatchesCpu) {
     TaaSettings constantS = s;
     constantS.taaSubpixelAlpha = 0.0f;
     vk::GpuTaa gpu;
-    gpu.resize(ctx, kWidth, kHeight);
+    gpu.resize(kWidth, kHeight);
     vk::Planes rp, color;
     rp.allocate(ctx, kWidth, kHeight, 8);
     FrameData prevCpu;
@@ -359,7 +359,7 @@ TEST(VulkanPasses, TaaOwnSurfaceMatchesCpu) {
                                (shape == TaaNeighbourhood::box3x3 ? " box3x3" : " boxCross");
       Taa cpu, plain;
       vk::GpuTaa gpu;
-      gpu.resize(ctx, kWidth, kHeight);
+      gpu.resize(kWidth, kHeight);
       vk::Planes rp, color, keysGpu;
       rp.allocate(ctx, kWidth, kHeight, 8);
       FrameData prevCpu;

@@ -219,6 +219,15 @@ std::vector<PhysicalDeviceInfo> enumeratePhysicalDevices() {
 
 // ---- DeviceBuffer ---------------------------------------------------------------------------------
 
+namespace {
+thread_local std::shared_ptr<MemoryTally> currentOwner;  // MemoryOwnerScope's
+}  // namespace
+
+MemoryOwnerScope::MemoryOwnerScope(std::shared_ptr<MemoryTally> owner) : previous_(std::move(currentOwner)) {
+  currentOwner = std::move(owner);
+}
+MemoryOwnerScope::~MemoryOwnerScope() { currentOwner = std::move(previous_); }
+
 DeviceBuffer::DeviceBuffer(Context& ctx, VkDeviceSize size, bool hostVisible) : ctx_(&ctx), size_(size) {
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = std::max<VkDeviceSize>(size, 4);
@@ -238,6 +247,11 @@ DeviceBuffer::DeviceBuffer(Context& ctx, VkDeviceSize size, bool hostVisible) : 
   }
   check(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0), "vkBindBufferMemory");
   if (hostVisible) check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+  allocated_ = req.size;
+  hostVisible_ = hostVisible;
+  ctx.liveBytes_ += allocated_;
+  owner_ = currentOwner;
+  if (owner_) (hostVisible ? owner_->hostVisible : owner_->deviceLocal) += allocated_;
 }
 
 DeviceBuffer& DeviceBuffer::operator=(DeviceBuffer&& o) noexcept {
@@ -248,6 +262,9 @@ DeviceBuffer& DeviceBuffer::operator=(DeviceBuffer&& o) noexcept {
     std::swap(memory_, o.memory_);
     std::swap(size_, o.size_);
     std::swap(mapped_, o.mapped_);
+    std::swap(allocated_, o.allocated_);
+    std::swap(hostVisible_, o.hostVisible_);
+    std::swap(owner_, o.owner_);
   }
   return *this;
 }
@@ -256,10 +273,13 @@ void DeviceBuffer::release() {
   if (!ctx_) return;
   if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
   if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);
+  ctx_->liveBytes_ -= allocated_;
+  if (owner_) (hostVisible_ ? owner_->hostVisible : owner_->deviceLocal) -= allocated_;
+  owner_.reset();
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;
-  size_ = 0;
+  size_ = allocated_ = 0;
 }
 
 void Planes::allocate(Context& ctx, int w, int h, int n) {

@@ -4,6 +4,7 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <atomic>
 #include <map>
 #include <memory>
 #include <string>
@@ -34,6 +35,26 @@ std::vector<PhysicalDeviceInfo> enumeratePhysicalDevices();
 
 class Context;
 
+/// Device memory held by one owner (a denoiser), by kind: each DeviceBuffer created while the
+/// owner's MemoryOwnerScope is open on the thread adds its allocation here, and takes it away
+/// when it is released, wherever it has been moved to by then (FrameStats::memory on Vulkan).
+struct MemoryTally {
+  std::atomic<uint64_t> deviceLocal{0}, hostVisible{0};
+};
+
+/// While it lives, the DeviceBuffers created on this thread count towards `owner` (null: no
+/// owner's); scopes nest, the previous owner returns at the end.
+class MemoryOwnerScope {
+ public:
+  explicit MemoryOwnerScope(std::shared_ptr<MemoryTally> owner);
+  ~MemoryOwnerScope();
+  MemoryOwnerScope(const MemoryOwnerScope&) = delete;
+  MemoryOwnerScope& operator=(const MemoryOwnerScope&) = delete;
+
+ private:
+  std::shared_ptr<MemoryTally> previous_;
+};
+
 /// A VkBuffer with its memory; device-local, or host-visible and persistently mapped.
 class DeviceBuffer {
  public:
@@ -47,6 +68,9 @@ class DeviceBuffer {
 
   VkBuffer handle() const { return buffer_; }
   VkDeviceSize size() const { return size_; }
+  /// The device memory behind it (VkMemoryRequirements::size: size() rounded up as the
+  /// driver needs).
+  VkDeviceSize allocatedBytes() const { return allocated_; }
   void* mapped() const { return mapped_; }
   bool empty() const { return buffer_ == VK_NULL_HANDLE; }
   void release();
@@ -55,8 +79,10 @@ class DeviceBuffer {
   Context* ctx_ = nullptr;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
-  VkDeviceSize size_ = 0;
+  VkDeviceSize size_ = 0, allocated_ = 0;
   void* mapped_ = nullptr;
+  bool hostVisible_ = false;
+  std::shared_ptr<MemoryTally> owner_;  // the MemoryOwnerScope's at creation, or null
 };
 
 /// `count` planes of width*height 32-bit values (floats, or uints for bit fields) in one buffer,
@@ -130,6 +156,9 @@ class Context : public std::enable_shared_from_this<Context> {
   const VkPhysicalDeviceLimits& limits() const { return limits_; }
   /// A small buffer bound where a shader's optional input is absent (its flag says so).
   const DeviceBuffer& dummy() const { return *dummy_; }
+  /// Device memory of every DeviceBuffer alive on this context, of all owners (the reference
+  /// the tests hold FrameStats::memory against).
+  uint64_t liveBytes() const { return liveBytes_; }
 
   /// Memory type index for the requirements; host-visible (coherent) or device-local.
   uint32_t memoryType(uint32_t typeBits, bool hostVisible) const;
@@ -167,6 +196,8 @@ class Context : public std::enable_shared_from_this<Context> {
   VkFence onceFence_ = VK_NULL_HANDLE;
   std::map<std::string, Pipeline> pipelines_;
   std::unique_ptr<DeviceBuffer> dummy_;
+  friend class DeviceBuffer;
+  std::atomic<uint64_t> liveBytes_{0};
 };
 
 /// Descriptor sets for (pipeline, bindings) combinations, written once and reused: a denoiser's

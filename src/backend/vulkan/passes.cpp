@@ -230,9 +230,11 @@ void fxaa(Recorder& rec, const Planes& in, Planes& out, float edgeThreshold, flo
   rec.dispatch("fxaa", {in, out}, pc, in.width, in.height);
 }
 
-void GpuTaa::resize(Context& ctx, int w, int h) {
-  for (auto& p : history_) p.allocate(ctx, w, h, 3);
-  linear_.allocate(ctx, w, h, 3);
+void GpuTaa::resize(int w, int h) {
+  for (auto& p : history_) p = Planes{};
+  linear_ = Planes{};
+  width_ = w;
+  height_ = h;
   valid_ = false;
 }
 
@@ -256,6 +258,10 @@ bool taaSurfaceKeys(Recorder& rec, const GpuFrame& f, const EmitterSettings* emi
 
 const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s,
                           const Planes* keys) {
+  if (linear_.buffer.empty()) {  // the first run at this size: nothing to read back yet (valid_ is false)
+    for (auto& h : history_) h.allocate(rec.context(), width_, height_, 3);
+    linear_.allocate(rec.context(), width_, height_, 3);
+  }
   const int prev = cur_;
   cur_ ^= 1;
   const TaaParams p = TaaParams::of(s);

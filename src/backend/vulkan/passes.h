@@ -145,7 +145,8 @@ bool taaSurfaceKeys(Recorder& rec, const GpuFrame& f, const EmitterSettings* emi
 /// Karis TAA on the remodulated output; its result is the next frame's history.
 class GpuTaa {
  public:
-  void resize(Context& ctx, int w, int h);
+  /// A new frame size: the planes are allocated by the first run() (none where TAA is off).
+  void resize(int w, int h);
   void reset() { valid_ = false; }
   /// Taa::run (src/passes/taa.h) on the device: the linear output.
   /// `keys` (1 plane of uint32, surfaceKeys()): read with s.taaOwnSurface, as Taa::run's.
@@ -158,6 +159,7 @@ class GpuTaa {
  private:
   Planes history_[2];  // display-encoded or linear, as the last frame's domain
   Planes linear_;      // display domain: the decoded output
+  int width_ = 0, height_ = 0;
   int cur_ = 0;
   bool valid_ = false;
   bool display_ = false;

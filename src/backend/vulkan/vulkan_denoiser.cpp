@@ -70,6 +70,7 @@ VulkanDenoiserBase::VulkanDenoiserBase(Context& ctx) : keepAlive_(ctx.weak_from_
     qi.queryCount = kMaxQueries;
     check(vkCreateQueryPool(ctx.device(), &qi, nullptr, &queries_), "vkCreateQueryPool");
   }
+  const MemoryOwnerScope owner(memoryOwner_);
   // Sanitize counters, three per buffer (shaders/sanitize.glsl).
   counter_ = DeviceBuffer(ctx, kBufferCount * 3 * sizeof(uint32_t), true);
   for (auto& f : frames_) f.camera = DeviceBuffer(ctx, 32 * sizeof(float), false);
@@ -308,7 +309,25 @@ bool VulkanDenoiserBase::readTimings(FrameStats& stats, bool wait) {
   return true;
 }
 
+std::vector<MemoryUse> VulkanDenoiserBase::memoryUse() const {
+  uint64_t frames = 0;
+  for (const GpuFrame& f : frames_) {
+    for (const Planes& p : f.planes) frames += p.buffer.allocatedBytes();
+    frames += f.camera.allocatedBytes();
+  }
+  std::vector<MemoryUse> out{{"frames", frames}};
+  uint64_t rest = memoryOwner_->deviceLocal - frames;
+  for (const MemoryUse& m : methodMemory()) {
+    out.push_back(m);
+    rest -= std::min(rest, m.bytes);
+  }
+  out.push_back({"planes", rest});
+  out.push_back({"staging", memoryOwner_->hostVisible});
+  return out;
+}
+
 void VulkanDenoiserBase::denoise(const FrameInputs& in, const ImageView& output) {
+  const MemoryOwnerScope owner(memoryOwner_);
   guarded("denoise", [&] { denoiseHost(in, output); });
 }
 
@@ -327,31 +346,40 @@ void VulkanDenoiserBase::denoiseHost(const FrameInputs& in, const ImageView& out
 void VulkanDenoiserBase::denoiseTwoViews(VulkanDenoiserBase& a, VulkanDenoiserBase& b, const FrameInputs& inA,
                                          const FrameInputs& inB, const ImageView& outA, const ImageView& outB,
                                          const std::function<void(Recorder&)>& exchange) {
+  // Each view's calls in its own MemoryOwnerScope; the exchange through a's.
+  auto as = [](VulkanDenoiserBase& v, auto&& call) -> decltype(auto) {
+    const MemoryOwnerScope owner(v.memoryOwner_);
+    return call();
+  };
   guarded("denoise", [&] {
-    HostFrame fa = a.stageHost(inA, outA);
-    HostFrame fb = b.stageHost(inB, outB);
+    HostFrame fa = as(a, [&] { return a.stageHost(inA, outA); });
+    HostFrame fb = as(b, [&] { return b.stageHost(inB, outB); });
     const VkCommandBuffer cmd = a.cmd_;
     check(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
     auto previous = [](VulkanDenoiserBase& v) { return v.hasPrevious_ ? &v.frames_[v.cur_ ^ 1] : nullptr; };
-    Recorder ra = a.beginRecord(cmd, fa.imports, fa.camera, fa.conventions, fa.out);
-    a.resultHasEmission_ = false;
-    a.processFront(ra, a.frames_[a.cur_], previous(a));
-    ra.pass("(other eye)");
-    Recorder rb = b.beginRecord(cmd, fb.imports, fb.camera, fb.conventions, fb.out);
-    b.resultHasEmission_ = false;
-    b.processFront(rb, b.frames_[b.cur_], previous(b));
-    rb.pass("(other eye)");
+    auto front = [&](VulkanDenoiserBase& v, const HostFrame& f) {
+      return as(v, [&] {
+        Recorder r = v.beginRecord(cmd, f.imports, f.camera, f.conventions, f.out);
+        v.resultHasEmission_ = false;
+        v.processFront(r, v.frames_[v.cur_], previous(v));
+        r.pass("(other eye)");
+        return r;
+      });
+    };
+    auto back = [&](VulkanDenoiserBase& v, Recorder& r, const HostFrame& f) {
+      as(v, [&] { v.endRecord(r, v.processBack(r, v.frames_[v.cur_], previous(v)), f.out); });
+    };
+    Recorder ra = front(a, fa);
+    Recorder rb = front(b, fb);
     ra.barrier();  // b's writes (recorded through the other recorder) before a reads them
     ra.pass("eyeReprojection");
-    exchange(ra);
-    const Planes& resultA = a.processBack(ra, a.frames_[a.cur_], previous(a));
-    a.endRecord(ra, resultA, fa.out);
+    as(a, [&] { exchange(ra); });
+    back(a, ra, fa);
     rb.barrier();
-    const Planes& resultB = b.processBack(rb, b.frames_[b.cur_], previous(b));
-    b.endRecord(rb, resultB, fb.out);
+    back(b, rb, fb);
     check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
     a.submitAndWait();
     a.finishHost(fa, outA);
@@ -449,14 +477,17 @@ void VulkanDenoiserBase::finishHost(HostFrame& frame, const ImageView& output) {
   stats.totalMilliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame.start).count();
   stats.notes = notes_;
+  stats.memory = memoryUse();
   stats_ = std::move(stats);
 }
 
 void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanBufferView& output, VkCommandBuffer cmd) {
+  const MemoryOwnerScope owner(memoryOwner_);
   guarded("denoiseVulkan", [&] { denoiseIntoBuffer(in, output, cmd); });
 }
 
 void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const VulkanImageView& output, VkCommandBuffer cmd) {
+  const MemoryOwnerScope owner(memoryOwner_);
   guarded("denoiseVulkan", [&] { denoiseIntoImage(in, output, cmd); });
 }
 
@@ -572,6 +603,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
       previous.pixels = uint64_t(width_) * height_;
       readSanitizeCounts(previous);
       previous.notes = notes_;
+      previous.memory = memoryUse();
       stats_ = std::move(previous);
     }
     prepare(w, h, in.cameraCut);
@@ -592,6 +624,7 @@ void VulkanDenoiserBase::denoiseGpu(const VulkanFrameInputs& in, const Export& e
   stats.pixels = uint64_t(w) * h;
   stats.totalMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats.notes = notes_;
+  stats.memory = memoryUse();
   stats_ = std::move(stats);
 }
 

@@ -74,10 +74,23 @@ class VulkanDenoiserBase : public Denoiser {
   /// The frame being recorded (between the import and the export).
   const GpuFrame& recordingFrame() const { return frames_[cur_]; }
 
+  /// FrameStats::memory: "frames" (the current and previous frame's imported planes and
+  /// cameras), the method's own categories (methodMemory()), "planes" (the rest of the
+  /// device-local memory the denoiser holds) and "staging" (its host-visible buffers: upload,
+  /// read-back, counters). Together they are every DeviceBuffer created on its behalf.
+  std::vector<MemoryUse> memoryUse() const;
+  /// Categories that part the method's device-local planes further (Gersthofer's "history"
+  /// and "intermediate"); "planes" keeps what they leave.
+  virtual std::vector<MemoryUse> methodMemory() const { return {}; }
+  /// The tally of this denoiser's device memory. The public entry points open its
+  /// MemoryOwnerScope; a derived constructor or settingsChanged() that allocates opens it too.
+  const std::shared_ptr<MemoryTally>& memoryOwner() const { return memoryOwner_; }
+
   // Keeps the device alive while a denoiser exists, even after its rtd::Device is gone (as
   // CPU denoisers keep their arena); null for a Context not owned by a shared_ptr (tests).
   std::shared_ptr<Context> keepAlive_;
   Context& ctx_;
+  std::shared_ptr<MemoryTally> memoryOwner_ = std::make_shared<MemoryTally>();
   int width_ = 0, height_ = 0;
   /// FrameStats::notes of the frame process() recorded (parts that did not run, and why).
   std::vector<std::string> notes_;

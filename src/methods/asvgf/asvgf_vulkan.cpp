@@ -28,7 +28,7 @@ class AsvgfVulkan final : public vk::VulkanDenoiser<AsvgfSettings> {
     accumulator_.resize(ctx_, w, h);
     filter_.resize(ctx_, w, h);
     output_.allocate(ctx_, w, h, 3);
-    taa_.resize(ctx_, w, h);
+    taa_.resize(w, h);
     const int gw = asvgf::strata(w), gh = asvgf::strata(h);
     gradientDepth_.allocate(ctx_, gw, gh, 1);
     gradientNormal_.allocate(ctx_, gw, gh, 3);

@@ -48,7 +48,7 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
     for (auto& f : filtered_) f.allocate(ctx_, w, h, 3);
     fitted_.allocate(ctx_, w, h, 3);
     remodulated_.allocate(ctx_, w, h, 3);
-    taa_.resize(ctx_, w, h);
+    taa_.resize(w, h);
     // The 32x32 grid has the most blocks; the fit buffer holds every block of it.
     const int blocks32 = bmfr::makeBlockGrid(w, h, 32, 0, true).count();
     const int blocks64 = bmfr::makeBlockGrid(w, h, 64, 0, true).count();

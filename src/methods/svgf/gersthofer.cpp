@@ -66,7 +66,7 @@ void GersthoferEye::resize(int w, int h, int pad) {
   luma_.resize(w, h);
   boost_.resize(w, h);
   filter_.resize(w, h, pad);
-  taaSized_ = false;  // allocated when TAA is first used
+  taa_.resize(w, h);  // its planes allocated when TAA first runs
 }
 
 void GersthoferEye::reset() {
@@ -241,11 +241,6 @@ const Plane3& GersthoferEye::back(const FrameData& frame, const SvgfSettings& s,
   const Plane3* shown = &output_;
   if (s.taa.taa) {
     PassTimer t(stats, "taa");
-    if (!taaSized_) {
-      taa_.resize(width_, height_);
-      taa_.reset();
-      taaSized_ = true;
-    }
     shown = &taa_.run(reprojection_, output_, s.taa);
   }
   const Plane* hidden = frame.has(Buffer::HiddenArea) ? &frame.plane(Buffer::HiddenArea) : nullptr;

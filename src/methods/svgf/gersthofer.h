@@ -90,7 +90,6 @@ class GersthoferEye {
   Plane3 output_, post_;
   Plane luma_;
   Taa taa_;
-  bool taaSized_ = false;
 };
 
 /// Eye reprojection in both directions (Sec. 3.4.2): each eye's shared() becomes its indirect

@@ -24,7 +24,7 @@ void GpuGersthoferEye::resize(vk::Context& ctx, int w, int h) {
   source_.allocate(ctx, w, h, 6);
   post_.allocate(ctx, w, h, 4);
   filter_.resize(ctx, w, h);
-  taa_.resize(ctx, w, h);
+  taa_.resize(w, h);
   reset();
 }
 

@@ -845,6 +845,29 @@ TEST(SvgfEndToEnd, AStreamsHistoryIsAllocatedWhenTheInputFirstHasIt) {
   EXPECT_EQ(test::floatsKept(*gaining, "display"), 3 * plane);
 }
 
+// TAA's two history planes sets are allocated when TAA first runs: none while it is off, and a
+// denoiser that switches it on mid-sequence then gives what one that had it from the start
+// gives after a reset (the first TAA frame has no history in either).
+TEST(SvgfEndToEnd, TaaHistoryIsAllocatedWhenTaaFirstRuns) {
+  const auto scene = svgfScene();
+  const size_t plane = size_t(scene.width) * scene.height;
+  auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
+  auto switching = device->createDenoiser("svgf"), fresh = device->createDenoiser("svgf");
+  switching->set("taa", "false");
+  Image a(scene.width, scene.height, 3), b(scene.width, scene.height, 3);
+  for (int i = 0; i < 2; ++i) switching->denoise(synthetic::makeFrame(scene, i).inputs(), a.view());
+  EXPECT_EQ(test::floatsKept(*switching, "taa history"), 0u);
+  switching->set("taa", "true");
+  switching->reset();
+  for (int i = 2; i < 5; ++i) {
+    const Frame f = synthetic::makeFrame(scene, i);
+    switching->denoise(f.inputs(), a.view());
+    fresh->denoise(f.inputs(), b.view());
+    ASSERT_EQ(a.pixels, b.pixels) << "frame " << i;
+  }
+  EXPECT_EQ(test::floatsKept(*switching, "taa history"), 6 * plane);
+}
+
 // FrameStats::memory on the CPU: "frames" holds the imported buffers of this and the previous
 // frame, "planes" the rest. Input gaining the Direct / Indirect split adds exactly two imported
 // RGB buffers per frame kept (12 planes) and one stream's history (15 planes: demodulated

@@ -32,6 +32,10 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
 
  protected:
   std::vector<Buffer> extraBuffers() const override { return svgf::extraBuffers(settings_); }
+  // Gersthofer's categories (his Table 5.4), as on the CPU.
+  std::vector<MemoryUse> methodMemory() const override {
+    return gersthofer_ ? gersthofer_->memory() : std::vector<MemoryUse>{};
+  }
 
   void resizeHistory(int w, int h) override {
     reprojection_.allocate(ctx_, w, h, 8);
@@ -44,7 +48,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     sum_.allocate(ctx_, w, h, 3);
     display_ = {};
     remodulated_.allocate(ctx_, w, h, 3);
-    taa_.resize(ctx_, w, h);
+    taa_.resize(w, h);
     reflections_.resize(ctx_, w, h);
     if (gersthofer_) gersthofer_->resize(ctx_, w, h);
   }

@@ -17,8 +17,9 @@ namespace {
 
 class TnndVulkan final : public vk::VulkanDenoiser<TnndSettings> {
  public:
-  explicit TnndVulkan(vk::Context& ctx)
-      : VulkanDenoiser(ctx), weightsBuffer_(ctx, tnnd::kParameters * sizeof(float), true) {
+  explicit TnndVulkan(vk::Context& ctx) : VulkanDenoiser(ctx) {
+    const vk::MemoryOwnerScope owner(memoryOwner());
+    weightsBuffer_ = vk::DeviceBuffer(ctx, tnnd::kParameters * sizeof(float), true);
     upload(tnnd::loadWeights(""));
   }
   std::vector<Buffer> requiredBuffers() const override { return {Buffer::Color, Buffer::Normal, Buffer::Albedo}; }
