@@ -7,8 +7,9 @@
 // - every value a pass stores (planes, history, outputs) is 0 or at least kTiny in magnitude
 //   (import flushes smaller inputs to 0, passes flush what they store);
 // - an edge-stopping weight below 2^kMinWeightExp2 is exactly 0 (the polynomial exp clamps its
-//   exponent), so a weight times a kernel coefficient is 0 or >= 2^-32, its square >= 2^-64, and
-//   their products with stored values stay normal (>= 2^-124);
+//   exponent; the a-trous filter cuts a tap's weight with its kernel coefficient, h w, as a
+//   whole), so a weight times a kernel coefficient is 0 or >= 2^-32 (>= 2^-24 in the a-trous
+//   filter), its square >= 2^-64, and their products with stored values stay normal (>= 2^-124);
 // - a square of a stored value is taken as squareOrZero (0 below sqrt(kTiny)), so moments and
 //   variances also obey the first rule.
 //

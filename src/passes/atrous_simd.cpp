@@ -25,29 +25,34 @@ namespace {
 // a degree-4 polynomial fitted to it (relative minimax, Remez exchange in double precision) and
 // evaluated in Horner's form (four fused multiply-adds; relative error <= 2.7e-6 in float, the
 // Taylor degree-5 form before had 5e-6 and cost six operations; SSE2, without FMA, uses
-// Estrin's form, whose chain is shorter). On AVX-512, g = v - floor(v)
-// in [0, 1) comes from one vreduceps and a zero-masked vscalefps applies 2^floor(v) and the
-// cut in one instruction (n is never formed); the other paths take n = round(v), |g| <= 1/2,
-// from the 1.5 * 2^23 rounding trick, whose integer bits also give 2^n. As |v| >= 1/2, g is 0
-// or at least 2^-25 in magnitude, so Horner's products do not underflow either. Where v is below
-// `cut` the result is exactly 0 (v = -inf and NaN too). About 28 vector operations per tap on
-// AVX-512, ~34 on AVX2; the rest of the level's time is memory stalls (the prefetch in
-// atrousRowsT; docs/performance.md, "Session 14").
+// Estrin's form, whose chain is shorter). As |v| >= 1/2, g is 0 or at least 2^-25 in magnitude,
+// so Horner's products do not underflow either.
+//
+// The weight h w it returns is exactly 0 where it would be below 2^kMinWeightExp2 (v below
+// kExp2Cut; v = -inf and NaN too), else at least that: normal, and so are its products with
+// stored values (core/flush.h). On AVX-512, g = v - floor(v) in [0, 1) comes from one vreduceps
+// and a zero-masked vscalefps applies 2^floor(v) and the cut in one instruction (n is never
+// formed). The other paths clamp v at kExp2Low and take n = round(v), |g| <= 1/2, from the
+// 1.5 * 2^23 rounding trick, whose integer bits give 2^n as an exponent field offset by
+// kExp2Bias: n + kExp2Bias >= 0, and its lowest value, where v is below the cut, is the field of
+// 0.0, so the cut needs no compare (the polynomial's coefficients carry 2^(127 - kExp2Bias) to
+// make up for the offset). About 28 vector operations per tap on AVX-512, ~32 on AVX2.
 constexpr float kLog2e = 1.44269504088896341f, kLn2 = 0.693147180559945f;
 /// v's starting value for a tap of kernel weight h: the -1/2 shift plus log2 h.
 inline float exp2Start(float h) { return -0.5f + std::log2(h); }
-/// Where v falls below it, 2^(v + 1/2) is cut to 0: the weight without h is then below
-/// 2^kMinWeightExp2 (the scalar weights' bound, atrous.h).
-inline float exp2Cut(float h) { return float(kMinWeightExp2) - 0.5f + std::log2(h); }
-// exp2Shifted of N independent arguments at once, stage by stage: each stage's N operations
+/// Where v falls below it, 2^(v + 1/2) is cut to 0: h w below 2^kMinWeightExp2.
+constexpr float kExp2Cut = float(kMinWeightExp2) - 0.5f;
+/// The round-to-integer paths: v clamped here rounds to n = kMinWeightExp2 - 1, whose exponent
+/// field n + kExp2Bias is 0.
+constexpr int kExp2Bias = 1 - kMinWeightExp2;
+constexpr float kExp2Low = float(kMinWeightExp2 - 1);
+// 2^(v + 1/2) of N independent arguments at once, stage by stage: each stage's N operations
 // are independent and stand next to each other in the instruction stream (a tap's chain from
 // its loads to its weight is ~20 dependent operations). Together with computing a pixel's
 // weights before its sums (atrousRowsT) this took the AVX2 level from ~40 to ~35 cycles per
-// tap on Zen 2 ("Session 8, speed" in docs/performance.md). `cut` and `low` (= cut - 1, the
-// clamp; precomputed, so no scalar subtraction and broadcast per tap) per argument.
-template <int N> inline void exp2ShiftedN(vf (&v)[N], const float* cut, const float* low) {
+// tap on Zen 2 ("Session 8, speed" in docs/performance.md).
+template <int N> inline void exp2ShiftedN(vf (&v)[N]) {
 #ifdef RTD_SIMD_AVX512
-  (void)low;
   // 2^(g + 1/2) on [0, 1).
   constexpr float c0 = 1.41421723f, c1 = 0.980055392f, c2 = 0.341451615f, c3 = 0.0735553131f, c4 = 0.0191402044f;
   vf g[N], p[N];
@@ -57,16 +62,17 @@ template <int N> inline void exp2ShiftedN(vf (&v)[N], const float* cut, const fl
   for (int j = 0; j < N; ++j) p[j] = c1 + g[j] * p[j];
   for (int j = 0; j < N; ++j) p[j] = c0 + g[j] * p[j];
   for (int j = 0; j < N; ++j)
-    v[j] = _mm512_maskz_scalef_ps(_mm512_cmp_ps_mask(v[j], splat(cut[j]), _CMP_GE_OQ), p[j], v[j]);
+    v[j] = _mm512_maskz_scalef_ps(_mm512_cmp_ps_mask(v[j], splat(kExp2Cut), _CMP_GE_OQ), p[j], v[j]);
 #else
-  // 2^(g + 1/2) on [-1/2, 1/2].
-  constexpr float c0 = 1.41421247f, c1 = 0.980222285f, c2 = 0.339761198f, c3 = 0.0790797994f, c4 = 0.0135341678f;
+  // 2^(g + 1/2) on [-1/2, 1/2], times 2^(127 - kExp2Bias) (exact: a power of two).
+  constexpr float k = 0x1p102f;
+  static_assert(127 - kExp2Bias == 102, "k is 2^(127 - kExp2Bias)");
+  constexpr float c0 = 1.41421247f * k, c1 = 0.980222285f * k, c2 = 0.339761198f * k, c3 = 0.0790797994f * k,
+                  c4 = 0.0135341678f * k;
   constexpr float kMagic = 12582912.0f;  // 1.5 * 2^23: v + kMagic rounds v to an integer
-  vi keep[N];
   vf t[N], g[N], p[N];
-  for (int j = 0; j < N; ++j) v[j] = vmax(v[j], splat(low[j]));  // NaN: the bound
+  for (int j = 0; j < N; ++j) v[j] = vmax(v[j], splat(kExp2Low));  // NaN: the bound
   for (int j = 0; j < N; ++j) t[j] = v[j] + kMagic;
-  for (int j = 0; j < N; ++j) keep[j] = v[j] >= cut[j];
   for (int j = 0; j < N; ++j) g[j] = v[j] - (t[j] - kMagic);
 #ifdef RTD_SIMD_AVX2
   for (int j = 0; j < N; ++j) p[j] = c3 + g[j] * c4;
@@ -80,15 +86,10 @@ template <int N> inline void exp2ShiftedN(vf (&v)[N], const float* cut, const fl
     p[j] = (c0 + g[j] * c1) + g2 * ((c2 + g[j] * c3) + g2 * c4);
   }
 #endif
-  // The low bits of t hold n + 2^22 (t's exponent is that of kMagic): 2^n's exponent bits.
-  for (int j = 0; j < N; ++j) v[j] = p[j] * asFloat(((asInt(t[j]) + (127 - int(0x4b400000))) << 23) & keep[j]);
+  // The low bits of t hold n + 2^22 (t's exponent is that of kMagic): n + kExp2Bias, shifted
+  // into place, is the exponent field of 2^(n - 127 + kExp2Bias).
+  for (int j = 0; j < N; ++j) v[j] = p[j] * asFloat((asInt(t[j]) + (kExp2Bias - int(0x4b400000))) << 23);
 #endif
-}
-inline vf exp2Shifted(vf v, float cut = exp2Cut(1.0f)) {
-  vf a[1] = {v};
-  const float low = cut - 1.0f;
-  exp2ShiftedN<1>(a, &cut, &low);
-  return a[0];
 }
 
 // d^e by repeated squaring; kSquarings >= 0: e = 2^kSquarings, unrolled (sigma_n = 128 is
@@ -168,15 +169,10 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const std::vector<Plane>* albedo = lv.remodulateAlbedo;
   // A key difference (>= 1) lowers a tap's exponent far below every cut: its weight is 0.
   constexpr float kKeyPenalty = 1e4f;
-  // Each tap's starting exponent and cut (exp2Shifted), and its bound on h w_n w_z w_l.
-  float start[32], cut[32], cutLow[32], minWeight[32];
+  // Each tap's starting exponent (exp2ShiftedN).
+  float start[32];
   assert(tapCount == 24 || tapCount == 8);
-  for (int k = 0; k < tapCount; ++k) {
-    start[k] = exp2Start(taps[k].h);
-    cut[k] = exp2Cut(taps[k].h);
-    cutLow[k] = cut[k] - 1.0f;
-    minWeight[k] = taps[k].h * kMinWeight;
-  }
+  for (int k = 0; k < tapCount; ++k) start[k] = exp2Start(taps[k].h);
   // The normal series' coefficients and the depth denominator in log2 units: the reciprocal
   // of ln 2 (sigma_z |grad z . o| + eps) is log2(e) / (...).
   const float cn1 = sigmaN * kLog2e, cn2 = 0.5f * sigmaN * kLog2e, cn3 = sigmaN / 3.0f * kLog2e;
@@ -227,7 +223,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         vf v[2], wt[2];
         for (int j = 0; j < 2; ++j) q[j] = c + taps[kk[j]].offset;
         for (int j = 0; j < 2; ++j)
-          v[j] = vfnmadd(vabs(zc - load(pz + q[j])), depthScale, splat(start[kk[j]]));  // fused: exp2Shifted
+          v[j] = vfnmadd(vabs(zc - load(pz + q[j])), depthScale, splat(start[kk[j]]));  // fused: exp2ShiftedN
         for (int j = 0; j < 2; ++j) v[j] = vfnmadd(vabs(lc - load(pl + q[j])), inv, v[j]);
         if constexpr (kReflection)
           if (pfall)
@@ -237,7 +233,6 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         if constexpr (kReflection)
           if (pkey)
             for (int j = 0; j < 2; ++j) v[j] = vfnmadd(vabs(keyc - load(pkey + q[j])), splat(kKeyPenalty), v[j]);
-        const float cutj[2] = {cut[ka], cut[kb]}, lowj[2] = {cutLow[ka], cutLow[kb]};
         if constexpr (kLogNormal) {
           // w_n = d^sigma_n = exp(sigma_n ln d), -ln d = x + x^2/2 + x^3/3 + ..., x = 1 - d: the
           // series is exact to 1e-5 relative where w_n matters (d > 0.9 for sigma_n = 64) and
@@ -251,16 +246,16 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
           for (int j = 0; j < 2; ++j) s[j] = cn2 + x[j] * cn3;
           for (int j = 0; j < 2; ++j) s[j] = cn1 + x[j] * s[j];
           for (int j = 0; j < 2; ++j) v[j] = vfnmadd(x[j], s[j], v[j]);
-          exp2ShiftedN<2>(v, cutj, lowj);
+          exp2ShiftedN<2>(v);
           for (int j = 0; j < 2; ++j) wt[j] = v[j];
         } else {
           // d below 2^(kMinWeightExp2 / e) gives w_n < 2^kMinWeightExp2: 0, so the powers
-          // stay normal; the product w_n w_z w_l is cut at the same bound.
-          exp2ShiftedN<2>(v, cutj, lowj);
+          // stay normal; the product h w_n w_z w_l is cut at the same bound.
+          exp2ShiftedN<2>(v);
           for (int j = 0; j < 2; ++j) {
             const vf d = nx * load(pnx + q[j]) + ny * load(pny + q[j]) + nz * load(pnz + q[j]);
             const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * v[j];
-            wt[j] = wn >= minWeight[kk[j]] ? wn : splat(0.0f);
+            wt[j] = wn >= kMinWeight ? wn : splat(0.0f);
           }
         }
         if constexpr (kMasked)
@@ -307,7 +302,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       }
       vf rcp;
       if constexpr (kMasked) {
-        // Any weight that is not 0 is >= 2^-32 (core/flush.h).
+        // Any weight that is not 0 is >= 2^-24 (core/flush.h).
         const vi any = sw > 0.0f;
         const vf safe = any ? sw : splat(1.0f);
         rcp = any ? 1.0f / safe : splat(0.0f);
@@ -399,7 +394,6 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
         offsets[2 * i] = q[0];
         offsets[2 * i + 1] = q[1];
         for (int j = 0; j < 2; ++j) v[j] = vfnmadd(vabs(zc - load(pz + q[j])), depthScale, splat(-0.5f));
-        const float cutj[2] = {exp2Cut(1.0f), exp2Cut(1.0f)}, lowj[2] = {exp2Cut(1.0f) - 1.0f, exp2Cut(1.0f) - 1.0f};
         if constexpr (kLogNormal) {
           vf xx[2], sr[2];
           for (int j = 0; j < 2; ++j) xx[j] = vfnmadd(nx, load(pnx + q[j]), splat(1.0f));
@@ -408,10 +402,10 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
           for (int j = 0; j < 2; ++j) sr[j] = cn2 + xx[j] * cn3;
           for (int j = 0; j < 2; ++j) sr[j] = cn1 + xx[j] * sr[j];
           for (int j = 0; j < 2; ++j) v[j] = vfnmadd(xx[j], sr[j], v[j]);
-          exp2ShiftedN<2>(v, cutj, lowj);
+          exp2ShiftedN<2>(v);
           for (int j = 0; j < 2; ++j) wt[j] = v[j];
         } else {
-          exp2ShiftedN<2>(v, cutj, lowj);
+          exp2ShiftedN<2>(v);
           for (int j = 0; j < 2; ++j) {
             const vf d = nx * load(pnx + q[j]) + ny * load(pny + q[j]) + nz * load(pnz + q[j]);
             const vf wn = ipow<-1>(d >= minCosine ? d : splat(0.0f), e) * v[j];

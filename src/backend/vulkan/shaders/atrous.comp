@@ -211,7 +211,7 @@ void main() {
 #else
       const float expo = abs(zc - zq) / denomZ + abs(lc - lq) * inv + fall * float(dx * dx + dy * dy);
 #endif
-      const float wt = kernel1D(dx) * kernel1D(dy) * cutWeight(wn * exp(-expo));
+      const float wt = cutWeight(kernel1D(dx) * kernel1D(dy) * wn * exp(-expo));  // h w, cut as a whole
       sw += wt;
       sc += wt * cq;
       if (propagate) sv += wt * wt * img[4u * plane + q];

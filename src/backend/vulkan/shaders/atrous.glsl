@@ -2,9 +2,9 @@
 // variance estimate and the a-trous levels. Twins of depthWeight/normalWeight in
 // src/passes/atrous.h.
 
-// Edge-stopping weights w_z w_n w_l below 2^-24 count as exactly 0, as on the CPU
-// (src/core/flush.h: the CPU's arithmetic never produces subnormals; the bound is shared so both
-// backends reject the same taps).
+// Weights below 2^-24 count as exactly 0, as on the CPU: an a-trous tap's h w_z w_n w_l, the
+// variance estimate's w_z w_n (src/core/flush.h: the CPU's arithmetic never produces
+// subnormals; the bound is shared so both backends reject the same taps).
 const float kMinWeight = 5.9604644775390625e-8;  // 2^-24
 float cutWeight(float w) { return w >= kMinWeight ? w : 0.0; }
 
