@@ -16,6 +16,7 @@
 #include "rtd/rtd.h"
 #include "support/cpu_paths.h"
 #include "support/planes_kept.h"
+#include "support/runs_as_fresh.h"
 
 namespace rtd {
 namespace {
@@ -860,17 +861,13 @@ TEST(VoorhuisParts, SwitchingThePartsOffLeavesNoneOfTheirStateBehind) {
   auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto switched = device->createDenoiser("svgf");
   switched->set("variant", "voorhuis");
-  Image a(16, 8, 3), b(16, 8, 3);
+  Image a(16, 8, 3);
   for (int i = 0; i < 3; ++i) switched->denoise(f.inputs(), a.view());
   switched->set("variant", "voorhuisBase");
   switched->reset();
   auto fresh = device->createDenoiser("svgf");
   fresh->set("variant", "voorhuisBase");
-  for (int i = 0; i < 3; ++i) {
-    switched->denoise(f.inputs(), a.view());
-    fresh->denoise(f.inputs(), b.view());
-    ASSERT_EQ(a.pixels, b.pixels) << "frame " << i << " after the switch";
-  }
+  test::expectRunsAsFresh(*switched, *fresh, {f, f, f});
 }
 
 // The parts' per-frame planes exist only once their part has run (Reflections::resize): plain
@@ -885,18 +882,14 @@ TEST(VoorhuisParts, PlanesOfThePartsAreKeptOnlyOnceThePartsRun) {
                                     "clip prefilter"};
   auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto switched = device->createDenoiser("svgf");
-  Image a(16, 8, 3), b(16, 8, 3);
+  Image a(16, 8, 3);
   for (int i = 0; i < 3; ++i) switched->denoise(f.inputs(), a.view());
   for (std::string_view p : parts) EXPECT_EQ(test::floatsKept(*switched, p), 0u) << p << " kept by plain SVGF";
   switched->set("variant", "voorhuis");
   switched->reset();
   auto fresh = device->createDenoiser("svgf");
   fresh->set("variant", "voorhuis");
-  for (int i = 0; i < 3; ++i) {
-    switched->denoise(f.inputs(), a.view());
-    fresh->denoise(f.inputs(), b.view());
-    ASSERT_EQ(a.pixels, b.pixels) << "frame " << i << " after the switch";
-  }
+  test::expectRunsAsFresh(*switched, *fresh, {f, f, f});
   // The parts that ran now hold their planes at the frame's size.
   EXPECT_EQ(test::floatsKept(*switched, "virtual depth"), 16u * 8u);
   EXPECT_EQ(test::floatsKept(*switched, "reflected normal"), 3u * 16u * 8u);

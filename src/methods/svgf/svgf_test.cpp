@@ -12,6 +12,7 @@
 #include "rtd/rtd.h"
 #include "support/cpu_paths.h"
 #include "support/planes_kept.h"
+#include "support/runs_as_fresh.h"
 #include "synthetic/synthetic.h"
 
 namespace rtd {
@@ -824,7 +825,7 @@ TEST(SvgfEndToEnd, AStreamsHistoryIsAllocatedWhenTheInputFirstHasIt) {
   };
   auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto gaining = device->createDenoiser("svgf");
-  Image a(scene.width, scene.height, 3), b(scene.width, scene.height, 3);
+  Image a(scene.width, scene.height, 3);
   for (int i = 0; i < 3; ++i) gaining->denoise(frame(i, false).inputs(), a.view());
   EXPECT_EQ(test::floatsKept(*gaining, "demodulated"), 3 * plane);
   EXPECT_EQ(test::floatsKept(*gaining, "history length"), 2 * plane);  // this frame's and the previous
@@ -832,12 +833,7 @@ TEST(SvgfEndToEnd, AStreamsHistoryIsAllocatedWhenTheInputFirstHasIt) {
   EXPECT_EQ(test::floatsKept(*gaining, "diffuse lobe median"), 0u);
   gaining->reset();
   auto fresh = device->createDenoiser("svgf");
-  for (int i = 3; i < 6; ++i) {
-    const Frame f = frame(i, true);
-    gaining->denoise(f.inputs(), a.view());
-    fresh->denoise(f.inputs(), b.view());
-    ASSERT_EQ(a.pixels, b.pixels) << "frame " << i;
-  }
+  test::expectRunsAsFresh(*gaining, *fresh, {frame(3, true), frame(4, true), frame(5, true)});
   EXPECT_EQ(test::floatsKept(*gaining, "demodulated"), 6 * plane);
   // The median's planes once it runs (fireflyMedian, the voorhuis preset's).
   gaining->set("fireflyMedian", "true");
@@ -854,17 +850,13 @@ TEST(SvgfEndToEnd, TaaHistoryIsAllocatedWhenTaaFirstRuns) {
   auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto switching = device->createDenoiser("svgf"), fresh = device->createDenoiser("svgf");
   switching->set("taa", "false");
-  Image a(scene.width, scene.height, 3), b(scene.width, scene.height, 3);
+  Image a(scene.width, scene.height, 3);
   for (int i = 0; i < 2; ++i) switching->denoise(synthetic::makeFrame(scene, i).inputs(), a.view());
   EXPECT_EQ(test::floatsKept(*switching, "taa history"), 0u);
   switching->set("taa", "true");
   switching->reset();
-  for (int i = 2; i < 5; ++i) {
-    const Frame f = synthetic::makeFrame(scene, i);
-    switching->denoise(f.inputs(), a.view());
-    fresh->denoise(f.inputs(), b.view());
-    ASSERT_EQ(a.pixels, b.pixels) << "frame " << i;
-  }
+  test::expectRunsAsFresh(*switching, *fresh,
+                          {synthetic::makeFrame(scene, 2), synthetic::makeFrame(scene, 3), synthetic::makeFrame(scene, 4)});
   EXPECT_EQ(test::floatsKept(*switching, "taa history"), 6 * plane);
 }
 
@@ -905,7 +897,7 @@ TEST(SvgfFilter, PlanesOfOptionalSettingsAreAllocatedWhenTheyFirstRun) {
   const auto scene = svgfScene();
   auto device = Device::create({.backend = Backend::Cpu, .threads = 1});
   auto switched = device->createDenoiser("svgf"), fresh = device->createDenoiser("svgf");
-  Image a(scene.width, scene.height, 3), b(scene.width, scene.height, 3);
+  Image a(scene.width, scene.height, 3);
   for (int i = 0; i < 3; ++i) switched->denoise(synthetic::makeFrame(scene, i).inputs(), a.view());
   for (const char* plane : {"prefiltered variance", "sigma scale", "valid"})
     EXPECT_EQ(test::floatsKept(*switched, plane), 0u) << plane << " kept by plain SVGF";
@@ -914,12 +906,8 @@ TEST(SvgfFilter, PlanesOfOptionalSettingsAreAllocatedWhenTheyFirstRun) {
     d->set("shortHistoryBandwidth", "true");
   }
   switched->reset();
-  for (int i = 3; i < 6; ++i) {
-    const Frame f = synthetic::makeFrame(scene, i);
-    switched->denoise(f.inputs(), a.view());
-    fresh->denoise(f.inputs(), b.view());
-    ASSERT_EQ(a.pixels, b.pixels) << "frame " << i;
-  }
+  test::expectRunsAsFresh(*switched, *fresh,
+                          {synthetic::makeFrame(scene, 3), synthetic::makeFrame(scene, 4), synthetic::makeFrame(scene, 5)});
   EXPECT_GT(test::floatsKept(*switched, "prefiltered variance"), size_t(scene.width) * scene.height);  // padded
   EXPECT_GT(test::floatsKept(*switched, "sigma scale"), size_t(scene.width) * scene.height);
 }
