@@ -316,7 +316,8 @@ std::vector<MemoryUse> VulkanDenoiserBase::memoryUse() const {
     frames += f.camera.allocatedBytes();
   }
   std::vector<MemoryUse> out{{"frames", frames}};
-  uint64_t rest = memoryOwner_->deviceLocal - frames;
+  const uint64_t deviceLocal = memoryOwner_->deviceLocal;
+  uint64_t rest = deviceLocal - std::min(deviceLocal, frames);
   for (const MemoryUse& m : methodMemory()) {
     out.push_back(m);
     rest -= std::min(rest, m.bytes);
