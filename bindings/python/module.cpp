@@ -247,6 +247,12 @@ py::dict statsOf(const rtd::FrameStats& s) {
   d["total_ms"] = s.totalMilliseconds;
   d["sanitized_values"] = s.sanitizedValues;
   d["pixels"] = s.pixels;
+  py::dict memory;
+  for (const auto& m : s.memory) memory[py::str(m.category)] = m.bytes;
+  d["memory"] = memory;
+  py::list notes;
+  for (const auto& n : s.notes) notes.append(n);
+  d["notes"] = notes;
   return d;
 }
 
@@ -372,7 +378,9 @@ PYBIND11_MODULE(_core, m) {
            "        camera_cut=False, conventions=None) -> H x W x 3 float32 array (or `output`, filled in place)")
       .def("reset", [](PyDenoiser& d) { d.get().reset(); }, "Forgets the history (a camera cut).")
       .def_property_readonly("stats", [](PyDenoiser& d) { return statsOf(d.get().stats()); },
-                             "The last frame: passes (name -> ms), total_ms, sanitized_values, pixels.")
+                             "The last frame: passes (name -> ms), total_ms, sanitized_values, pixels, memory (category\n"
+                             "-> bytes held after it: frames, planes, staging on Vulkan; rtd::MemoryUse), notes (parts\n"
+                             "asked for that did not run, and why).")
       .def_property_readonly("timings", [](PyDenoiser& d) {
         py::dict passes;
         for (const auto& p : d.get().stats().passes) passes[py::str(p.name)] = p.milliseconds;

@@ -142,6 +142,18 @@ def test_timings_and_stats():
     assert all(v >= 0 for v in t.values())
     s = den.stats
     assert s["sanitized_values"] == 1 and s["pixels"] == H * W and s["total_ms"] > 0
+    assert s["notes"] == []
+
+
+def test_stats_report_the_memory_held():
+    # Colour, albedo, normal, depth and motion: 12 float channels per frame kept, and after the
+    # second frame the previous frame's too.
+    den = rtdenoise.Device().create_denoiser("svgf")
+    den.denoise(**frame(0))
+    den.denoise(**frame(1))
+    m = den.stats["memory"]
+    assert m["frames"] == 2 * 12 * H * W * 4
+    assert m["planes"] > 0 and set(m) == {"frames", "planes"}
 
 
 def test_reset_starts_the_stream_anew():
