@@ -199,6 +199,17 @@ double rtdGetDenoiseMilliseconds(RTDDenoiser denoiser);
 /** NaN, infinite or negative radiance values the last frame had (replaced by 0). */
 uint64_t rtdGetSanitizedValueCount(RTDDenoiser denoiser);
 
+/* ---- Memory held after the last rtdDenoise ---------------------------------------------- */
+
+/** Categories of the memory the denoiser holds ("frames": the current and previous frame's
+ *  imported buffers; "planes": the rest; "staging" on Vulkan: host-visible buffers;
+ *  Gersthofer's "history" and "intermediate"). They add up to all it holds (rtd::MemoryUse). */
+int rtdGetMemoryCount(RTDDenoiser denoiser);
+/** Name of category `index`; NULL (and RTD_ERROR_INVALID_ARGUMENT) out of range. */
+const char* rtdGetMemoryCategory(RTDDenoiser denoiser, int index);
+/** Bytes of category `index`; 0 (and RTD_ERROR_INVALID_ARGUMENT) out of range. */
+uint64_t rtdGetMemoryBytes(RTDDenoiser denoiser, int index);
+
 #ifdef __cplusplus
 }
 #endif

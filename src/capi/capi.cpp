@@ -180,6 +180,14 @@ const rtd::PassTiming& passAt(RTDDenoiser denoiser, int index) {
   return passes[size_t(index)];
 }
 
+const rtd::MemoryUse& memoryAt(RTDDenoiser denoiser, int index) {
+  requireDenoiser(denoiser);
+  const auto& memory = denoiser->denoiser->stats().memory;
+  if (index < 0 || index >= int(memory.size()))
+    fail(RTD_ERROR_INVALID_ARGUMENT, "memory category index " + std::to_string(index) + " out of range");
+  return memory[size_t(index)];
+}
+
 std::string formatNumber(double v) {
   std::ostringstream s;
   s.precision(9);
@@ -523,6 +531,27 @@ uint64_t rtdGetSanitizedValueCount(RTDDenoiser denoiser) {
     requireDenoiser(denoiser);
     out = denoiser->denoiser->stats().sanitizedValues;
   });
+  return out;
+}
+
+int rtdGetMemoryCount(RTDDenoiser denoiser) {
+  int n = 0;
+  guarded(deviceOf(denoiser), [&] {
+    requireDenoiser(denoiser);
+    n = int(denoiser->denoiser->stats().memory.size());
+  });
+  return n;
+}
+
+const char* rtdGetMemoryCategory(RTDDenoiser denoiser, int index) {
+  const char* out = nullptr;
+  guarded(deviceOf(denoiser), [&] { out = memoryAt(denoiser, index).category.c_str(); });
+  return out;
+}
+
+uint64_t rtdGetMemoryBytes(RTDDenoiser denoiser, int index) {
+  uint64_t out = 0;
+  guarded(deviceOf(denoiser), [&] { out = memoryAt(denoiser, index).bytes; });
   return out;
 }
 

@@ -330,6 +330,24 @@ static void testFrames(RTDDevice device, Reported* r) {
     EXPECT_REPORTED(device, r, RTD_ERROR_INVALID_ARGUMENT, "pass index");
   }
 
+  /* Memory held: this frame's and the previous frame's colour, albedo, normal, depth and motion
+     (12 float channels each), and the rest. */
+  {
+    const int n = rtdGetMemoryCount(den);
+    uint64_t frames = 0, planes = 0;
+    CHECK(n == 2);
+    for (k = 0; k < n; ++k) {
+      if (strcmp(rtdGetMemoryCategory(den, k), "frames") == 0) frames = rtdGetMemoryBytes(den, k);
+      if (strcmp(rtdGetMemoryCategory(den, k), "planes") == 0) planes = rtdGetMemoryBytes(den, k);
+    }
+    CHECK(frames == 2u * 12u * W * H * 4u);
+    CHECK(planes > 0);
+    CHECK(rtdGetMemoryCategory(den, n) == NULL);
+    EXPECT_REPORTED(device, r, RTD_ERROR_INVALID_ARGUMENT, "memory category index");
+    CHECK(rtdGetMemoryBytes(den, -1) == 0);
+    EXPECT_REPORTED(device, r, RTD_ERROR_INVALID_ARGUMENT, "memory category index");
+  }
+
   /* A NaN in the colour is counted and does not reach the output. */
   makeFrame(&f, 5);
   f.color[7] = (float)NAN;
