@@ -57,7 +57,7 @@ struct MemoryUse {
   /// does not tell them apart (float planes on the CPU, where small integer arrays are not
   /// counted; every other device-local buffer on Vulkan); "staging" (Vulkan): host-visible
   /// upload, read-back and counter buffers. The categories of one report add up to all the
-  /// denoiser holds.
+  /// denoiser holds (on the CPU: all its float planes).
   std::string category;
   uint64_t bytes = 0;
 };
