@@ -192,6 +192,55 @@ TEST(VulkanPasses, TemporalAccumulationMatchesCpu) {
   EXPECT_EQ(cpu.historyLength().data[size_t(kHeight / 2) * kWidth + kWidth / 2], 4.0f);
 }
 
+// Without moments (BMFR's phase I, TemporalAccumulator::resize(w, h, false)): four planes per
+// history (colour, length), the colour and lengths as the CPU's.
+TEST(VulkanPasses, TemporalAccumulationWithoutMomentsMatchesCpu) {
+  REQUIRE_CONTEXT();
+  auto frames = syntheticFrames(3);
+  TemporalAccumulator cpu;
+  cpu.resize(kWidth, kHeight, false);
+  vk::GpuTemporalAccumulator gpu;
+  gpu.resize(ctx, kWidth, kHeight, false);
+  const size_t n = size_t(kWidth) * kHeight;
+  EXPECT_EQ(gpu.bytes(), 2 * 4 * 4 * n);
+  EXPECT_EQ(gpu.lengthPlane(), 3);
+  vk::Planes rp, color;
+  rp.allocate(ctx, kWidth, kHeight, 8);
+  vk::GpuFrame prevGpu;
+  FrameData prevCpu;
+  AccumulationOptions options;
+  options.moments = false;
+  for (int k = 0; k < 3; ++k) {
+    FrameData f = toCpu(frames[size_t(k)], true);
+    Reprojection r;
+    reproject(f, k ? &prevCpu : nullptr, {}, r);
+    Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
+    cpu.run(r, c, 0.2f, 0.2f, 255, options);
+    vk::GpuFrame g;
+    toGpu(ctx, f, g);
+    uploadPlanes(ctx, f.planes(Buffer::Color), color);
+    recordAndRun(ctx, [&](vk::Recorder& rec) {
+      vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
+      rec.barrier();
+      gpu.run(rec, rp, color, 0.2f, 0.2f, 255);
+    });
+    const std::vector<float> out = download(ctx, gpu.current());
+    ASSERT_EQ(out.size(), 4 * n);
+    const Plane* want[4] = {&cpu.color()[0], &cpu.color()[1], &cpu.color()[2], &cpu.historyLength()};
+    for (int p = 0; p < 4; ++p) {
+      double maxErr = 0, maxRef = 0;
+      for (size_t i = 0; i < n; ++i) {
+        maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - want[p]->data[i])));
+        maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
+      }
+      EXPECT_LE(maxErr, (p == 3 ? 0.0 : 1e-5) * maxRef) << "frame " << k << " plane " << p;
+    }
+    prevCpu = std::move(f);
+    prevGpu = std::move(g);
+  }
+  EXPECT_EQ(cpu.historyLength().data[size_t(kHeight / 2) * kWidth + kWidth / 2], 3.0f);
+}
+
 // Progressive mode (AccumulationOptions::sampleMask, Dundr Sec. 5): unsampled pixels carry
 // their history over unchanged, or stay missing (length 0) without one; lengths exact.
 TEST(VulkanPasses, TemporalAccumulationWithSampleMaskMatchesCpu) {

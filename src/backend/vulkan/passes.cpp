@@ -66,8 +66,9 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
                pc, cur.width, cur.height);
 }
 
-void GpuTemporalAccumulator::resize(Context& ctx, int w, int h) {
-  for (auto& p : history_) p.allocate(ctx, w, h, 6);
+void GpuTemporalAccumulator::resize(Context& ctx, int w, int h, bool moments) {
+  moments_ = moments;
+  for (auto& p : history_) p.allocate(ctx, w, h, moments ? 6 : 4);
   cur_ = 0;
 }
 
@@ -78,7 +79,7 @@ struct AccumulationPC {
   uint32_t luminanceMode, cumulativeMoments;
   uint32_t gradientWidth = 0, gradientStride = 1;
   float historyExponent = 0;
-  uint32_t options = 0;  // 1: per-pixel alpha (binding 5); 2: clip box (binding 6); 4: fixed weights (Gersthofer)
+  uint32_t options = 0;  // 1: per-pixel alpha (binding 5); 2: clip box (binding 6); 4: fixed weights (Gersthofer); 8: no moments
 };
 }  // namespace
 
@@ -89,7 +90,7 @@ void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& 
   const Planes& prev = advance(rec);
   AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
                     luminanceMode, cumulativeMoments};
-  pc.options = (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u) | (cumulativeColor ? 0u : 4u);
+  pc.options = (alphaPlane ? 1u : 0u) | (clipBox ? 2u : 0u) | (cumulativeColor ? 0u : 4u) | (moments_ ? 0u : 8u);
   const Binding dummy(rec.context().dummy());
   const Binding a = alphaPlane ? Binding(*alphaPlane) : dummy, c = clipBox ? Binding(*clipBox) : dummy;
   rec.dispatch(sampleMask ? "temporal_accumulation_masked" : "temporal_accumulation",
@@ -100,6 +101,7 @@ void GpuTemporalAccumulator::run(Recorder& rec, const Planes& rp, const Planes& 
 void GpuTemporalAccumulator::runAdaptive(Recorder& rec, const Planes& rp, const Planes& color, float alpha,
                                          float momentsAlpha, int maxHistoryLength, uint32_t luminanceMode,
                                          const Planes& gradient, int stride, float historyExponent) {
+  if (!moments_) throw Error("GpuTemporalAccumulator: runAdaptive() needs the moment planes (resize with moments)");
   const Planes& prev = advance(rec);
   AccumulationPC pc{uint32_t(color.width), uint32_t(color.height), alpha, momentsAlpha, float(maxHistoryLength),
                     luminanceMode, 1, uint32_t(gradient.width), uint32_t(stride), historyExponent};

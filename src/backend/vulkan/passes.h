@@ -40,7 +40,11 @@ void reproject(Recorder& rec, const GpuFrame& cur, const GpuFrame* prev, const R
 /// moment 1, moment 2, length), like TemporalAccumulator.
 class GpuTemporalAccumulator {
  public:
-  void resize(Context& ctx, int w, int h);
+  /// `moments` false: 4 planes each (R, G, B, length; BMFR), as TemporalAccumulator::resize(w,
+  /// h, false); runAdaptive() then throws.
+  void resize(Context& ctx, int w, int h, bool moments = true);
+  /// The plane of current() that holds the history length.
+  int lengthPlane() const { return moments_ ? 5 : 3; }
   /// Zeroes the history (lengths 0) before the next run, as TemporalAccumulator::reset does:
   /// needed when the reprojection still has a previous frame (a stream switched buffers).
   void reset() { clear_ = true; }
@@ -73,6 +77,7 @@ class GpuTemporalAccumulator {
   Planes history_[2];
   int cur_ = 0;
   bool clear_ = false;
+  bool moments_ = true;
 };
 
 /// Parameters of one a-trous level (twin of AtrousLevel, src/passes/atrous.h).

@@ -44,7 +44,7 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
   void resizeHistory(int w, int h) override {
     demodulated_.allocate(ctx_, w, h, 3);
     reprojection_.allocate(ctx_, w, h, 8);
-    noisy_.resize(ctx_, w, h);
+    noisy_.resize(ctx_, w, h, false);  // no moments: R, G, B, length
     for (auto& f : filtered_) f.allocate(ctx_, w, h, 3);
     fitted_.allocate(ctx_, w, h, 3);
     remodulated_.allocate(ctx_, w, h, 3);
@@ -173,7 +173,7 @@ class BmfrVulkan final : public vk::VulkanDenoiser<BmfrSettings> {
   }
 
   vk::Planes demodulated_, reprojection_, fitted_, remodulated_;
-  vk::GpuTemporalAccumulator noisy_;  // phase I history: colour (planes 0-2) and sample count (plane 5)
+  vk::GpuTemporalAccumulator noisy_;  // phase I history: colour (planes 0-2) and sample count (plane 3)
   vk::Planes filtered_[2];            // phase III history
   int cur_ = 0;
   int frameIndex_ = 0;

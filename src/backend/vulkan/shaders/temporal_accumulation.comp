@@ -1,7 +1,8 @@
 #version 450
 // Pass "accumulate": history length, colour and the luminance moments (Schied et al. 2017
 // Sec. 4.1, 4.2) with the new-sample weight w = max(1/n, alpha) (Koskela et al. 2019 Sec. 4.1).
-// History and output hold 6 planes: colour R, G, B, moment 1, moment 2, history length.
+// History and output hold 6 planes: colour R, G, B, moment 1, moment 2, history length; with
+// option 8 (no moments, BMFR: TemporalAccumulator::resize(w, h, false)) 4: R, G, B, length.
 // Port of TemporalAccumulator::run (src/passes/temporal_accumulation.cpp).
 // Variant temporal_accumulation_masked (RTD_SAMPLE_MASK, AccumulationOptions::sampleMask):
 // progressive rendering below 1 spp (Dundr Sec. 5) with the frame's sample mask at binding 4.
@@ -40,7 +41,7 @@ layout(push_constant) uniform PC {
   uint cumulativeMoments;  // 1: moments w = max(1/n, alpha); 0: plain EMA (Schied)
   uint gradientWidth, gradientStride;  // temporal_accumulation_gradient: texels per row, pixels per texel
   float historyExponent;
-  uint options;  // 1: per-pixel alpha (binding 5); 2: clip the colour history (binding 6); 4: fixed weights
+  uint options;  // 1: per-pixel alpha (binding 5); 2: clip the colour history (binding 6); 4: fixed weights; 8: no moments
 } pc;
 
 float colourHistory(uint i, uint k, uint w, uint plane) {
@@ -71,6 +72,8 @@ void main() {
   const uint w = pc.width, plane = pc.width * pc.height;
   const uint i = p.y * w + p.x;
   const bool none = rpKind(i) == RP_NONE;
+  const bool moments = (pc.options & 8u) == 0u;
+  const uint lengthPlane = moments ? 5u : 3u;
 
   // BMFR rounds the reprojected length to an integer (8-bit counts); std::round semantics.
   // Disoccluded pixels: n = 1, weight 1. Port of the fused TemporalAccumulator::run.
@@ -78,9 +81,9 @@ void main() {
   if (sampleMask[i] == 0.0) {
     // No sample this frame: the history carries over unchanged (length rounded as below);
     // without history the pixel stays missing (length 0).
-    for (uint k = 0; k < 5; ++k)
+    for (uint k = 0; k < lengthPlane; ++k)
       outp[k * plane + i] = none ? 0.0 : (k < 3u ? colourHistory(i, k, w, plane) : gatherPlane(i, k * plane, w, plane));
-    outp[5u * plane + i] = none ? 0.0 : floor(gatherPlane(i, 5u * plane, w, plane) + 0.5);
+    outp[lengthPlane * plane + i] = none ? 0.0 : floor(gatherPlane(i, lengthPlane * plane, w, plane) + 0.5);
     return;
   }
 #endif
@@ -94,7 +97,7 @@ void main() {
   precise float a = a0 + (1.0 - a0) * g;
   precise float am = am0 + (1.0 - am0) * g;
 #else
-  const float n = none ? 1.0 : min(floor(gatherPlane(i, 5u * plane, w, plane) + 0.5) + 1.0, pc.maxHistoryLength);
+  const float n = none ? 1.0 : min(floor(gatherPlane(i, lengthPlane * plane, w, plane) + 0.5) + 1.0, pc.maxHistoryLength);
   // Fixed weights (options 4, Gersthofer Sec. 3.4.1): alpha wherever there is history.
   const bool fixedWeights = (pc.options & 4u) != 0u;
   const float floorAlpha = (pc.options & 1u) != 0u ? alphaPlane[i] : pc.alpha;
@@ -102,7 +105,7 @@ void main() {
   const float am = fixedWeights ? (n <= 1.0 ? 1.0 : pc.momentsAlpha)
                                 : pc.cumulativeMoments != 0u ? max(1.0 / n, pc.momentsAlpha) : (none ? 1.0 : pc.momentsAlpha);
 #endif
-  outp[5u * plane + i] = n;
+  outp[lengthPlane * plane + i] = n;
 
   const vec3 c = vec3(color[i], color[plane + i], color[2u * plane + i]);
   const float l = momentLuminance(pc.luminanceMode, c);
@@ -111,6 +114,7 @@ void main() {
     precise float v = a * c[k] + (1.0 - a) * hist;
     outp[k * plane + i] = v;
   }
+  if (!moments) return;
   const float h1 = none ? 0.0 : gatherPlane(i, 3u * plane, w, plane);
   const float h2 = none ? 0.0 : gatherPlane(i, 4u * plane, w, plane);
   precise float m1 = am * l + (1.0 - am) * h1;

@@ -6,7 +6,7 @@
 RTD_LOCAL_SIZE
 
 layout(std430, binding = 0) readonly buffer Rp { uint rp[]; };
-layout(std430, binding = 1) readonly buffer Noisy { float noisy[]; };  // phase I: plane 5 is n
+layout(std430, binding = 1) readonly buffer Noisy { float noisy[]; };  // phase I: R, G, B, n (no moment planes)
 layout(std430, binding = 2) readonly buffer Current { float current[]; };
 layout(std430, binding = 3) readonly buffer Hist { float hist[]; };
 layout(std430, binding = 4) writeonly buffer Out { float outp[]; };
@@ -28,7 +28,7 @@ void main() {
     for (uint c = 0; c < 3u; ++c) outp[c * plane + i] = current[c * plane + i];
     return;
   }
-  const float a = max(1.0 / noisy[5u * plane + i], pc.alpha);
+  const float a = max(1.0 / noisy[3u * plane + i], pc.alpha);
   for (uint c = 0; c < 3u; ++c) {
     precise float v = a * current[c * plane + i] + (1.0 - a) * gatherPlane(i, c * plane, w, plane);
     outp[c * plane + i] = v;
