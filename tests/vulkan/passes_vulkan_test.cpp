@@ -141,40 +141,45 @@ TEST(VulkanPasses, ReprojectionMatchesCpuWithFootprintPositionTest) {
   checkReprojection(true, s);
 }
 
-// The GPU accumulator's planes (colour, both moments, history length) against the CPU's:
-// within 1e-5 of the largest value, history lengths exactly.
-void expectMatchesCpu(const std::vector<float>& out, const TemporalAccumulator& cpu, int frame) {
+// The GPU accumulator's planes (colour, both moments, history length; without moments colour
+// and length) against the CPU's: within 1e-5 of the largest value, history lengths exactly.
+void expectMatchesCpu(const std::vector<float>& out, const TemporalAccumulator& cpu, bool moments, int frame) {
   const size_t n = size_t(kWidth) * kHeight;
-  const Plane* want[6] = {&cpu.color()[0], &cpu.color()[1], &cpu.color()[2], &cpu.moment1(), &cpu.moment2(),
-                          &cpu.historyLength()};
-  for (int p = 0; p < 6; ++p) {
+  std::vector<const Plane*> want = {&cpu.color()[0], &cpu.color()[1], &cpu.color()[2]};
+  if (moments) want.insert(want.end(), {&cpu.moment1(), &cpu.moment2()});
+  want.push_back(&cpu.historyLength());
+  ASSERT_EQ(out.size(), want.size() * n);
+  for (size_t p = 0; p < want.size(); ++p) {
     double maxErr = 0, maxRef = 0;
     for (size_t i = 0; i < n; ++i) {
       maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - want[p]->data[i])));
       maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
     }
     EXPECT_LE(maxErr, 1e-5 * maxRef) << "frame " << frame << " plane " << p;
-    if (p == 5) { EXPECT_EQ(maxErr, 0.0) << "frame " << frame << ": history lengths are integers"; }
+    if (p + 1 == want.size()) { EXPECT_EQ(maxErr, 0.0) << "frame " << frame << ": history lengths are integers"; }
   }
 }
 
-TEST(VulkanPasses, TemporalAccumulationMatchesCpu) {
-  REQUIRE_CONTEXT();
-  auto frames = syntheticFrames(4);
+// `count` frames of the synthetic scene through both accumulators, compared after each.
+void accumulateOnBoth(vk::Context& ctx, bool moments, int count) {
+  auto frames = syntheticFrames(count);
   TemporalAccumulator cpu;
-  cpu.resize(kWidth, kHeight);
+  cpu.resize(kWidth, kHeight, moments);
   vk::GpuTemporalAccumulator gpu;
-  gpu.resize(ctx, kWidth, kHeight);
+  gpu.resize(ctx, kWidth, kHeight, moments);
+  EXPECT_EQ(gpu.bytes(), 2 * (moments ? 6 : 4) * 4 * size_t(kWidth) * kHeight);
+  AccumulationOptions options;
+  options.moments = moments;
   vk::Planes rp, color;
   rp.allocate(ctx, kWidth, kHeight, 8);
   vk::GpuFrame prevGpu;
   FrameData prevCpu;
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < count; ++k) {
     FrameData f = toCpu(frames[size_t(k)], true);
     Reprojection r;
     reproject(f, k ? &prevCpu : nullptr, {}, r);
     Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
-    cpu.run(r, c, 0.2f, 0.1f, 255);
+    cpu.run(r, c, 0.2f, 0.1f, 255, options);
 
     vk::GpuFrame g;
     toGpu(ctx, f, g);
@@ -184,61 +189,26 @@ TEST(VulkanPasses, TemporalAccumulationMatchesCpu) {
       rec.barrier();
       gpu.run(rec, rp, color, 0.2f, 0.1f, 255);
     });
-    const std::vector<float> out = download(ctx, gpu.current());
-    expectMatchesCpu(out, cpu, k);
+    expectMatchesCpu(download(ctx, gpu.current()), cpu, moments, k);
     prevCpu = std::move(f);
     prevGpu = std::move(g);
   }
-  EXPECT_EQ(cpu.historyLength().data[size_t(kHeight / 2) * kWidth + kWidth / 2], 4.0f);
+  EXPECT_EQ(cpu.historyLength().data[size_t(kHeight / 2) * kWidth + kWidth / 2], float(count));
+}
+
+TEST(VulkanPasses, TemporalAccumulationMatchesCpu) {
+  REQUIRE_CONTEXT();
+  accumulateOnBoth(ctx, true, 4);
 }
 
 // Without moments (BMFR's phase I, TemporalAccumulator::resize(w, h, false)): four planes per
-// history (colour, length), the colour and lengths as the CPU's.
+// history (colour, length), the length in plane 3 (GpuTemporalAccumulator::lengthPlane).
 TEST(VulkanPasses, TemporalAccumulationWithoutMomentsMatchesCpu) {
   REQUIRE_CONTEXT();
-  auto frames = syntheticFrames(3);
-  TemporalAccumulator cpu;
-  cpu.resize(kWidth, kHeight, false);
+  accumulateOnBoth(ctx, false, 3);
   vk::GpuTemporalAccumulator gpu;
   gpu.resize(ctx, kWidth, kHeight, false);
-  const size_t n = size_t(kWidth) * kHeight;
-  EXPECT_EQ(gpu.bytes(), 2 * 4 * 4 * n);
   EXPECT_EQ(gpu.lengthPlane(), 3);
-  vk::Planes rp, color;
-  rp.allocate(ctx, kWidth, kHeight, 8);
-  vk::GpuFrame prevGpu;
-  FrameData prevCpu;
-  AccumulationOptions options;
-  options.moments = false;
-  for (int k = 0; k < 3; ++k) {
-    FrameData f = toCpu(frames[size_t(k)], true);
-    Reprojection r;
-    reproject(f, k ? &prevCpu : nullptr, {}, r);
-    Plane3 c{f.plane(Buffer::Color, 0), f.plane(Buffer::Color, 1), f.plane(Buffer::Color, 2)};
-    cpu.run(r, c, 0.2f, 0.2f, 255, options);
-    vk::GpuFrame g;
-    toGpu(ctx, f, g);
-    uploadPlanes(ctx, f.planes(Buffer::Color), color);
-    recordAndRun(ctx, [&](vk::Recorder& rec) {
-      vk::reproject(rec, g, k ? &prevGpu : nullptr, {}, rp);
-      rec.barrier();
-      gpu.run(rec, rp, color, 0.2f, 0.2f, 255);
-    });
-    const std::vector<float> out = download(ctx, gpu.current());
-    ASSERT_EQ(out.size(), 4 * n);
-    const Plane* want[4] = {&cpu.color()[0], &cpu.color()[1], &cpu.color()[2], &cpu.historyLength()};
-    for (int p = 0; p < 4; ++p) {
-      double maxErr = 0, maxRef = 0;
-      for (size_t i = 0; i < n; ++i) {
-        maxErr = std::max(maxErr, double(std::abs(out[p * n + i] - want[p]->data[i])));
-        maxRef = std::max(maxRef, double(std::abs(want[p]->data[i])));
-      }
-      EXPECT_LE(maxErr, (p == 3 ? 0.0 : 1e-5) * maxRef) << "frame " << k << " plane " << p;
-    }
-    prevCpu = std::move(f);
-    prevGpu = std::move(g);
-  }
-  EXPECT_EQ(cpu.historyLength().data[size_t(kHeight / 2) * kWidth + kWidth / 2], 3.0f);
 }
 
 // Progressive mode (AccumulationOptions::sampleMask, Dundr Sec. 5): unsampled pixels carry
@@ -279,7 +249,7 @@ TEST(VulkanPasses, TemporalAccumulationWithSampleMaskMatchesCpu) {
       gpu.run(rec, rp, color, 0.2f, 0.1f, 255, 0, true, &mask);
     });
     const std::vector<float> out = download(ctx, gpu.current());
-    expectMatchesCpu(out, cpu, k);
+    expectMatchesCpu(out, cpu, true, k);
     // Independent of the CPU: an unsampled pixel with an exact (integer) reprojection keeps the
     // value of the pixel it came from; one without history stays at length 0.
     for (size_t i = 0; i < n; ++i) {
