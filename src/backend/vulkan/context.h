@@ -94,6 +94,11 @@ struct Planes {
   VkBuffer handle() const { return buffer.handle(); }
   size_t planeSize() const { return size_t(width) * height; }
 };
+/// Allocates p where it is empty, for planes a pass allocates when it first runs (resize
+/// releases them): the twin of allocateOnce in core/plane.h.
+inline void allocateOnce(Planes& p, Context& ctx, int w, int h, int n) {
+  if (p.buffer.empty()) p.allocate(ctx, w, h, n);
+}
 
 /// A compute pipeline for one embedded shader: descriptor set layout with one descriptor per
 /// binding (0..bindings-1; storage buffers, or sampled / storage images where the shader

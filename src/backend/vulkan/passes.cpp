@@ -260,10 +260,9 @@ bool taaSurfaceKeys(Recorder& rec, const GpuFrame& f, const EmitterSettings* emi
 
 const Planes& GpuTaa::run(Recorder& rec, const Planes& rp, const Planes& color, const TaaSettings& s,
                           const Planes* keys) {
-  if (linear_.buffer.empty()) {  // the first run at this size: nothing to read back yet (valid_ is false)
-    for (auto& h : history_) h.allocate(rec.context(), width_, height_, 3);
-    linear_.allocate(rec.context(), width_, height_, 3);
-  }
+  // The first run at this size allocates (valid_ is false: no history is read).
+  for (auto& h : history_) allocateOnce(h, rec.context(), width_, height_, 3);
+  allocateOnce(linear_, rec.context(), width_, height_, 3);
   const int prev = cur_;
   cur_ ^= 1;
   const TaaParams p = TaaParams::of(s);

@@ -90,7 +90,6 @@ class VulkanDenoiserBase : public Denoiser {
   // CPU denoisers keep their arena); null for a Context not owned by a shared_ptr (tests).
   std::shared_ptr<Context> keepAlive_;
   Context& ctx_;
-  std::shared_ptr<MemoryTally> memoryOwner_ = std::make_shared<MemoryTally>();
   int width_ = 0, height_ = 0;
   /// FrameStats::notes of the frame process() recorded (parts that did not run, and why).
   std::vector<std::string> notes_;
@@ -147,6 +146,7 @@ class VulkanDenoiserBase : public Denoiser {
   /// GPU pass times of the last recorded frame into `stats`; false if not available yet.
   bool readTimings(FrameStats& stats, bool wait);
 
+  std::shared_ptr<MemoryTally> memoryOwner_ = std::make_shared<MemoryTally>();  // memoryOwner()
   DescriptorCache descriptors_;
   GpuFrame frames_[2];
   int cur_ = 0;

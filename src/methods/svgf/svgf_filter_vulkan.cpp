@@ -11,10 +11,6 @@ void GpuFilter::resize(vk::Context& ctx, int w, int h) {
   for (auto& v : valid_) v = {};
 }
 
-void GpuFilter::allocateOnce(vk::Context& ctx, vk::Planes& p) {
-  if (p.buffer.empty()) p.allocate(ctx, levels_[0].width, levels_[0].height, 1);
-}
-
 uint64_t GpuFilter::bytes() const {
   uint64_t n = sigmaScale_.buffer.size() + prefilteredVariance_.buffer.size();
   for (const auto& l : levels_) n += l.buffer.size();
@@ -54,7 +50,7 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
                   key ? vk::Binding(*key) : vk::Binding(rec.context().dummy())},
                  pc, width, height);
     if (p.variancePrefilter == SvgfVariancePrefilter::once) {
-      allocateOnce(rec.context(), prefilteredVariance_);
+      vk::allocateOnce(prefilteredVariance_, rec.context(), width, height, 1);
       vk::gaussian3x3(rec, levels_[0], 4, prefilteredVariance_, 0);
       rec.copy(prefilteredVariance_.buffer, levels_[0].buffer, planeBytes, 0, 4 * planeBytes);
     }
@@ -64,7 +60,7 @@ const vk::Planes& GpuFilter::run(vk::Recorder& rec, const vk::Planes& depth, con
   levelSteps(p.levelOrder, n, steps);
   int cur = 0;
   if (mask)
-    for (auto& v : valid_) allocateOnce(rec.context(), v);
+    for (auto& v : valid_) vk::allocateOnce(v, rec.context(), width, height, 1);
   for (int i = 0; i < n; ++i) {
     rec.pass("atrous" + std::to_string(i + 1) + suffix);
     vk::GpuAtrousLevel lv;

@@ -39,8 +39,6 @@ class GpuFilter {
                         const GpuFilterExtras& extras = {});
 
  private:
-  /// p (one plane) at the levels' size, where it is not allocated yet (resize releases it).
-  void allocateOnce(vk::Context& ctx, vk::Planes& p);
   vk::Planes levels_[2], sigmaScale_;
   vk::Planes prefilteredVariance_;  // variancePrefilter = once
   vk::Planes valid_[2];  // a-trous validity per level in the progressive mode

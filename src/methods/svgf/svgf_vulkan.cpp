@@ -110,7 +110,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
       if (s.fireflyMedian && st.plan.lobe == svgf::Lobe::diffuse && st.plan.filtered) {
         // The diffuse lobe's median, everywhere (as svgf.cpp).
         rec.pass("median" + suffix);
-        if (display_.buffer.empty()) display_.allocate(ctx_, frame.width, frame.height, 3);
+        vk::allocateOnce(display_, ctx_, frame.width, frame.height, 3);
         struct PC {
           uint32_t width, height, hasRoughness, skipWhenMasked;
         } pc{uint32_t(frame.width), uint32_t(frame.height), 0, 0};
@@ -131,7 +131,7 @@ class SvgfVulkan final : public vk::VulkanDenoiser<SvgfSettings> {
     const vk::Planes* shown = &sum_;
     if (s.fireflyMedian && !lobes) {
       rec.pass("median");
-      if (display_.buffer.empty()) display_.allocate(ctx_, frame.width, frame.height, 3);
+      vk::allocateOnce(display_, ctx_, frame.width, frame.height, 3);
       struct PC {
         uint32_t width, height, hasRoughness, skipWhenMasked;
       } pc{uint32_t(frame.width), uint32_t(frame.height), frame.has(Buffer::Roughness), 0};
