@@ -119,8 +119,31 @@ inline vi asInt(vf f) {
 /// mask ? a : 0 (mask lanes all ones or all zeros), as bit operations.
 inline vf keepIf(vi mask, vf a) { return asFloat(asInt(a) & mask); }
 inline vf vabs(vf x) { return asFloat(asInt(x) & 0x7fffffff); }
-inline vf vmax(vf a, vf b) { return a > b ? a : b; }
-inline vf vmin(vf a, vf b) { return a < b ? a : b; }
+// a > b ? a : b and a < b ? a : b: exactly what maxps and minps compute (the second operand
+// where either is NaN or both are zero), so one instruction each; GCC, which does not know
+// that, made the selects a compare and a blend.
+inline vf vmax(vf a, vf b) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_max_ps(a, b);
+#elif defined(RTD_SIMD_AVX2)
+  return _mm256_max_ps(a, b);
+#elif defined(RTD_SIMD_X86)
+  return _mm_max_ps(a, b);
+#else
+  return a > b ? a : b;
+#endif
+}
+inline vf vmin(vf a, vf b) {
+#if defined(RTD_SIMD_AVX512)
+  return _mm512_min_ps(a, b);
+#elif defined(RTD_SIMD_AVX2)
+  return _mm256_min_ps(a, b);
+#elif defined(RTD_SIMD_X86)
+  return _mm_min_ps(a, b);
+#else
+  return a < b ? a : b;
+#endif
+}
 /// 1/x to ~23 bits: hardware estimate plus one Newton step (cheaper than a division).
 inline vf vrcp(vf x) {
 #if defined(RTD_SIMD_AVX512)

@@ -69,7 +69,8 @@ template <int N> inline void exp2ShiftedN(vf (&v)[N]) {
   static_assert(127 - kExp2Bias == 102, "k is 2^(127 - kExp2Bias)");
   constexpr float c0 = 1.41421247f * k, c1 = 0.980222285f * k, c2 = 0.339761198f * k, c3 = 0.0790797994f * k,
                   c4 = 0.0135341678f * k;
-  constexpr float kMagic = 12582912.0f;  // 1.5 * 2^23: v + kMagic rounds v to an integer
+  // 1.5 * 2^23 + kExp2Bias: v + kMagic rounds v + kExp2Bias to an integer (kMagic's ulp is 1).
+  constexpr float kMagic = 12582912.0f + float(kExp2Bias);
   vf t[N], g[N], p[N];
   for (int j = 0; j < N; ++j) v[j] = vmax(v[j], splat(kExp2Low));  // NaN: the bound
   for (int j = 0; j < N; ++j) t[j] = v[j] + kMagic;
@@ -86,9 +87,11 @@ template <int N> inline void exp2ShiftedN(vf (&v)[N]) {
     p[j] = (c0 + g[j] * c1) + g2 * ((c2 + g[j] * c3) + g2 * c4);
   }
 #endif
-  // The low bits of t hold n + 2^22 (t's exponent is that of kMagic): n + kExp2Bias, shifted
-  // into place, is the exponent field of 2^(n - 127 + kExp2Bias).
-  for (int j = 0; j < N; ++j) v[j] = p[j] * asFloat((asInt(t[j]) + (kExp2Bias - int(0x4b400000))) << 23);
+  // t's bits are 0x4b400000 + n + kExp2Bias (its exponent is kMagic's), and 0x4b400000's low
+  // nine bits are 0: shifted by 23, n + kExp2Bias (in [0, kExp2Bias]) is the exponent field of
+  // 2^(n - 127 + kExp2Bias) and the rest falls off the top.
+  static_assert((0x4b400000 & 0x1ff) == 0 && kExp2Bias < 0x100, "t << 23 is (n + kExp2Bias) << 23");
+  for (int j = 0; j < N; ++j) v[j] = p[j] * asFloat(asInt(t[j]) << 23);
 #endif
 }
 
