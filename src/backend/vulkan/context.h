@@ -4,6 +4,7 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -159,6 +160,12 @@ class Context : public std::enable_shared_from_this<Context> {
   /// Nanoseconds per timestamp tick.
   double timestampPeriod() const { return timestampPeriod_; }
   const VkPhysicalDeviceLimits& limits() const { return limits_; }
+  /// Lowers limits().maxStorageBufferRange to `bytes` (never raises it), as on a device with
+  /// that smaller limit: for the tests of the work split by it (BMFR's fit in several
+  /// dispatches, otherwise reached only at ~4K).
+  void capStorageBufferRange(uint32_t bytes) {
+    limits_.maxStorageBufferRange = std::min(limits_.maxStorageBufferRange, bytes);
+  }
   /// A small buffer bound where a shader's optional input is absent (its flag says so).
   const DeviceBuffer& dummy() const { return *dummy_; }
   /// Device memory of every DeviceBuffer alive on this context, of all owners (the reference
