@@ -450,31 +450,35 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       }
     }
     if (stream) streamFence();
-    for (; x < w; ++x) {
+    // One pixel of the loop above, with the bounds lo, hi of its YCoCg history and (kDisplay)
+    // the bound `top` of its encoded channels: a YCoCg box corner can lie outside the RGB cube,
+    // and bounding the encoded channels by the neighbourhood's largest one keeps the decode
+    // within the neighbourhood's range. For the row's tail and the own-surface pixels below.
+    auto blendPixel = [&](int x, const float lo[3], const float hi[3], float top) {
       float hc[3] = {0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x], 0.5f * hr[x] - 0.5f * hb[x],
                      -0.25f * hr[x] + 0.5f * hg[x] - 0.25f * hb[x]};
-      for (int k = 0; k < 3; ++k) {
-        const float boxLo = fmin(fmin(a[(3 + k) * w + x], c[(3 + k) * w + x]), b[(3 + k) * w + x]);
-        const float boxHi = fmax(fmax(a[(6 + k) * w + x], c[(6 + k) * w + x]), b[(6 + k) * w + x]);
-        const float crossLo = fmin(fmin(a[k * w + x], c[(3 + k) * w + x]), b[k * w + x]);
-        const float crossHi = fmax(fmax(a[k * w + x], c[(6 + k) * w + x]), b[k * w + x]);
-        const float lo = boxLo + cw * (crossLo - boxLo), hi = boxHi + cw * (crossHi - boxHi);
-        hc[k] = fmin(fmax(hc[k], lo), hi);
-      }
+      for (int k = 0; k < 3; ++k) hc[k] = fmin(fmax(hc[k], lo[k]), hi[k]);
       const float alpha = blendAlpha[x];
       const float by = alpha * c[x] + (1 - alpha) * hc[0];
       const float bco = alpha * c[w + x] + (1 - alpha) * hc[1];
       const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hc[2];
       float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
-      if constexpr (kDisplay) {
-        // A YCoCg box corner can lie outside the RGB cube: bound the encoded channels by the
-        // neighbourhood's largest one, so the decode stays within the neighbourhood's range.
-        const float top = fmax(fmax(a[9 * w + x], c[9 * w + x]), b[9 * w + x]);
+      if constexpr (kDisplay)
         for (int k = 0; k < 3; ++k) rgb[k] = fmin(rgb[k], top);
-      }
       for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);  // history: never subnormal (core/flush.h)
       if constexpr (kDisplay)
         for (int k = 0; k < 3; ++k) lin[k][x] = decode(n[k][x]);
+    };
+    for (; x < w; ++x) {
+      float lo[3], hi[3];
+      for (int k = 0; k < 3; ++k) {
+        const float boxLo = fmin(fmin(a[(3 + k) * w + x], c[(3 + k) * w + x]), b[(3 + k) * w + x]);
+        const float boxHi = fmax(fmax(a[(6 + k) * w + x], c[(6 + k) * w + x]), b[(6 + k) * w + x]);
+        const float crossLo = fmin(fmin(a[k * w + x], c[(3 + k) * w + x]), b[k * w + x]);
+        const float crossHi = fmax(fmax(a[k * w + x], c[(6 + k) * w + x]), b[k * w + x]);
+        lo[k] = boxLo + cw * (crossLo - boxLo), hi[k] = boxHi + cw * (crossHi - boxHi);
+      }
+      blendPixel(x, lo, hi, kDisplay ? fmax(fmax(a[9 * w + x], c[9 * w + x]), b[9 * w + x]) : 0.0f);
     }
     // Own-surface box (TaaSettings::taaOwnSurface): where the 3x3 neighbourhood holds other
     // keys than the pixel's, the pixel is redone with the box (and the cross, and the display
@@ -539,22 +543,10 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
                                    tonemap::taaEncode(src[j][2][q])));
           }
         // The clamp and blend of the loop above, with these bounds.
-        float hc[3] = {0.25f * hr[x] + 0.5f * hg[x] + 0.25f * hb[x], 0.5f * hr[x] - 0.5f * hb[x],
-                       -0.25f * hr[x] + 0.5f * hg[x] - 0.25f * hb[x]};
-        for (int k = 0; k < 3; ++k) {
-          const float lo = boxLo[k] + cw * (crossLo[k] - boxLo[k]), hi = boxHi[k] + cw * (crossHi[k] - boxHi[k]);
-          hc[k] = fmin(fmax(hc[k], lo), hi);
-        }
-        const float alpha = blendAlpha[x];
-        const float by = alpha * c[x] + (1 - alpha) * hc[0];
-        const float bco = alpha * c[w + x] + (1 - alpha) * hc[1];
-        const float bcg = alpha * c[2 * w + x] + (1 - alpha) * hc[2];
-        float rgb[3] = {fmax(by + bco - bcg, 0.0f), fmax(by + bcg, 0.0f), fmax(by - bco - bcg, 0.0f)};
-        if constexpr (kDisplay)
-          for (int k = 0; k < 3; ++k) rgb[k] = fmin(rgb[k], fmin(top, tonemap::kTaaMaxEncoded));
-        for (int k = 0; k < 3; ++k) n[k][x] = flushTiny(rgb[k]);
-        if constexpr (kDisplay)
-          for (int k = 0; k < 3; ++k) lin[k][x] = decode(n[k][x]);
+        float lo[3], hi[3];
+        for (int k = 0; k < 3; ++k)
+          lo[k] = boxLo[k] + cw * (crossLo[k] - boxLo[k]), hi[k] = boxHi[k] + cw * (crossHi[k] - boxHi[k]);
+        blendPixel(x, lo, hi, fmin(top, tonemap::kTaaMaxEncoded));
       }
     }
     if (output) {
