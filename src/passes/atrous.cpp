@@ -48,27 +48,39 @@ void AtrousGuide::buildRows(const Plane& z, const std::vector<Plane>& n, const s
       std::copy((*grad)[0].row(y), (*grad)[0].row(y) + w, gx);
       std::copy((*grad)[1].row(y), (*grad)[1].row(y) + w, gy);
     } else {
+      // Each axis: the one-sided difference of smaller magnitude (the one that does not cross
+      // a depth edge), the only one at the frame's border. The loops over the row's interior
+      // have no branch, so they vectorize.
       const float* up = z.row(std::max(y - 1, 0));
       const float* dn = z.row(std::min(y + 1, h - 1));
       auto smaller = [](float a, float b) { return std::abs(a) < std::abs(b) ? a : b; };
-      for (int x = 0; x < w; ++x) {
-        const float left = x > 0 ? zr[x] - zr[x - 1] : zr[x + (w > 1)] - zr[x];
-        const float right = x + 1 < w ? zr[x + 1] - zr[x] : left;
-        gx[x] = smaller(left, right);
-        const float dUp = y > 0 ? zr[x] - up[x] : dn[x] - zr[x];
-        const float dDown = y + 1 < h ? dn[x] - zr[x] : dUp;
-        gy[x] = smaller(dUp, dDown);
+      if (w == 1) {
+        gx[0] = 0.0f;
+      } else {
+        gx[0] = zr[1] - zr[0];
+        for (int x = 1; x < w - 1; ++x) gx[x] = smaller(zr[x] - zr[x - 1], zr[x + 1] - zr[x]);
+        gx[w - 1] = zr[w - 1] - zr[w - 2];
+      }
+      if (y == 0) {  // (h = 1: dn is this row, the gradient 0)
+        for (int x = 0; x < w; ++x) gy[x] = dn[x] - zr[x];
+      } else if (y == h - 1) {
+        for (int x = 0; x < w; ++x) gy[x] = zr[x] - up[x];
+      } else {
+        for (int x = 0; x < w; ++x) gy[x] = smaller(zr[x] - up[x], dn[x] - zr[x]);
       }
     }
-    if (maxDepthSlope > 0.0f)
-      for (int x = 0; x < w; ++x)
-        if (std::max(std::abs(gx[x]), std::abs(gy[x])) > maxDepthSlope * std::abs(zr[x])) {
-          // |gx ox + gy oy| >= 2^32 |ox + (sqrt 2 - 1) oy| > 5e7 for any non-zero integer offset
-          // within 64 pixels (the ratio is irrational, the closest approach is 12 - 29 (sqrt 2 - 1)):
-          // w_z = 1 to float precision for any depth difference below ~1e3.
-          gx[x] = 0x1p32f;
-          gy[x] = 0x1p32f * 0.41421356f;
-        }
+    if (maxDepthSlope > 0.0f) {
+      // |gx ox + gy oy| >= 2^32 |ox + (sqrt 2 - 1) oy| > 5e7 for any non-zero integer offset
+      // within 64 pixels (the ratio is irrational, the closest approach is 12 - 29 (sqrt 2 - 1)):
+      // w_z = 1 to float precision for any depth difference below ~1e3. Selects, not a branch,
+      // so the loop vectorizes.
+      constexpr float kHugeX = 0x1p32f, kHugeY = 0x1p32f * 0.41421356f;
+      for (int x = 0; x < w; ++x) {
+        const bool steep = std::max(std::abs(gx[x]), std::abs(gy[x])) > maxDepthSlope * std::abs(zr[x]);
+        gx[x] = steep ? kHugeX : gx[x];
+        gy[x] = steep ? kHugeY : gy[x];
+      }
+    }
   }
 }
 
