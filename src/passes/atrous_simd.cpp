@@ -279,9 +279,10 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
           return vrcp(vmin(vabs(gx * taps[k].ox + gy * taps[k].oy), splat(maxDen2)) + epsZc2);
         };
         vf depthScales[n / 2];
-        if constexpr (kScalesFirst)
+        if constexpr (kScalesFirst) {
 #pragma GCC unroll 12
           for (int k = 0; k < n / 2; ++k) depthScales[k] = depthScale(k);
+        }
 #pragma GCC unroll 12
         for (int k = 0; k < n / 2; ++k) tapPair(k, n - 1 - k, kScalesFirst ? depthScales[k] : depthScale(k));
       };
