@@ -36,7 +36,7 @@ namespace {
 // 1.5 * 2^23 rounding trick, whose integer bits give 2^n as an exponent field offset by
 // kExp2Bias: n + kExp2Bias >= 0, and its lowest value, where v is below the cut, is the field of
 // 0.0, so the cut needs no compare (the polynomial's coefficients carry 2^(127 - kExp2Bias) to
-// make up for the offset). About 28 vector operations per tap on AVX-512, ~32 on AVX2.
+// make up for the offset). About 28 vector operations per tap on AVX-512, ~30 on AVX2.
 constexpr float kLog2e = 1.44269504088896341f, kLn2 = 0.693147180559945f;
 /// v's starting value for a tap of kernel weight h: the -1/2 shift plus log2 h.
 inline float exp2Start(float h) { return -0.5f + std::log2(h); }
@@ -270,7 +270,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       // The 3x3 and 5x5 kernels' 8 and 24 taps as compile-time counts: fully unrolled.
       // With 16 vector registers (avx2, sse2) the pairs' reciprocals come first, into
       // `depthScales` (in L1), so that the gradient and epsilon are not live across the taps:
-      // fewer spills (BM_AtrousLevel avx2 0.95-0.97). AVX-512's 32 registers hold them (there
+      // fewer spills (BM_AtrousLevel avx2 0.90-0.97). AVX-512's 32 registers hold them (there
       // the split measured 0.97-1.10).
       constexpr bool kScalesFirst = kLanes < 16;
       auto pairs = [&](auto count) {
