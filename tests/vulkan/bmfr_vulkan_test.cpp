@@ -263,12 +263,7 @@ TEST(VulkanBmfr, FitInSeveralDispatchesMatchesOneDispatch) {
   }
   // The cap took: the capped denoiser's scratch holds 3 blocks, the other's all 20 (with room
   // for the largest settings' matrices).
-  auto bytes = [](const Denoiser& d) {
-    uint64_t sum = 0;
-    for (const MemoryUse& u : d.stats().memory) sum += u.bytes;
-    return sum;
-  };
-  EXPECT_LT(bytes(*capped) + 17 * uint64_t(kBlockBytes), bytes(*whole));
+  EXPECT_LT(memoryTotal(capped->stats()) + 17 * uint64_t(kBlockBytes), memoryTotal(whole->stats()));
 }
 
 }  // namespace

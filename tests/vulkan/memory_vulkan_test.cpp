@@ -18,12 +18,6 @@ std::map<std::string, uint64_t> byCategory(const FrameStats& stats) {
   return m;
 }
 
-uint64_t total(const FrameStats& stats) {
-  uint64_t sum = 0;
-  for (const MemoryUse& u : stats.memory) sum += u.bytes;
-  return sum;
-}
-
 vk::Context& contextOf(Denoiser& d) { return dynamic_cast<vk::VulkanDenoiserBase&>(d).context(); }
 
 // Every Vulkan method with its defaults, and the SVGF variants whose parts allocate on their
@@ -48,7 +42,7 @@ TEST(VulkanMemory, EveryMethodsReportIsAllTheDeviceMemoryItsDenoiserHolds) {
       Image out(kWidth, kHeight, 3);
       for (const Frame& f : frames) d->denoise(f.inputs(), out.view());
       const auto m = byCategory(d->stats());
-      EXPECT_EQ(total(d->stats()), ctx.liveBytes() - before) << what << ": a buffer the report misses or counts twice";
+      EXPECT_EQ(memoryTotal(d->stats()), ctx.liveBytes() - before) << what << ": a buffer the report misses or counts twice";
       // Two frames of at least colour (3 planes) each; upload, read-back and counters.
       EXPECT_GE(m.count("frames") ? m.at("frames") : 0, 2u * 3 * 4 * kWidth * kHeight) << what;
       EXPECT_GE(m.count("staging") ? m.at("staging") : 0, 3u * 4 * kWidth * kHeight) << what;

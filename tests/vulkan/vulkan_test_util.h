@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -52,6 +53,13 @@ struct ErrorStats {
   double maxRef = 0;  ///< largest |reference| value, to state relative tolerances
   int channels = 0;
 };
+
+/// The bytes of all the categories of a frame's FrameStats::memory.
+inline uint64_t memoryTotal(const FrameStats& stats) {
+  uint64_t sum = 0;
+  for (const MemoryUse& u : stats.memory) sum += u.bytes;
+  return sum;
+}
 
 inline ErrorStats compare(const Image& test, const Image& reference, int channels = 3) {
   ErrorStats s;
