@@ -14,6 +14,7 @@ void PaddedPlane::resize(int w, int h, int padding) {
   width = w;
   height = h;
   stride = (w + a - 1) / a * a + 2 * pad;
+  if (stride / a % 2 == 0) stride += a;  // an odd count of lines (PaddedPlane)
   // One extra row plus a vector of slack: the last tile of the last row may read past it.
   data.assign(size_t(h + 2 * pad + 1) * stride + a, 0.0f);
 }

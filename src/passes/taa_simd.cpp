@@ -37,8 +37,13 @@ inline void catmullRomWeights(float t, float w[4]) {
 // The Catmull-Rom history of the three planes at (px, py) (pixel units, texel centres at
 // integers): the separable 4x4 cubic, rows summed first. Taps off the frame repeat the border
 // texel (clamp-to-edge addressing, as a texture sampler's), so a footprint crossing the border
-// extrapolates the border value flat. Each row sum is flushed (core/flush.h): with negative
-// weights two products can cancel to below kTiny.
+// extrapolates the border value flat. Only the result is flushed (core/flush.h), not each row's
+// sum: a row's terms are 0 or >= 2^-84 (weights >= 2^-24, stored values >= kTiny), so a sum
+// whose product with a weight >= 2^-24 could be subnormal (below 2^-102) needs its terms to
+// cancel to below 2^-18 of their size; no underflow of small weights or fading values leads
+// there, as it did in the a-trous weights (issue 20). The four row flushes were a third of the
+// fetch's operations (BM_Taa avx512 0.93, docs/performance.md, "Session 21"); taa.comp never
+// had them.
 inline void catmullRomFetch(const Plane3& hist, float px, float py, int w, int h, float v[3]) {
   const float fx = std::floor(px), fy = std::floor(py);
   const int x0 = int(fx) - 1, y0 = int(fy) - 1;
@@ -55,7 +60,7 @@ inline void catmullRomFetch(const Plane3& hist, float px, float py, int w, int h
     for (int j = 0; j < 4; ++j) {
       const float* row = hist[c].row(ys[j]);
       const float r = wx[0] * row[xs[0]] + wx[1] * row[xs[1]] + wx[2] * row[xs[2]] + wx[3] * row[xs[3]];
-      sum += wy[j] * flushTiny(r);
+      sum += wy[j] * r;
     }
     v[c] = flushTiny(sum);
   }
@@ -178,7 +183,7 @@ void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* p
       for (int j = 0; j < 4; ++j) {
         const float* row = hp + size_t(j) * w;
         const vf r = wx[0] * load(row) + wx[1] * load(row + 1) + wx[2] * load(row + 2) + wx[3] * load(row + 3);
-        sum[c] += wy[j] * vflush(r);
+        sum[c] += wy[j] * r;
       }
     }
     for (int c = 0; c < 3; ++c) store(out[c], vflush(sum[c]));
@@ -196,7 +201,7 @@ void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* p
       for (int j = 0; j < 4; ++j) {
         const vf r = wx[0] * shifted.tap(hp, 0, j, w) + wx[1] * shifted.tap(hp, 1, j, w) + wx[2] * shifted.tap(hp, 2, j, w) +
                      wx[3] * shifted.tap(hp, 3, j, w);
-        sum += wy[j] * vflush(r);
+        sum += wy[j] * r;
       }
       store(out[c], vflush(sum));
     }
@@ -224,7 +229,7 @@ void catmullRomFetchLanes(const Plane3& hist, const float* prevX, const float* p
         return windowRows == 4 ? upper : lower ? vpermute2(lo[j + 1], hi[j + 1], columns + i) : upper;
       };
       const vf r = wx[0] * tap(0) + wx[1] * tap(1) + wx[2] * tap(2) + wx[3] * tap(3);
-      sum += wy[j] * vflush(r);
+      sum += wy[j] * r;
     }
     store(out[c], vflush(sum));
   }

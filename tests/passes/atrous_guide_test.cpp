@@ -2,6 +2,7 @@
 // denominator sigma_z |grad z . (p - q)|: per axis the one-sided difference of smaller
 // magnitude, so that a depth edge next to a pixel does not widen its own slope; at the frame's
 // border the one difference there is; a slope steeper than maxDepthSlope |z| is made huge.
+// Also the padded planes' row layout (PaddedPlane) that the a-trous taps walk.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -103,6 +104,49 @@ TEST(AtrousGuide, SlopesSteeperThanMaxDepthSlopeBecomeHuge) {
         EXPECT_EQ(g.gradX.at(x, y), 2.0f) << x;
         EXPECT_EQ(g.gradY.at(x, y), 0.0f) << x;
       }
+    }
+}
+
+}  // namespace
+}  // namespace rtd
+
+namespace rtd {
+namespace {
+
+// PaddedPlane's layout: rows a multiple of the widest vector (16 floats, one 64-byte line) apart
+// and an odd count of lines, so that the five rows of an a-trous window at step 2^k (k <= 4)
+// fall into at least four different sets of a 4 KiB-periodic L1 cache (the step-16 level's rows
+// all shared one set at 1280 px before); the border stays zero and pixels do not overlap.
+TEST(PaddedPlane, RowsAreAnOddCountOfLinesApartAndPixelsKeepTheirPlaces) {
+  for (int w : {1, 15, 16, 320, 1280, 1920, 3840})
+    for (int padding : {4, 32}) {
+      PaddedPlane p;
+      const int h = 5;
+      p.resize(w, h, padding);
+      SCOPED_TRACE(::testing::Message() << "width " << w << ", padding " << padding);
+      constexpr int a = PaddedPlane::kAlignment;
+      EXPECT_GE(p.pad, padding);
+      EXPECT_EQ(p.pad % a, 0);
+      EXPECT_EQ(p.stride % a, 0);
+      EXPECT_EQ(p.stride / a % 2, 1);
+      EXPECT_GE(p.stride, w + 2 * p.pad);
+      for (int step : {1, 2, 4, 8, 16}) {
+        bool set[64] = {};
+        int distinct = 0;
+        for (int k = 0; k < 5; ++k) {
+          const size_t line = size_t(k) * step * p.stride * sizeof(float) / 64;
+          distinct += !set[line % 64];
+          set[line % 64] = true;
+        }
+        EXPECT_GE(distinct, 4) << "step " << step;
+      }
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) p.at(x, y) = float(1 + y * w + x);
+      size_t nonZero = 0;
+      for (float v : p.data) nonZero += v != 0.0f;
+      EXPECT_EQ(nonZero, size_t(w) * h);  // nothing written to the border or over another pixel
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) ASSERT_EQ(p.row(y)[x], float(1 + y * w + x));
     }
 }
 
