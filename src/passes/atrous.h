@@ -22,8 +22,8 @@ namespace rtd {
 /// one 64-byte line), and stride is an odd count of lines: an a-trous tap window's rows, 2^k
 /// rows apart, then fall into different sets of a 4 KiB-periodic L1 (64 sets), where with 1280
 /// px (1344 floats, 84 lines) the five rows of the step-16 level all shared the same sets and
-/// the 11 planes' windows overflowed its 12 ways (that level 1.2x the others' time; BM_AtrousLevel
-/// step 16 0.78-0.82 with the odd stride, docs/performance.md, "Session 21").
+/// the 11 planes' windows overflowed its 12 ways (BM_AtrousLevel: step 16 took 1.4x step 1's
+/// time, 0.78-0.82 of it with the odd stride; docs/performance.md, "Session 21").
 struct PaddedPlane {
   static constexpr int kAlignment = 16;
   int width = 0, height = 0, pad = 0, stride = 0;

@@ -42,8 +42,8 @@ inline void catmullRomWeights(float t, float w[4]) {
 // whose product with a weight >= 2^-24 could be subnormal (below 2^-102) needs its terms to
 // cancel to below 2^-18 of their size; no underflow of small weights or fading values leads
 // there, as it did in the a-trous weights (issue 20). The four row flushes were a third of the
-// fetch's operations (BM_Taa avx512 0.93, docs/performance.md, "Session 21"); taa.comp never
-// had them.
+// fetch's operations: without them BM_Taa on sse2 0.90; on avx2 and avx512, whose fetch waits
+// on memory, within the noise (docs/performance.md, "Session 21"). taa.comp never had them.
 inline void catmullRomFetch(const Plane3& hist, float px, float py, int w, int h, float v[3]) {
   const float fx = std::floor(px), fy = std::floor(py);
   const int x0 = int(fx) - 1, y0 = int(fy) - 1;
