@@ -120,7 +120,14 @@ inline vf lumVector(MomentLuminance m, vf r, vf g, vf b) {
 // into contiguous chunks: successive rows of a chunk share four of their five tap rows, so a
 // level with a large step reads each input row from memory about once instead of five times
 // (in row order the rows y +- 2 step would have left the cache before they are used again).
+// Steps up to kRowOrderMaxStep go in row order all the same: there a tap row comes back after
+// `step` rows (~170 KiB of planes at 1280 px, in L2) and each of the window's rows is read
+// right after the row above it, which the hardware prefetcher follows; the step-2 level took
+// 0.89-0.91 of its strided time (BM_AtrousLevel, svgf's atrous2), step 4 the same in either
+// order (docs/performance.md, "Session 21").
+constexpr int kRowOrderMaxStep = 2;
 template <class Fn> void stridedRows(int height, int step, Fn&& fn) {
+  if (step <= kRowOrderMaxStep) step = 1;
   const int perResidue = (height + step - 1) / step;
   tbb::parallel_for(tbb::blocked_range<int>(0, perResidue * step, 2), [&](const tbb::blocked_range<int>& r) {
     for (int k = r.begin(); k != r.end(); ++k) {
