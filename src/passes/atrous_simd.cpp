@@ -189,8 +189,10 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, epsRelZ2 = epsRelZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
 
   stridedRows(z.height, lv.step, [&](int y) {
-    // The lowest tap row is the one row of the window the previous row of stridedRows' order
-    // did not read: its planes ahead (kPrefetchAhead), with the centre row's own planes.
+    // The lowest tap row is the one row of the window that no row before this one in
+    // stridedRows' order read (in the strided order the row just before read the other four;
+    // in the row order of small steps, the row `step` before): its planes ahead
+    // (kPrefetchAhead), with the centre row's own planes.
     const ptrdiff_t newRow = ptrdiff_t(z.index(0, y)) + ptrdiff_t(lv.kernel == AtrousKernel::B3Spline5x5 ? 2 : 1) * lv.step * S;
     for (int x = 0; x < w; x += kLanes) {
       const size_t c = z.index(x, y);

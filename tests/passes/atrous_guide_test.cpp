@@ -107,12 +107,6 @@ TEST(AtrousGuide, SlopesSteeperThanMaxDepthSlopeBecomeHuge) {
     }
 }
 
-}  // namespace
-}  // namespace rtd
-
-namespace rtd {
-namespace {
-
 // PaddedPlane's layout: rows a multiple of the widest vector (16 floats, one 64-byte line) apart
 // and an odd count of lines, so that the five rows of an a-trous window at step 2^k (k <= 4)
 // fall into at least four different sets of a 4 KiB-periodic L1 cache (the step-16 level's rows
