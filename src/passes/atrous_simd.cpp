@@ -117,17 +117,19 @@ inline vf lumVector(MomentLuminance m, vf r, vf g, vf b) {
 }
 
 // fn(y) for every row, in the order y = r, r + step, r + 2 step, ... for r = 0 .. step-1, split
-// into contiguous chunks: successive rows of a chunk share four of their five tap rows, so a
-// level with a large step reads each input row from memory about once instead of five times
-// (in row order the rows y +- 2 step would have left the cache before they are used again).
-// Steps up to kRowOrderMaxStep go in row order all the same: there a tap row comes back after
-// `step` rows (~170 KiB of planes at 1280 px, in L2) and each of the window's rows is read
-// right after the row above it, which the hardware prefetcher follows; the step-2 level took
-// 0.89-0.91 of its strided time (BM_AtrousLevel, svgf's atrous2), step 4 the same in either
-// order (docs/performance.md, "Session 21").
-constexpr int kRowOrderMaxStep = 2;
-template <class Fn> void stridedRows(int height, int step, Fn&& fn) {
-  if (step <= kRowOrderMaxStep) step = 1;
+// into contiguous chunks: successive rows of a chunk share all but one of their tap rows, so a
+// level with a large step reads each input row from memory about once instead of 2r + 1 times
+// (in row order the rows y +- r step would have left the cache before they are used again).
+// Levels whose tap rows come back within kRowOrderMaxSpan rows (2 r step: a row is a tap row
+// of the centres from r step rows above it to r step rows below) go in row order all the
+// same: their rows are still in L2 or L3 when they come back (1.5 MiB of the nine planes read
+// at the taps at 1280 px), and each of the window's rows is read right after the row above
+// it, which the hardware prefetcher follows. Measured against the strided order
+// (docs/performance.md, "Session 22"): 3x3 steps 4, 8 and 16 0.86-0.96 of their time, 5x5
+// steps 4 and 8 0.94-0.98 and step 2 0.89 (session 21), but the 5x5 step 16 (64 rows) 1.05.
+constexpr int kRowOrderMaxSpan = 32;
+template <class Fn> void stridedRows(int height, int step, int radius, Fn&& fn) {
+  if (2 * radius * step <= kRowOrderMaxSpan) step = 1;
   const int perResidue = (height + step - 1) / step;
   tbb::parallel_for(tbb::blocked_range<int>(0, perResidue * step, 2), [&](const tbb::blocked_range<int>& r) {
     for (int k = r.begin(); k != r.end(); ++k) {
@@ -188,12 +190,13 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   const float cn1 = sigmaN * kLog2e, cn2 = 0.5f * sigmaN * kLog2e, cn3 = sigmaN / 3.0f * kLog2e;
   const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, epsRelZ2 = epsRelZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
 
-  stridedRows(z.height, lv.step, [&](int y) {
+  const int radius = kernelRadius(lv.kernel);
+  stridedRows(z.height, lv.step, radius, [&](int y) {
     // The lowest tap row is the one row of the window that no row before this one in
-    // stridedRows' order read (in the strided order the row just before read the other four;
-    // in the row order of small steps, the row `step` before): its planes ahead
+    // stridedRows' order read (in the strided order the row just before read the others; in
+    // the row order of smaller spans, the row `step` before): its planes ahead
     // (kPrefetchAhead), with the centre row's own planes.
-    const ptrdiff_t newRow = ptrdiff_t(z.index(0, y)) + ptrdiff_t(lv.kernel == AtrousKernel::B3Spline5x5 ? 2 : 1) * lv.step * S;
+    const ptrdiff_t newRow = ptrdiff_t(z.index(0, y)) + ptrdiff_t(radius) * lv.step * S;
     for (int x = 0; x < w; x += kLanes) {
       const size_t c = z.index(x, y);
       for (const float* q : {pz, pnx, pny, pnz, pl, pr, pg, pb, pv}) prefetchAhead(q + newRow + x);

@@ -103,9 +103,9 @@ void BM_AtrousLevel(benchmark::State& state, rtd::AtrousKernel kernel, int threa
   state.SetItemsProcessed(state.iterations() * int64_t(w) * h);
 }
 BENCHMARK_CAPTURE(BM_AtrousLevel, b3spline5x5_1thread, rtd::AtrousKernel::B3Spline5x5, 1)
-    ->ArgsProduct({{1, 2, 16}, {0, 1, 2}, {720, 180}})->ArgNames({"step", "path", "height"})->Unit(benchmark::kMillisecond);
+    ->ArgsProduct({{1, 2, 4, 8, 16}, {0, 1, 2}, {720, 180}})->ArgNames({"step", "path", "height"})->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_AtrousLevel, binomial3x3_1thread, rtd::AtrousKernel::Binomial3x3, 1)
-    ->ArgsProduct({{1, 16}, {0, 1, 2}, {720, 180}})->ArgNames({"step", "path", "height"})->Unit(benchmark::kMillisecond);
+    ->ArgsProduct({{1, 2, 4, 8, 16}, {0, 1, 2}, {720, 180}})->ArgNames({"step", "path", "height"})->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_AtrousLevel, b3spline5x5_2threads, rtd::AtrousKernel::B3Spline5x5, 2)
     ->Args({1, -1, 720})->Args({16, -1, 720})->ArgNames({"step", "path", "height"})->Unit(benchmark::kMillisecond)->UseRealTime();
 
