@@ -125,8 +125,9 @@ inline vf lumVector(MomentLuminance m, vf r, vf g, vf b) {
 // same: their rows are still in L2 or L3 when they come back (1.5 MiB of the nine planes read
 // at the taps at 1280 px), and each of the window's rows is read right after the row above
 // it, which the hardware prefetcher follows. Measured against the strided order
-// (docs/performance.md, "Session 22"): 3x3 steps 4, 8 and 16 0.86-0.96 of their time, 5x5
-// steps 4 and 8 0.94-0.98 and step 2 0.89 (session 21), but the 5x5 step 16 (64 rows) 1.05.
+// (BM_AtrousLevel, docs/performance.md "Session 22"): 3x3 steps 4, 8 and 16 0.86-0.98 of
+// their time, 5x5 step 2 0.89 (session 21) and steps 4 and 8 0.94-1.02 (in svgf's pipeline
+// 0.92-0.95), but the 5x5 step 16 (a 64-row span) 1.05; at 1920 px the 32-row spans still gain.
 constexpr int kRowOrderMaxSpan = 32;
 template <class Fn> void stridedRows(int height, int step, int radius, Fn&& fn) {
   if (2 * radius * step <= kRowOrderMaxSpan) step = 1;
