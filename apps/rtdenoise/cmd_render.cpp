@@ -120,7 +120,6 @@ void runRender(const RenderOptions& o, const CLI::App& cmd) {
       refWriter = std::make_unique<SequenceWriter>(dir / "reference");
     }
     nlohmann::json refSpp = nlohmann::json::array();
-    int cachedCount = 0;
     for (int i = 0; i < frames; ++i) {
       GuideRaySamples samples;
       Frame f = o.guideRays ? renderer.render(i, eye, samples) : renderer.render(i, eye);
@@ -138,7 +137,6 @@ void runRender(const RenderOptions& o, const CLI::App& cmd) {
         ref.height = f.height;
         ref.camera = f.camera;
         ref[Buffer::Color] = reference(renderer, *scene, o, cache, i, eye, taken, cached);
-        cachedCount += cached;
         refSpp.push_back(taken);
         refWriter->write(ref);
         refWriter->finish();

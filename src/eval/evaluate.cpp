@@ -356,13 +356,13 @@ std::string tableFor(const std::vector<StreamMetrics>& streams, bool warmup) {
     return left ? text + pad : pad + text;
   };
   std::string out = cell("", nameWidth, true) + " " + cell("frames", 6);
-  for (const auto& m : metricList()) out += " " + cell(m.label, std::max(8, int(std::string(m.label).size())));
+  for (const auto& m : metricList()) out.append(" ").append(cell(m.label, std::max(8, int(std::string(m.label).size()))));
   out += "\n";
   for (const auto& s : streams) {
     const MetricSummary& sum = warmup ? s.warmup : s.steady;
     out += cell(s.name, nameWidth, true) + " " + cell(std::to_string(sum.frames), 6);
     for (const auto& m : metricList())
-      out += " " + cell(formatMetric(m, sum.mean.*m.field), std::max(8, int(std::string(m.label).size())));
+      out.append(" ").append(cell(formatMetric(m, sum.mean.*m.field), std::max(8, int(std::string(m.label).size()))));
     if (sum.mean.nonFiniteValues) out += "  (" + std::to_string(sum.mean.nonFiniteValues) + " NaN/Inf values, counted as 0)";
     out += "\n";
   }

@@ -113,12 +113,12 @@ template <bool kDisplay> void buildSlot(const Plane3& color, int y, int w, float
       m[0] = fmin(channelMax(0), kCap);
     } else {
       m[0] = fmin(fmax(channelMax(0), channelMax(1)), kCap);
-#pragma GCC ivdep
+      RTD_IVDEP
       for (int x = 1; x < w - 1; ++x) m[x] = fmin(fmax(fmax(channelMax(x - 1), channelMax(x)), channelMax(x + 1)), kCap);
       m[w - 1] = fmin(fmax(channelMax(w - 2), channelMax(w - 1)), kCap);
     }
   }
-#pragma GCC ivdep
+  RTD_IVDEP
   for (int x = 0; x < w; ++x) {
     const float R = r[x], G = g[x], B = b[x];  // in place with kDisplay
     c[0][x] = 0.25f * R + 0.5f * G + 0.25f * B;
@@ -131,7 +131,7 @@ template <bool kDisplay> void buildSlot(const Plane3& color, int y, int w, float
     if (w == 1) { lo[0] = hi[0] = in[0]; continue; }
     lo[0] = fmin(in[0], in[1]);
     hi[0] = fmax(in[0], in[1]);
-#pragma GCC ivdep
+    RTD_IVDEP
     for (int x = 1; x < w - 1; ++x) {
       lo[x] = fmin(fmin(in[x - 1], in[x]), in[x + 1]);
       hi[x] = fmax(fmax(in[x - 1], in[x]), in[x + 1]);
@@ -504,7 +504,7 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
       // in the window's rows (float storage that the plane visitors scan).
       float* column = window + size_t(kTaaColumnRow) * w;
       float* mixed = window + size_t(kTaaMixedRow) * w;
-#pragma GCC ivdep
+      RTD_IVDEP
       for (int x = 0; x < w; ++x) column[x] = float((kr[0][x] != kr[1][x]) | (kr[2][x] != kr[1][x]));
       const uint32_t* k1 = kr[1];
       auto flag = [&](int x) {  // border pixels repeat themselves, as the box does
@@ -513,7 +513,7 @@ void rows(const Reprojection& rp, const Plane3& color, const TaaParams& p, int r
         return row ? 1.0f : fmax(fmax(column[xl], column[x]), column[xr]);
       };
       mixed[0] = flag(0);
-#pragma GCC ivdep
+      RTD_IVDEP
       for (int x = 1; x < w - 1; ++x)
         mixed[x] = fmax(float((k1[x - 1] != k1[x]) | (k1[x + 1] != k1[x])), fmax(fmax(column[x - 1], column[x]), column[x + 1]));
       if (w > 1) mixed[w - 1] = flag(w - 1);

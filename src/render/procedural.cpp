@@ -168,7 +168,7 @@ std::string proceduralSceneJson(uint32_t seed, const ProceduralOptions& o) {
   const int count = rng.integer(4, 9);
   static const char* kShapes[] = {"box", "sphere", "cylinder"};
   for (int i = 0; i < count; ++i) {
-    const std::string name = "m" + std::to_string(i);
+    const std::string name = std::string("m").append(std::to_string(i));
     materials[name] = material(rng, true);
     const char* shape = kShapes[rng.integer(0, 2)];
     const double sx = rng.uniform(0.3, 1.2), sy = shape[0] == 's' ? sx : rng.uniform(0.3, 1.6),

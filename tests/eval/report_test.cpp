@@ -65,8 +65,8 @@ TEST(Report, ContainsEveryMethodAndMetric) {
   for (const auto& m : metricList()) {
     // A column header (ranked ones with their direction) and a per-frame plot per metric.
     const std::string arrow = !m.ranked ? "" : m.higherIsBetter ? " &uarr;" : " &darr;";
-    EXPECT_NE(html.find(">" + std::string(m.label) + arrow + "</th>"), std::string::npos) << m.key;
-    EXPECT_NE(html.find("aria-label='" + std::string(m.label) + " per frame'"), std::string::npos) << m.key;
+    EXPECT_NE(html.find(std::string(">").append(m.label).append(arrow).append("</th>")), std::string::npos) << m.key;
+    EXPECT_NE(html.find(std::string("aria-label='").append(m.label).append(" per frame'")), std::string::npos) << m.key;
     EXPECT_TRUE(json["runs"][0]["steady"].contains(m.key)) << m.key;
   }
   // Self-contained: no external resources.
@@ -90,7 +90,7 @@ TEST(Report, OneImagePerFramePerConfiguration) {
   }
   EXPECT_EQ(count(html, "\"data:" + c.imageMime + ";base64,"), 5 * (2 * c.runs.size() + 1));
   std::string frames = "frames:[";
-  for (size_t i = 0; i < c.frameNumbers.size(); ++i) frames += (i ? "," : "") + std::to_string(c.frameNumbers[i]);
+  for (size_t i = 0; i < c.frameNumbers.size(); ++i) frames.append(i ? "," : "").append(std::to_string(c.frameNumbers[i]));
   EXPECT_NE(html.find(frames + "]"), std::string::npos);
 }
 

@@ -81,7 +81,7 @@ struct Conversion {
 };
 void oiiotool(const std::vector<Conversion>& conversions) {
   std::string cmd = "oiiotool";
-  for (const auto& c : conversions) cmd += " " + c.in.string() + " " + c.args + " -o " + c.out.string();
+  for (const auto& c : conversions) cmd.append(" ").append(c.in.string()).append(" ").append(c.args).append(" -o ").append(c.out.string());
   cmd += " > /dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd << " (apt-get install openimageio-tools)";
 }

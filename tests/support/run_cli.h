@@ -22,12 +22,21 @@ inline CliResult runCommand(const std::string& cmd) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
+/// The command line `rtdenoise <args><redirection>`, appended piece by piece (on a chain of
+/// operator+ over temporaries GCC 12 warns wrongly that std::string's memcpy overruns,
+/// -Warray-bounds).
+inline std::string cliCommand(const std::string& args, const char* redirection) {
+  std::string cmd = RTD_CLI;
+  cmd += ' ';
+  cmd += args;
+  cmd += redirection;
+  return cmd;
+}
+
 /// `rtdenoise <args>`: its exit status, and standard output and error together.
-inline CliResult runCli(const std::string& args) { return runCommand(std::string(RTD_CLI) + " " + args + " 2>&1"); }
+inline CliResult runCli(const std::string& args) { return runCommand(cliCommand(args, " 2>&1")); }
 
 /// `rtdenoise <args>`: its exit status and standard error (standard output is discarded).
-inline CliResult runCliStderr(const std::string& args) {
-  return runCommand(std::string(RTD_CLI) + " " + args + " 2>&1 > /dev/null");
-}
+inline CliResult runCliStderr(const std::string& args) { return runCommand(cliCommand(args, " 2>&1 > /dev/null")); }
 
 }  // namespace rtd::test

@@ -18,11 +18,6 @@ namespace {
 // Eight-wide float vectors (GCC/Clang vector extensions: one AVX register where available, an
 // SSE pair otherwise). Float addition is not associative, so the compiler would not vectorize
 // these reductions itself without -ffast-math.
-#if defined(__GNUC__) && !defined(__clang__) && RTD_SIMD_PATH == 0
-// On the sse2 path GCC warns that passing a 32-byte vector by value has another ABI without
-// AVX: these helpers are internal (this anonymous namespace, inlined), no ABI boundary.
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
 typedef float Float8 __attribute__((vector_size(32), aligned(4)));
 inline Float8 load(const float* p) { return *reinterpret_cast<const Float8*>(p); }
 inline void store(float* p, Float8 v) { *reinterpret_cast<Float8*>(p) = v; }
