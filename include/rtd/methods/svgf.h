@@ -286,6 +286,7 @@ struct SvgfSettings {
     neighbourhoodClipping = base.neighbourhoodClipping;
     materialAlpha = base.materialAlpha;
     taa.taaAlpha = TaaSettings{}.taaAlpha;
+    taa.taaHistoryFilter = TaaSettings{}.taaHistoryFilter;
     switch (v) {
       case SvgfVariant::schied: break;
       case SvgfVariant::dundr:  // Dundr, "Progressive SVGF", Sec. 4
@@ -301,6 +302,11 @@ struct SvgfSettings {
         luminanceEpsilon = 0.05f;                // "between 0.01 and 0.1"
         luminanceScale = SvgfLuminanceScale::variance;
         taa.taaAlpha = 0.1f;                     // "the same ratio r"
+        // Sec. 4.5: the final frame is reprojected "the same way as we did in the reproject
+        // phase" (bilinear), disocclusions ignored; with the subpixel alpha the Catmull-Rom
+        // history scores within 0.03 dB of it (docs/methods/taa.md, "The history filter with
+        // the subpixel alpha").
+        taa.taaHistoryFilter = TaaHistoryFilter::bilinear;
         break;
       case SvgfVariant::gersthofer:  // Gersthofer, VR stereo, Sec. 3.3-3.5
         components = SvgfComponents::composite;  // one stream, indirect diffuse handled apart

@@ -21,11 +21,13 @@ enum class TaaNeighbourhood { box3x3, boxCross };
 /// evaluates the same filter with 9 (or, corners dropped, 5) bilinear fetches, here its 16
 /// texels are read directly. Its overshoot is contained by the neighbourhood clamp; taps off
 /// the frame repeat the border texel; a pixel whose reprojection rejected one of its 2x2 taps
-/// (disocclusion, edge) takes the bilinear history. catmullRom is the default since 2026-12-03:
-/// with it every method on every renderer scene and the Blender fixture scores better than
-/// before issue 12 in PSNR, SSIM and temporal error (corridorglossy +0.4 to +0.5 dB over
-/// bilinear); bilinear is up to 0.05 dB better on the Cornell box and 0.09 dB on the Blender
-/// fixture, and ~60 % cheaper (docs/methods/taa.md, "The history filter as the default").
+/// (disocclusion, edge) takes the bilinear history. catmullRom is the default since 2026-12-03
+/// (docs/methods/taa.md, "The history filter as the default"). With the subpixel alpha
+/// (taaSubpixelAlpha, since that night) the two filters score within 0.03 dB for the SVGF
+/// family, Catmull-Rom keeping a slight SSIM edge under camera motion (<= 0.0016), and BMFR's
+/// constant alpha still gains 0.2 dB from it on corridorglossy; bilinear costs ~2/3 of the
+/// pass's time on avx2. The `dundr` preset uses bilinear, his Sec. 4.5's fetch
+/// (docs/methods/taa.md, "The history filter with the subpixel alpha").
 enum class TaaHistoryFilter { bilinear, catmullRom };
 
 struct TaaSettings {

@@ -666,6 +666,8 @@ TEST(SvgfSettingsTest, VariantPresetsAndToggles) {
   EXPECT_EQ(s.luminanceScale, SvgfLuminanceScale::variance);
   EXPECT_EQ(s.shortHistory, SvgfShortHistory::disableLuminanceWeight);
   EXPECT_FLOAT_EQ(s.alphaColor, 0.1f);
+  // Sec. 4.5: the TAA history reprojected as the reprojection phase does, bilinearly.
+  EXPECT_EQ(s.taa.taaHistoryFilter, TaaHistoryFilter::bilinear);
   d->set("kernel", "5x5");  // a toggle after the preset overrides it alone
   s = d->getSettings<SvgfSettings>();
   EXPECT_EQ(s.kernel, SvgfKernel::b3spline5x5);
@@ -676,6 +678,7 @@ TEST(SvgfSettingsTest, VariantPresetsAndToggles) {
   EXPECT_EQ(s.feedbackLevel, 0);
   EXPECT_EQ(s.spatialVarianceRadius, 1);
   EXPECT_EQ(s.kernel, SvgfKernel::b3spline5x5);  // back to Schied's
+  EXPECT_EQ(s.taa.taaHistoryFilter, TaaSettings{}.taaHistoryFilter);
   const auto v = SvgfSettings::forVariant(SvgfVariant::voorhuis);
   EXPECT_TRUE(v.momentsTrueAverage && v.spatialVarianceFromMoments && v.shortHistoryBandwidth && v.fireflyMedian);
   EXPECT_FALSE(v.indirectVarianceFiltering);
