@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
-"""A/B of two builds of librtdenoise on a shared, noisy machine (docs/performance.md).
+"""A/B of two builds of librtdenoise, or of two settings, on a shared, noisy machine (docs/performance.md).
 
 The current build's programs run alternately with the baseline's library and with their own
 (LD_LIBRARY_PATH), round after round, so that a change of the host's load hits both sides
 alike; the report is each side's median over the rounds of the per-run medians, and the ratio.
+With --baseline-set instead, both sides run the current build and the baseline side adds those
+settings (a setting's cost, measured the same way).
 
   scripts/ab-bench.py --baseline /tmp/base-build svgf --set variant=dundr
   scripts/ab-bench.py --baseline /tmp/base-build --path avx2 --rounds 5 bmfr
   scripts/ab-bench.py --baseline /tmp/base-build --benchmark 'BM_Reproject/path:[12]'
+  scripts/ab-bench.py --baseline-set taaHistoryFilter=catmullRom svgf --set variant=dundr
 
 --baseline is a build directory of the baseline (its src/librtdenoise.so.0 is used) or a
 directory holding a librtdenoise.so.0. Make one with `git worktree add /tmp/base <commit>` and
@@ -57,10 +60,12 @@ def check_loaded(program, libdir):
         sys.exit(f"ab-bench: {program} loads {loaded[0] if loaded else 'no librtdenoise.so.0'}, not {libdir}'s")
 
 
-def pipeline_round(args, libdir):
-    """{name: ms} for one `rtdenoise bench` run: every pass and the total (medians over frames)."""
+def pipeline_round(args, libdir, settings=()):
+    """{name: ms} for one `rtdenoise bench` run: every pass and the total (medians over frames);
+    `settings`: key=value pairs given after the run's own (--baseline-set)."""
+    sets = [a for kv in settings for a in ("--set", kv)]
     with tempfile.NamedTemporaryFile(suffix=".json") as out:
-        run([args.cli, "bench", "--method", args.method, *args.extra, "--size", args.size, "--threads",
+        run([args.cli, "bench", "--method", args.method, *args.extra, *sets, "--size", args.size, "--threads",
              str(args.threads), "--frames", str(args.frames), "--warmup", str(args.warmup), "--json", out.name],
             libdir, args.path)
         report = json.load(open(out.name))
@@ -69,7 +74,7 @@ def pipeline_round(args, libdir):
     return figures, report.get("cpuPath", "?")
 
 
-def benchmark_round(args, libdir):
+def benchmark_round(args, libdir, settings=()):
     """{benchmark: ms} for one rtd_bench run (the median of its repetitions, real time)."""
     text = run([args.rtd_bench, f"--benchmark_filter={args.benchmark}", "--benchmark_repetitions=3",
                 "--benchmark_report_aggregates_only=true", "--benchmark_format=json"], libdir, args.path)
@@ -81,7 +86,10 @@ def benchmark_round(args, libdir):
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0], epilog=__doc__.split("\n", 2)[2],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--baseline", required=True, help="baseline build directory, or a directory with librtdenoise.so.0")
+    p.add_argument("--baseline", help="baseline build directory, or a directory with librtdenoise.so.0")
+    p.add_argument("--baseline-set", action="append", default=[], metavar="KEY=VALUE",
+                   help="instead of --baseline: the current build on both sides, the baseline side with this setting "
+                        "(repeatable)")
     p.add_argument("--rounds", type=int, default=3, help="alternations (default 3)")
     p.add_argument("--path", help="RTD_CPU_PATH for both sides (sse2, avx2, avx512)")
     p.add_argument("--size", default="1280x720")
@@ -98,22 +106,29 @@ def main():
     args = p.parse_args()
     if not args.benchmark and not args.method:
         p.error("a method or --benchmark")
+    if bool(args.baseline) == bool(args.baseline_set):
+        p.error("either --baseline (two builds) or --baseline-set (two settings)")
+    if args.baseline_set and args.benchmark:
+        p.error("--baseline-set compares settings of `rtdenoise bench`, not rtd_bench benchmarks")
     args.cli = os.path.join(args.build, "apps", "rtdenoise")
     args.rtd_bench = os.path.join(args.build, "bench", "rtd_bench")
-    base = library_dir(args.baseline)
+    base = library_dir(args.baseline) if args.baseline else None
     one_round = benchmark_round if args.benchmark else pipeline_round
-    check_loaded(args.rtd_bench if args.benchmark else args.cli, base)
+    if base:
+        check_loaded(args.rtd_bench if args.benchmark else args.cli, base)
 
     runs = {"baseline": [], "current": []}
     for r in range(args.rounds):
         for side, libdir in (("baseline", base), ("current", None)):
-            figures, cpu_path = one_round(args, libdir)
+            figures, cpu_path = one_round(args, libdir, args.baseline_set if side == "baseline" else ())
             runs[side].append(figures)
         key = "total" if not args.benchmark else next(iter(runs["current"][-1]))
         print(f"round {r + 1}/{args.rounds}: {key} baseline {runs['baseline'][-1].get(key, float('nan')):.2f}, "
               f"current {runs['current'][-1][key]:.2f} ms", file=sys.stderr)
 
     what = args.benchmark or " ".join([args.method, *args.extra])
+    if args.baseline_set:
+        what += f" (baseline: + {' '.join(args.baseline_set)})"
     print(f"{what}: {args.rounds} alternations, CPU path {cpu_path}, {args.statistic}s over the rounds (ms)")
     # Every figure of either side: a pass that one build merged into another or split shows
     # on its own side only ("-" on the other).
