@@ -75,7 +75,8 @@ def pipeline_round(args, libdir, settings=()):
 
 
 def benchmark_round(args, libdir, settings=()):
-    """{benchmark: ms} for one rtd_bench run (the median of its repetitions, real time)."""
+    """{benchmark: ms} for one rtd_bench run (the median of its repetitions, real time);
+    `settings` is always empty here (main refuses --baseline-set with --benchmark)."""
     text = run([args.rtd_bench, f"--benchmark_filter={args.benchmark}", "--benchmark_repetitions=3",
                 "--benchmark_report_aggregates_only=true", "--benchmark_format=json"], libdir, args.path)
     scale = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
