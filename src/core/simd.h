@@ -26,6 +26,7 @@
 #endif
 
 #include "core/flush.h"
+#include "core/ivdep.h"
 
 #if RTD_SIMD_PATH == 0
 #define RTD_SIMD_NS sse2
@@ -63,14 +64,6 @@
 #endif
 #endif
 
-/// Before a loop whose iterations carry no dependence through memory: GCC's ivdep. Nothing
-/// for Clang, the sanitizer build's compiler, which warns of GCC's pragma as unknown and, at
-/// that build's -O1, of its own equivalent as a vectorization it could not do.
-#if defined(__clang__)
-#define RTD_IVDEP
-#else
-#define RTD_IVDEP _Pragma("GCC ivdep")
-#endif
 
 namespace rtd::RTD_SIMD_NS {
 

@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/ivdep.h"
 #include "core/parallel.h"
 #include "methods/svgf/svgf_filter.h"
 
@@ -34,6 +35,7 @@ size_t varianceRows(const VarianceInputs& in, const VarianceParams& p, AtrousIma
       const float *r = acc[0].row(y), *gg = acc[1].row(y), *b = acc[2].row(y);
       for (int c = 0; c < 3; ++c) std::copy(acc[c].row(y), acc[c].row(y) + w, out.color[c].row(y));
       float *lum = out.lum.row(y), *var = out.var.row(y);
+      RTD_IVDEP  // eight planes: vectorized only without GCC's overlap checks
       for (int x = 0; x < w; ++x) {
         lum[x] = flushTiny(momentLuminance(L, r[x], gg[x], b[x]));
         var[x] = flushTiny(std::max(0.0f, m2[x] - squareOrZero(m1[x])));
