@@ -400,6 +400,66 @@ TEST(VoorhuisClipping, OwnSurfaceBoxDoesNotCrossASilhouette) {
   EXPECT_THROW(clipBox(cur, nullptr, ClipBoxOptions{}, lo, hi, scratch, &key), Error);
 }
 
+// The own-surface box at every pixel against a direct evaluation in double precision, on
+// random patches of keys (some clipped, some not: a key's pixels are all one or the other), on
+// frames narrower than the prefilter, as wide, and wider: the border columns and the interior
+// (computed for whole rows at once) alike.
+TEST(VoorhuisClipping, OwnSurfaceBoxMatchesADirectEvaluationEverywhere) {
+  const ClipBoxOptions opt;
+  const int R = opt.gaussianRadius, W = opt.windowRadius;
+  std::vector<float> g(size_t(2 * R + 1));
+  clipGaussianWeights(R, opt.sigma, g.data());
+  std::mt19937 rng(11);
+  for (auto [w, h] : {std::pair{1, 1}, {5, 3}, {7, 9}, {37, 23}}) {
+    Plane3 cur;
+    resize(cur, w, h, 0.0f);
+    PixelVector<uint8_t> clip(size_t(w) * h, 0);
+    PixelVector<uint32_t> key(size_t(w) * h, 0);
+    std::uniform_int_distribution<int> patch(0, 5);
+    std::uniform_real_distribution<float> value(0.0f, 4.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * w + x;
+        // 3x2-pixel cells of six keys; keys 0 and 1 are not clipped.
+        key[i] = uint32_t((x / 3 + 2 * (y / 2) + patch(rng) / 5) % 6);
+        clip[i] = key[i] >= 2;
+        for (auto& p : cur) p.data[i] = value(rng);
+      }
+    Plane3 lo, hi, scratch;
+    clipBox(cur, &clip, opt, lo, hi, scratch, &key);
+    auto blurred = [&](int c, int x, int y) {
+      const uint32_t k = key[size_t(y) * w + x];
+      double v = 0, sum = 0;
+      for (int j = -R; j <= R; ++j)
+        for (int i = -R; i <= R; ++i) {
+          const int qx = std::clamp(x + i, 0, w - 1), qy = std::clamp(y + j, 0, h - 1);
+          if (key[size_t(qy) * w + qx] != k) continue;
+          v += double(g[size_t(i + R)]) * g[size_t(j + R)] * cur[c](qx, qy);
+          sum += double(g[size_t(i + R)]) * g[size_t(j + R)];
+        }
+      return v / sum;
+    };
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) {
+          if (!clip[size_t(y) * w + x]) {
+            EXPECT_TRUE(std::isinf(lo[c](x, y)) && lo[c](x, y) < 0 && std::isinf(hi[c](x, y)) && hi[c](x, y) > 0);
+            continue;
+          }
+          const uint32_t k = key[size_t(y) * w + x];
+          double mn = 1e9, mx = -1e9;
+          for (int qy = std::max(0, y - W); qy <= std::min(h - 1, y + W); ++qy)
+            for (int qx = std::max(0, x - W); qx <= std::min(w - 1, x + W); ++qx) {
+              if (key[size_t(qy) * w + qx] != k) continue;
+              mn = std::min(mn, blurred(c, qx, qy));
+              mx = std::max(mx, blurred(c, qx, qy));
+            }
+          EXPECT_NEAR(lo[c](x, y), mn, 1e-5 * mx) << w << "x" << h << " at " << x << "," << y;
+          EXPECT_NEAR(hi[c](x, y), mx, 1e-5 * mx) << w << "x" << h << " at " << x << "," << y;
+        }
+  }
+}
+
 TEST(VoorhuisClipping, SurfaceKeysSeparateClassesAndObjects) {
   TestFrame t(4, 1);
   t.set(Buffer::ObjectId, 0.0f);
