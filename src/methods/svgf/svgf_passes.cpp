@@ -89,7 +89,10 @@ void luminanceSigmaScale(const Plane& len, const SvgfSettings& s, PaddedPlane& o
 }
 
 namespace {
-inline float median3(float a, float b, float c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
+inline float median3(float a, float b, float c) {
+  const float lo = std::min(a, b), hi = std::max(a, b), m = std::min(hi, c);
+  return std::max(lo, m);
+}
 }  // namespace
 
 void median3x3(const Plane3& in, const Plane* roughness, Plane3& out) {
@@ -109,21 +112,35 @@ void median3x3(const Plane3& in, const Plane* roughness, Plane3& out) {
       const float* cur = in[c].row(y);
       const float* down = in[c].row(std::min(y + 1, h - 1));
       float *l = lo.data() + 1, *m = mid.data() + 1, *u = hi.data() + 1;  // index -1 and w: the clamped edges
+      // The loads into locals first: of std::min and std::max of array elements (references
+      // to one or the other) GCC made conditional loads, and left the loops scalar.
+      RTD_IVDEP
       for (int x = 0; x < w; ++x) {
-        const float a = std::min(up[x], cur[x]), b = std::max(up[x], cur[x]);
-        l[x] = std::min(a, down[x]);
-        u[x] = std::max(b, down[x]);
-        m[x] = std::max(a, std::min(b, down[x]));
+        const float p = up[x], q = cur[x], r = down[x];
+        const float a = std::min(p, q), b = std::max(p, q);
+        l[x] = std::min(a, r);
+        u[x] = std::max(b, r);
+        m[x] = std::max(a, std::min(b, r));
       }
       l[-1] = l[0], m[-1] = m[0], u[-1] = u[0];
       l[w] = l[w - 1], m[w] = m[w - 1], u[w] = u[w - 1];
       float* o = out[c].row(y);
-      for (int x = 0; x < w; ++x) {
-        const float low = std::max(std::max(l[x - 1], l[x]), l[x + 1]);
-        const float high = std::min(std::min(u[x - 1], u[x]), u[x + 1]);
-        const float med = median3(median3(m[x - 1], m[x], m[x + 1]), low, high);
-        // Voorhuis: diffuse pixels only (roughness >= 0.9), where the frame has roughness.
-        o[x] = rough && rough[x] < 0.9f ? cur[x] : med;
+      auto median = [&](int x) {
+        const float l0 = l[x - 1], l1 = l[x], l2 = l[x + 1], u0 = u[x - 1], u1 = u[x], u2 = u[x + 1];
+        const float low = std::max(std::max(l0, l1), l2);
+        const float high = std::min(std::min(u0, u1), u2);
+        return median3(median3(m[x - 1], m[x], m[x + 1]), low, high);
+      };
+      // Voorhuis: diffuse pixels only (roughness >= 0.9), where the frame has roughness.
+      if (rough) {
+        RTD_IVDEP
+        for (int x = 0; x < w; ++x) {
+          const float med = median(x), keep = cur[x];
+          o[x] = rough[x] < 0.9f ? keep : med;
+        }
+      } else {
+        RTD_IVDEP
+        for (int x = 0; x < w; ++x) o[x] = median(x);
       }
     }
   });
