@@ -313,6 +313,38 @@ TEST(VoorhuisClipping, InjectedHistoryIsClippedOnNonDiffusePixelsOnly) {
       }
 }
 
+// The own-surface box of pixel (x, y), channel c, evaluated directly in double precision: the
+// edge-clamped Gaussian over the taps of each pixel's own key, at the window's pixels of
+// (x, y)'s key; returns its {min, max}.
+std::pair<double, double> ownSurfaceBoxReference(const Plane3& cur, const PixelVector<uint32_t>& key, int c, int x,
+                                                 int y) {
+  const ClipBoxOptions opt;
+  const int R = opt.gaussianRadius, W = opt.windowRadius, w = cur[0].width, h = cur[0].height;
+  std::vector<float> g(size_t(2 * R + 1));
+  clipGaussianWeights(R, opt.sigma, g.data());
+  auto blurred = [&](int px, int py) {
+    const uint32_t k = key[size_t(py) * w + px];
+    double v = 0, sum = 0;
+    for (int j = -R; j <= R; ++j)
+      for (int i = -R; i <= R; ++i) {
+        const int qx = std::clamp(px + i, 0, w - 1), qy = std::clamp(py + j, 0, h - 1);
+        if (key[size_t(qy) * w + qx] != k) continue;
+        v += double(g[size_t(i + R)]) * g[size_t(j + R)] * cur[c](qx, qy);
+        sum += double(g[size_t(i + R)]) * g[size_t(j + R)];
+      }
+    return v / sum;
+  };
+  const uint32_t k = key[size_t(y) * w + x];
+  double mn = 1e9, mx = -1e9;
+  for (int qy = std::max(0, y - W); qy <= std::min(h - 1, y + W); ++qy)
+    for (int qx = std::max(0, x - W); qx <= std::min(w - 1, x + W); ++qx) {
+      if (key[size_t(qy) * w + qx] != k) continue;
+      mn = std::min(mn, blurred(qx, qy));
+      mx = std::max(mx, blurred(qx, qy));
+    }
+  return {mn, mx};
+}
+
 // The clipping neighbourhood restricted to the pixel's own surface (SvgfSettings::clipOwnSurface,
 // docs/methods/reflections.md "Neighbourhood clipping at silhouettes"). A specular disc of
 // constant demodulated colour 1 against a background whose specular lobe is black (a diffuse
@@ -366,31 +398,9 @@ TEST(VoorhuisClipping, OwnSurfaceBoxDoesNotCrossASilhouette) {
       for (auto& p : cur) p.data[i] = (right ? 3.0f : 1.0f) + u(rng);
     }
   clipBox(cur, &clip, ClipBoxOptions{}, lo, hi, scratch, &key);
-  float g[7];
-  clipGaussianWeights(3, 1.5f, g);
-  auto blurred = [&](int c, int x, int y) {  // over the taps with (x, y)'s key, edge-clamped
-    const uint32_t k = key[size_t(y) * w + x];
-    double v = 0, sum = 0;
-    for (int j = -3; j <= 3; ++j)
-      for (int i = -3; i <= 3; ++i) {
-        const int qx = std::clamp(x + i, 0, w - 1), qy = std::clamp(y + j, 0, h - 1);
-        if (key[size_t(qy) * w + qx] != k) continue;
-        v += double(g[i + 3]) * g[j + 3] * cur[c](qx, qy);
-        sum += double(g[i + 3]) * g[j + 3];
-      }
-    return v / sum;
-  };
   for (int x : {w / 2 - 1, w / 2, 3}) {
     const int y = 10, c = 1;
-    const uint32_t k = key[size_t(y) * w + x];
-    double mn = 1e9, mx = -1e9;
-    for (int j = -2; j <= 2; ++j)
-      for (int i = -2; i <= 2; ++i) {
-        const int qx = x + i, qy = y + j;
-        if (qx < 0 || qx >= w || key[size_t(qy) * w + qx] != k) continue;
-        mn = std::min(mn, blurred(c, qx, qy));
-        mx = std::max(mx, blurred(c, qx, qy));
-      }
+    const auto [mn, mx] = ownSurfaceBoxReference(cur, key, c, x, y);
     EXPECT_NEAR(lo[c](x, y), mn, 1e-5) << x;
     EXPECT_NEAR(hi[c](x, y), mx, 1e-5) << x;
     const float own = x >= w / 2 ? 3.0f : 1.0f;
@@ -405,10 +415,6 @@ TEST(VoorhuisClipping, OwnSurfaceBoxDoesNotCrossASilhouette) {
 // frames narrower than the prefilter, as wide, and wider: the border columns and the interior
 // (computed for whole rows at once) alike.
 TEST(VoorhuisClipping, OwnSurfaceBoxMatchesADirectEvaluationEverywhere) {
-  const ClipBoxOptions opt;
-  const int R = opt.gaussianRadius, W = opt.windowRadius;
-  std::vector<float> g(size_t(2 * R + 1));
-  clipGaussianWeights(R, opt.sigma, g.data());
   std::mt19937 rng(11);
   for (auto [w, h] : {std::pair{1, 1}, {5, 3}, {7, 9}, {37, 23}}) {
     Plane3 cur;
@@ -426,19 +432,7 @@ TEST(VoorhuisClipping, OwnSurfaceBoxMatchesADirectEvaluationEverywhere) {
         for (auto& p : cur) p.data[i] = value(rng);
       }
     Plane3 lo, hi, scratch;
-    clipBox(cur, &clip, opt, lo, hi, scratch, &key);
-    auto blurred = [&](int c, int x, int y) {
-      const uint32_t k = key[size_t(y) * w + x];
-      double v = 0, sum = 0;
-      for (int j = -R; j <= R; ++j)
-        for (int i = -R; i <= R; ++i) {
-          const int qx = std::clamp(x + i, 0, w - 1), qy = std::clamp(y + j, 0, h - 1);
-          if (key[size_t(qy) * w + qx] != k) continue;
-          v += double(g[size_t(i + R)]) * g[size_t(j + R)] * cur[c](qx, qy);
-          sum += double(g[size_t(i + R)]) * g[size_t(j + R)];
-        }
-      return v / sum;
-    };
+    clipBox(cur, &clip, ClipBoxOptions{}, lo, hi, scratch, &key);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
         for (int c = 0; c < 3; ++c) {
@@ -446,14 +440,7 @@ TEST(VoorhuisClipping, OwnSurfaceBoxMatchesADirectEvaluationEverywhere) {
             EXPECT_TRUE(std::isinf(lo[c](x, y)) && lo[c](x, y) < 0 && std::isinf(hi[c](x, y)) && hi[c](x, y) > 0);
             continue;
           }
-          const uint32_t k = key[size_t(y) * w + x];
-          double mn = 1e9, mx = -1e9;
-          for (int qy = std::max(0, y - W); qy <= std::min(h - 1, y + W); ++qy)
-            for (int qx = std::max(0, x - W); qx <= std::min(w - 1, x + W); ++qx) {
-              if (key[size_t(qy) * w + qx] != k) continue;
-              mn = std::min(mn, blurred(c, qx, qy));
-              mx = std::max(mx, blurred(c, qx, qy));
-            }
+          const auto [mn, mx] = ownSurfaceBoxReference(cur, key, c, x, y);
           EXPECT_NEAR(lo[c](x, y), mn, 1e-5 * mx) << w << "x" << h << " at " << x << "," << y;
           EXPECT_NEAR(hi[c](x, y), mx, 1e-5 * mx) << w << "x" << h << " at " << x << "," << y;
         }
