@@ -622,6 +622,22 @@ TEST(SvgfVariance, MomentsExactForShortHistories) {
   }
 }
 
+// L*'s cube root against double precision's: within half a float ulp (to the nearest) over
+// the range L* uses it on, at a million log-spaced and random points, and infinity stays.
+TEST(SvgfVariance, CubeRootIsRoundedToNearest) {
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> logY(std::log(216.0 / 24389.0), std::log(1e30));
+  for (int i = 0; i < 1000000; ++i) {
+    const float y = i % 2 ? float(std::exp(logY(rng))) : float(216.0 / 24389.0 * std::pow(1.0001, i / 2));
+    const double exact = std::cbrt(double(y));
+    const double ulp = std::nextafter(float(exact), INFINITY) - float(exact);
+    ASSERT_LE(std::abs(double(cubeRoot(y)) - exact), 0.5001 * ulp) << y;
+  }
+  EXPECT_EQ(cubeRoot(INFINITY), INFINITY);
+  EXPECT_EQ(cubeRoot(27.0f), 3.0f);
+  EXPECT_EQ(cubeRoot(0.125f), 0.5f);
+}
+
 TEST(SvgfVariance, CieLightnessMoments) {
   EXPECT_NEAR(cieLightness(1.0f), 100.0f, 1e-4);
   EXPECT_NEAR(cieLightness(0.0f), 0.0f, 1e-5);
