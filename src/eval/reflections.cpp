@@ -27,6 +27,7 @@ std::vector<ReflectionMotionFrame> reflectionMotionError(const SequenceReader& s
   std::vector<ReflectionMotionFrame> out;
   FrameData prev, cur;
   PixelVector<uint8_t> prevCls, cls;
+  ReflectionSearchFeatures prevFeatures;
   Reprojection primary;
   const int n = seq.frameCount();
   for (int i = 0; i < n; ++i) {
@@ -34,6 +35,7 @@ std::vector<ReflectionMotionFrame> reflectionMotionError(const SequenceReader& s
     classifySurfaces(cur, t, false, cls);
     if (i > 0) {
       reproject(cur, &prev, ReprojectionSettings{}, primary);
+      prevFeatures.build(prev, prevCls);
       std::atomic<uint64_t> count{0}, missed{0}, within{0}, taps{0};
       std::vector<double> rowError(size_t(cur.height), 0.0);  // summed in row order: deterministic
       const int w = cur.width;
@@ -43,10 +45,10 @@ std::vector<ReflectionMotionFrame> reflectionMotionError(const SequenceReader& s
         for (int x = 0; x < w; ++x) {
           const SurfaceClass sc = SurfaceClass(cls[size_t(y) * w + x]);
           if (!((sc == SurfaceClass::Mirror && s.mirrors) || (sc == SurfaceClass::GlossyReflection && s.glossy))) continue;
-          const SearchResult bf = searchReflection(cur, prev, cls, prevCls, primary, x, y, opt, s.bruteForceRadius,
+          const SearchResult bf = searchReflection(cur, prevFeatures, cls, prevCls, primary, x, y, opt, s.bruteForceRadius,
                                                    s.referenceOnRay);
           if (!bf.found()) continue;
-          const SearchResult ds = searchReflection(cur, prev, cls, prevCls, primary, x, y, opt);
+          const SearchResult ds = searchReflection(cur, prevFeatures, cls, prevCls, primary, x, y, opt);
           ++c;
           tp += uint64_t(ds.taps);
           if (!ds.found()) {

@@ -9,6 +9,7 @@
 // (inside the image) against the current pixel and returns +inf where q cannot match (not a
 // specular pixel of the same kind in the previous frame).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -140,7 +141,7 @@ inline bool quadraticMinimum(const float (&d)[3][3], SearchResult& r) {
     for (int i = 0; i < 3; ++i) {
       if (!(d[j][i] < kNoMatch)) return false;
       f[j][i] = d[j][i] * d[j][i];
-      largest = std::fmax(largest, f[j][i]);
+      largest = std::max(largest, f[j][i]);  // no NaN here: std::max is fmax, inline
     }
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i)
@@ -158,8 +159,8 @@ inline bool quadraticMinimum(const float (&d)[3][3], SearchResult& r) {
   const float det = hxx * hyy - hxy * hxy;
   if (!(hxx > 0.0f && det > 1e-12f)) return false;
   // Offset of the minimum: -H^-1 g, at most one pixel from the best pixel on each axis.
-  const float ux = std::fmin(1.0f, std::fmax(-1.0f, -(hyy * gx - hxy * gy) / det));
-  const float uy = std::fmin(1.0f, std::fmax(-1.0f, -(hxx * gy - hxy * gx) / det));
+  const float ux = std::clamp(-(hyy * gx - hxy * gy) / det, -1.0f, 1.0f);  // finite: f <= 1, det > 0
+  const float uy = std::clamp(-(hxx * gy - hxy * gx) / det, -1.0f, 1.0f);
   r.matchX = float(r.bestX) + 0.5f + ux;
   r.matchY = float(r.bestY) + 0.5f + uy;
   return true;
@@ -198,7 +199,7 @@ template <class Score> void subpixelRefine(Score& score, SearchResult& r, Subpix
     dw[k] = d[j][i];
     cx[k] = float(r.bestX + i - 1) + 0.5f;
     cy[k] = float(r.bestY + j - 1) + 0.5f;
-    largest = std::fmax(largest, dw[k]);
+    largest = std::max(largest, dw[k]);  // the block's distances are finite
     zeros += dw[k] == 0.0f;
   }
   float sw = 0.0f, sx = 0.0f, sy = 0.0f;

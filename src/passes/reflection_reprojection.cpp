@@ -111,7 +111,23 @@ bool hasGlossyMotionBuffers(const FrameData& f) {
   return f.has(Buffer::Position) && f.has(Buffer::MirrorDirection) && f.has(Buffer::SecondaryDistance);
 }
 
-SearchResult searchReflection(const FrameData& cur, const FrameData& prev, const PixelVector<uint8_t>& cls,
+void ReflectionSearchFeatures::build(const FrameData& f, const PixelVector<uint8_t>& cls) {
+  const int w = f.width, h = f.height;
+  records_.resize(size_t(w) * h);  // not filled: only the searched classes' records are read
+  const bool mirrors = hasMirrorMotionBuffers(f), glossy = hasGlossyMotionBuffers(f);
+  if (!mirrors && !glossy) return;
+  const MirrorFeature mirror(f);
+  parallelRows(h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const SurfaceClass c = SurfaceClass(cls[i]);
+      if (c == SurfaceClass::Mirror && mirrors) mirror.at(i, records_[i].point);
+      else if (c == SurfaceClass::GlossyReflection && glossy) records_[i].ray = representativeRay(f, i);
+    }
+  });
+}
+
+SearchResult searchReflection(const FrameData& cur, const ReflectionSearchFeatures& prev, const PixelVector<uint8_t>& cls,
                               const PixelVector<uint8_t>& prevCls, const Reprojection& primary, int x, int y,
                               const DiamondSearchOptions& search, int bruteForceRadius, bool glossyOnRay) {
   const int w = cur.width, h = cur.height;
@@ -122,29 +138,27 @@ SearchResult searchReflection(const FrameData& cur, const FrameData& prev, const
                                 : diamondSearch(x, y, primary.prevX.data[i], primary.prevY.data[i], w, h, dist, search);
   };
   if (c == SurfaceClass::Mirror) {
-    const MirrorFeature now(cur), before(prev);
     float wp[3];
-    now.at(i, wp);
+    MirrorFeature(cur).at(i, wp);
     return run([&](int qx, int qy) {  // Eq. 1 over previous mirror pixels
       const size_t j = size_t(qy) * w + qx;
       if (SurfaceClass(prevCls[j]) != SurfaceClass::Mirror) return kNoMatch;
-      float wq[3];
-      before.at(j, wq);
-      return worldDistance(wp, wq);
+      return worldDistance(wp, prev[j].point);
     });
   }
   const RepresentativeRay rp = representativeRay(cur, i);
   return run([&](int qx, int qy) {  // Eq. 5 over previous glossy pixels
     const size_t j = size_t(qy) * w + qx;
     if (SurfaceClass(prevCls[j]) != SurfaceClass::GlossyReflection) return kNoMatch;
-    const RepresentativeRay rq = representativeRay(prev, j);
+    const RepresentativeRay& rq = prev[j].ray;
     return glossyOnRay ? glossyRayDistance(rp, rq) : glossyDistance(rp, rq);
   });
 }
 
 void specularReprojection(const FrameData& cur, const FrameData* previous, const PixelVector<uint8_t>& cls,
                           const PixelVector<uint8_t>& prevCls, const Reprojection& primary, SpecularMotion mode,
-                          const ReflectionMotionOptions& opt, Reprojection& out, ReflectionMotionStats* stats) {
+                          const ReflectionMotionOptions& opt, Reprojection& out, ReflectionMotionStats* stats,
+                          ReflectionSearchFeatures* features) {
   out = primary;
   if (!previous || mode == SpecularMotion::Primary || previous->width != cur.width || previous->height != cur.height)
     return;
@@ -154,6 +168,9 @@ void specularReprojection(const FrameData& cur, const FrameData* previous, const
   const bool glossy = opt.glossy && hasGlossyMotionBuffers(cur) && hasGlossyMotionBuffers(prev);
   std::atomic<uint64_t> nMirror{0}, nGlossy{0}, nMatched{0}, nTaps{0};
   const MirrorFeature now(cur), before(prev);
+  ReflectionSearchFeatures temporary;
+  ReflectionSearchFeatures& prevFeatures = features ? *features : temporary;
+  if (mode == SpecularMotion::Reflection && (mirrors || glossy)) prevFeatures.build(prev, prevCls);
   parallelRows(h, [&](int y) {
     uint64_t m = 0, g = 0, matched = 0, taps = 0;
     for (int x = 0; x < w; ++x) {
@@ -167,7 +184,7 @@ void specularReprojection(const FrameData& cur, const FrameData* previous, const
       const bool mirror = c == SurfaceClass::Mirror && mirrors, gloss = c == SurfaceClass::GlossyReflection && glossy;
       if (!mirror && !gloss) continue;  // Glossy (>= the reflection threshold): primary motion
       (mirror ? m : g) += 1;
-      const SearchResult r = searchReflection(cur, prev, cls, prevCls, primary, x, y, opt.search);
+      const SearchResult r = searchReflection(cur, prevFeatures, cls, prevCls, primary, x, y, opt.search);
       taps += uint64_t(r.taps);
       out.kind[i] = Reprojection::None;
       out.prevX.data[i] = r.found() ? r.matchX : Reprojection::kOffFrame;

@@ -76,12 +76,38 @@ struct ReflectionMotionStats {
   uint64_t taps = 0;                            ///< distance evaluations of all searches
 };
 
+/// What a tap of the reflection search compares, for every searched pixel of one frame: at a
+/// Mirror pixel Eq. 1's world position (the reflected position; for a mirror that shows the
+/// sky, the point kMissDepth along its mirror direction), at a GlossyReflection pixel its
+/// representative ray (Sec. 4.2.1, the direction of unit length). A search evaluates ~20-40
+/// taps and neighbouring searches share most of them, so each pixel's feature is computed once
+/// per frame instead of at every tap, and kept in one 32-byte record: a tap reads half a cache
+/// line instead of the sky test's and the feature's six to seven planes.
+class ReflectionSearchFeatures {
+ public:
+  union Record {
+    float point[3];         ///< Mirror pixels
+    RepresentativeRay ray;  ///< GlossyReflection pixels
+    float bytes32[8];       ///< the record's size: two per cache line
+  };
+  /// The records of f's Mirror pixels (where f has hasMirrorMotionBuffers) and GlossyReflection
+  /// pixels (hasGlossyMotionBuffers), classes from `cls`; other pixels' records are not set.
+  void build(const FrameData& f, const PixelVector<uint8_t>& cls);
+  const Record& operator[](size_t i) const { return records_[i]; }
+  size_t bytes() const { return records_.size() * sizeof(Record); }
+
+ private:
+  PixelVector<Record> records_;
+};
+static_assert(sizeof(ReflectionSearchFeatures::Record) == 32);
+
 /// The reflection motion vector of current pixel (x, y): the search result of Algorithm 1 for
 /// its class (Mirror: Eq. 1 on ReflectedPosition; GlossyReflection: Eq. 5 on the
-/// representative rays), with `primary` giving the second start (coords(p) - primary MV).
+/// representative rays) over the previous frame's features `prev` (built from the previous
+/// frame and `prevCls`), with `primary` giving the second start (coords(p) - primary MV).
 /// `bruteForceRadius` > 0 runs the brute-force reference over that window instead;
 /// `glossyOnRay` measures glossy pixels by glossyRayDistance (the half-line) instead of Eq. 5.
-SearchResult searchReflection(const FrameData& cur, const FrameData& prev, const PixelVector<uint8_t>& cls,
+SearchResult searchReflection(const FrameData& cur, const ReflectionSearchFeatures& prev, const PixelVector<uint8_t>& cls,
                               const PixelVector<uint8_t>& prevCls, const Reprojection& primary, int x, int y,
                               const DiamondSearchOptions& search, int bruteForceRadius = 0, bool glossyOnRay = false);
 
@@ -89,9 +115,12 @@ SearchResult searchReflection(const FrameData& cur, const FrameData& prev, const
 /// Primary leaves it; None makes it None with a previous position far off-screen (so TAA keeps
 /// the current colour); Reflection gives Mirror and GlossyReflection pixels (where enabled in
 /// `opt`) a bilinear record at the searched position, with history taps of the same class in
-/// `prevCls` (None when there is none). With `previous` null, out = primary.
+/// `prevCls` (None when there is none). With `previous` null, out = primary. `features`: where
+/// the previous frame's search features are built (kept by a caller that runs every frame, so
+/// that they are not allocated each time; null: a temporary).
 void specularReprojection(const FrameData& cur, const FrameData* previous, const PixelVector<uint8_t>& cls,
                           const PixelVector<uint8_t>& prevCls, const Reprojection& primary, SpecularMotion mode,
-                          const ReflectionMotionOptions& opt, Reprojection& out, ReflectionMotionStats* stats = nullptr);
+                          const ReflectionMotionOptions& opt, Reprojection& out, ReflectionMotionStats* stats = nullptr,
+                          ReflectionSearchFeatures* features = nullptr);
 
 }  // namespace rtd

@@ -21,6 +21,7 @@ void Reflections::resize(int /*w*/, int /*h*/, int pad) {
   alpha_ = {};
   for (auto& a : albedo_) a.clear();
   clipLow_ = clipHigh_ = clipScratch_ = {};
+  searchFeatures_ = {};
   hasPreviousClasses_ = false;
 }
 
@@ -63,7 +64,7 @@ void Reflections::prepare(const FrameData& f, const FrameData* previous, const S
     opt.glossy = parts.glossyMotion;
     opt.normalTolerance = s.reprojection.normalTolerance;
     rtd::specularReprojection(f, previousClasses ? previous : nullptr, cls_, prevCls_, primary, parts.motion, opt, specular_,
-                         &motionStats_);
+                         &motionStats_, &searchFeatures_);
   }
 
   if (parts.materialAlpha) {

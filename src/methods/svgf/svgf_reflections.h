@@ -161,6 +161,7 @@ class Reflections {
   PixelVector<uint8_t> cls_, prevCls_, clipMask_;
   PixelVector<uint32_t> surface_;  ///< clipping's surface keys (surfaceKeys)
   Reprojection specular_, taa_;
+  ReflectionSearchFeatures searchFeatures_;  ///< the previous frame's, for the diamond search
   AtrousGuide reflectedGuide_;
   Plane virtualDepth_;
   std::vector<Plane> normals_, gradient_;
