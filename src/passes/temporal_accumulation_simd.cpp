@@ -126,14 +126,14 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
       h.m2.data[i] = flushTiny(am * squareOrZero(l) + (1.0f - am) * hist2);
     }
   };
-  // Eight pixels at a time where all eight have bilinear history (the same arithmetic; A-SVGF's
-  // gradient for integral exponents, historyShrink's squarings in the same order). (CIE L* has
-  // no vector form here: its moments take the scalar path; without moments the luminance is
-  // not needed.)
+  // Eight pixels at a time where all eight have bilinear history and, with a sample mask, a
+  // sample (the same arithmetic; A-SVGF's gradient for integral exponents, historyShrink's
+  // squarings in the same order). (CIE L* has no vector form here: its moments take the scalar
+  // path; without moments the luminance is not needed.)
   const float e = options.historyExponent;
   const bool integralExponent = e == std::floor(e) && e >= 0.0f && e <= 64.0f;
-  [[maybe_unused]] const bool vectorized = !mask && (!gradient || integralExponent) &&
-                                           (options.luminance != MomentLuminance::CieLightness || !moments);
+  [[maybe_unused]] const bool vectorized =
+      (!gradient || integralExponent) && (options.luminance != MomentLuminance::CieLightness || !moments);
   for (int y = rowBegin; y < rowEnd; ++y) {
     int x = 0;
 #ifdef RTD_SIMD_AVX2
@@ -149,7 +149,11 @@ void accumulateRows(const Reprojection& rp, const Plane* color, float alpha, flo
       for (; x + 8 <= w; x += 8) {
         const size_t i = size_t(y) * w + x;
         Bilinear8::prefetchRecord(rp, i);
-        if (!taps8.load(rp, i)) {
+        // A pixel without a sample this frame (mask 0; the renderer writes a mask of ones at
+        // 1 spp) keeps its history: the scalar path.
+        const bool sampled = !mask || _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(mask + i), _mm256_setzero_ps(),
+                                                                       _CMP_EQ_OQ)) == 0;
+        if (!sampled || !taps8.load(rp, i)) {
           for (int k = 0; k < 8; ++k) pixel(i + k);
           continue;
         }

@@ -161,6 +161,67 @@ TEST(SharedPassPaths, AdaptiveAccumulationMatchesTheDefinitionOnRandomMotion) {
     }
 }
 
+// Progressive mode's sample mask (AccumulationOptions::sampleMask, Dundr Sec. 5) on every CPU
+// path: a pixel with mask 0 keeps its history (length, colour and moments as reprojected), one
+// with a sample blends as without a mask. Most groups of eight pixels are wholly sampled (the
+// eight-pixel path takes them; a renderer's 1-spp frames have a mask of ones), the others mix
+// both kinds.
+TEST(SharedPassPaths, MaskedAccumulationMatchesTheDefinitionOnEveryPath) {
+  const int w = kWidth, h = kHeight;
+  for (CpuPath path : test::supportedCpuPaths()) {
+    test::ScopedCpuPath force(path);
+    SCOPED_TRACE(cpuPathName(path));
+    Lcg rnd;
+    const TwoFrames frames(rnd);
+    const Reprojection &none = frames.none, &rp = frames.rp;
+    auto image = [&] {
+      Plane3 p;
+      resize(p, w, h);
+      for (auto& c : p)
+        for (float& v : c.data) v = rnd();
+      return p;
+    };
+    const Plane3 first = image(), second = image();
+    Plane mask(w, h, 1.0f);
+    size_t holes = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x0 = 0; x0 < w; x0 += 8)
+        if (rnd() < 0.3f)
+          for (int x = x0; x < std::min(x0 + 8, w); ++x)
+            if (rnd() < 0.5f) mask(x, y) = 0.0f, ++holes;
+    ASSERT_GT(holes, size_t(w * h / 20));
+    TemporalAccumulator acc;
+    acc.resize(w, h);
+    for (int k = 0; k < 3; ++k) acc.run(none, first, 0.2f, 0.1f, 255);  // history length 3 everywhere
+    const Plane3 hColor = acc.color();
+    const Plane hLength = acc.historyLength(), hM1 = acc.moment1(), hM2 = acc.moment2();
+    AccumulationOptions opt;
+    opt.sampleMask = &mask;
+    acc.run(rp, second, 0.2f, 0.1f, 255, opt);
+    size_t sampled = 0;
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+      if (rp.kind[i] != Reprojection::Bilinear) continue;
+      if (mask.data[i] == 0.0f) {
+        ASSERT_EQ(acc.historyLength().data[i], std::round(rp.gather(hLength, i))) << i;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(acc.color()[c].data[i], rp.gather(hColor[c], i), 1e-6f) << i;
+        EXPECT_NEAR(acc.moment1().data[i], rp.gather(hM1, i), 1e-6f) << i;
+        EXPECT_NEAR(acc.moment2().data[i], rp.gather(hM2, i), 1e-6f) << i;
+        continue;
+      }
+      ++sampled;
+      const float n = std::min(std::round(rp.gather(hLength, i)) + 1.0f, 255.0f);
+      ASSERT_EQ(acc.historyLength().data[i], n) << i;
+      const float a = std::max(1.0f / n, 0.2f), am = std::max(1.0f / n, 0.1f);
+      const float l = luminance(second[0].data[i], second[1].data[i], second[2].data[i]);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(acc.color()[c].data[i], a * second[c].data[i] + (1 - a) * rp.gather(hColor[c], i), 1e-6f) << i;
+      EXPECT_NEAR(acc.moment1().data[i], am * l + (1 - am) * rp.gather(hM1, i), 1e-6f) << i;
+      EXPECT_NEAR(acc.moment2().data[i], am * l * l + (1 - am) * rp.gather(hM2, i), 1e-6f) << i;
+    }
+    EXPECT_GT(sampled, size_t(w * h / 2));
+  }
+}
+
 // Three planes of uniform random values in [0, 1).
 Plane3 randomColour(Lcg& rnd, int w, int h) {
   Plane3 p;

@@ -1065,6 +1065,41 @@ TEST(SvgfEndToEnd, ProgressiveQuarterSampleRate) {
   EXPECT_EQ(empty, 0);
 }
 
+// A sample mask of ones (what the renderer writes at 1 spp) is the plain pipeline: the same
+// output bit for bit as without the buffer, for Schied's and Dundr's settings. One unsampled
+// pixel in one frame turns progressive mode on for that frame: the output changes.
+TEST(SvgfEndToEnd, SampleMaskOfOnesIsThePlainPipeline) {
+  auto device = Device::create();
+  const auto scene = svgfScene();
+  for (const char* variant : {"schied", "dundr"}) {
+    SCOPED_TRACE(variant);
+    auto run = [&](int maskMode) {  // 0: no mask buffer, 1: ones, 2: ones but one hole in frame 3
+      auto d = device->createDenoiser("svgf");
+      d->set("variant", variant);
+      Image out(scene.width, scene.height, 3);
+      std::vector<Image> outs;
+      for (int i = 0; i < 5; ++i) {
+        Frame f = synthetic::makeFrame(scene, i);
+        if (maskMode > 0) {
+          Image mask(scene.width, scene.height, 1, 1.0f);
+          if (maskMode == 2 && i == 3) {
+            mask.at(20, 10) = 0.0f;
+            for (int c = 0; c < 3; ++c) f[Buffer::Color].at(20, 10, c) = 0.0f;
+          }
+          f[Buffer::SampleMask] = mask;
+        }
+        d->denoise(f.inputs(), out.view());
+        outs.push_back(out);
+      }
+      return outs;
+    };
+    const std::vector<Image> plain = run(0), ones = run(1), hole = run(2);
+    for (int i = 0; i < 5; ++i) EXPECT_EQ(plain[size_t(i)].pixels, ones[size_t(i)].pixels) << "frame " << i;
+    EXPECT_EQ(plain[2].pixels, hole[2].pixels);
+    EXPECT_NE(plain[3].pixels, hole[3].pixels);
+  }
+}
+
 TEST(SvgfEndToEnd, MissingSplitBufferIsAnError) {
   auto device = Device::create();
   auto d = device->createDenoiser("svgf");
