@@ -205,7 +205,7 @@ def main():
             tb, to = (med([d["totalMedianMs"] for d in passes[v]]) for v in ["voorhuisBase", "voorhuis"])
             rows.append(["**total**", "%.1f" % tb, "%.1f" % to])
             sections.append(("fig14", "**Fig. 14 (cost over Base)**: `rtdenoise bench --input` on 4 rendered 1280x720 "
-                            "mirrorfloor frames (cycled), CPU, 2 threads, medians of 3 alternating runs of 12 frames; "
+                            "mirrorfloor frames (cycled forward, the wrap a cut), CPU, 2 threads, medians of 3 alternating runs of 12 frames; "
                             "Ours costs %.1f ms (%.0f %%) over Base.\n\n" % (to - tb, 100 * (to - tb) / tb) +
                             table(["pass", "Base (ms)", "Ours (ms)"], rows)))
             out = run([bench, "--benchmark_filter=BM_GuideRays", "--benchmark_format=json", "--benchmark_repetitions=3",
