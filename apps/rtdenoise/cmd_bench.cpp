@@ -26,7 +26,7 @@ struct BenchOptions {
   bool ftzDaz = false;
   bool stereo = false;
   std::string input;  // a sequence to time instead of the synthetic scene
-  int inputFrames = 6;
+  int inputFrames = 0;  // 0: all of the sequence
 };
 
 // CPU time of the whole process (all threads), milliseconds.
@@ -48,18 +48,20 @@ void setFlushToZero() {
 #endif
 }
 
-// Synthetic frame i, written into `into`'s buffers once it has them: an application hands the
-// denoiser buffers it has just written, not memory mapped afresh each frame (whose first reads
-// cost the import ~1.3x).
-void makeFrameInto(const synthetic::Scene& scene, int i, Frame& into) {
-  Frame f = synthetic::makeFrame(scene, i);
-  if (into.width != f.width || into.height != f.height) {
+// `f` as the frame to denoise, written into `into`'s buffers once it has them: an application
+// hands the denoiser buffers it has just written, not memory mapped afresh each frame (whose
+// first reads cost the import ~1.3x).
+void refill(Frame&& f, Frame& into) {
+  bool same = into.width == f.width && into.height == f.height;
+  for (size_t b = 0; b < f.buffers.size() && same; ++b) same = into.buffers[b].pixels.size() == f.buffers[b].pixels.size();
+  if (!same) {
     into = std::move(f);
     return;
   }
-  for (size_t b = 0; b < f.buffers.size(); ++b) into.buffers[b].pixels = f.buffers[b].pixels;  // same sizes: no reallocation
+  for (size_t b = 0; b < f.buffers.size(); ++b) into.buffers[b].pixels = f.buffers[b].pixels;  // no reallocation
   into.number = f.number;
   into.camera = f.camera;
+  into.cut = f.cut;
 }
 
 double median(std::vector<double> v) {
@@ -87,18 +89,18 @@ void runBench(const BenchOptions& o) {
 
   // Frames of a camera moving forward, each one step after the last, so that every frame's
   // motion vectors point into the frame before it and reprojection does its real work: the
-  // synthetic scene's frame i, made when it is needed (outside the timed denoise), or the first
-  // --input-frames of a sequence, read before timing and cycled. At the cycle's wrap the
-  // camera jumps back: the history is reset there as at a camera cut, and that frame (which
-  // has no history) is not timed. (A sequence played backwards instead would meet motion
-  // vectors that point the other way: reprojection would fail on most pixels of every second
-  // half-cycle.)
-  std::vector<Frame> inputs;
+  // synthetic scene's frame i, or frame i of a sequence (--input; cycled over its first
+  // --input-frames), each made or read when it is needed, outside the timed denoise. At a
+  // cycle's wrap the camera jumps back: the history is reset there as at a camera cut, and
+  // that frame (which has no history) is not timed. (Played backwards instead, a sequence's
+  // motion vectors would point the wrong way and reprojection would fail on most pixels.)
+  std::unique_ptr<SequenceReader> seq;
+  int cycle = 0;  // frames of the sequence used
   synthetic::Scene scene;
   if (!o.input.empty()) {
-    const auto seq = SequenceReader::open(o.input);
-    for (int i = 0; i < std::min(o.inputFrames, seq->frameCount()); ++i) inputs.push_back(seq->read(i));
-    if (inputs.size() < 2) throw Error("bench: input '" + o.input + "' has fewer than two frames");
+    seq = SequenceReader::open(o.input);
+    cycle = o.inputFrames > 0 ? std::min(o.inputFrames, seq->frameCount()) : seq->frameCount();
+    if (cycle < 2) throw Error("bench: input '" + o.input + "' has fewer than two frames");
     w = seq->width();
     h = seq->height();
   } else {
@@ -129,13 +131,11 @@ void runBench(const BenchOptions& o) {
   std::vector<double> totals, cpuTimes;
   Progress progress("bench " + o.method, o.warmup + o.frames);
   for (int i = 0, timed = 0; timed < o.frames; ++i) {
-    const bool cut = !inputs.empty() && i > 0 && i % int(inputs.size()) == 0;
+    const bool cut = seq && i > 0 && i % cycle == 0;
     if (cut) stereo ? stereo->reset() : denoiser->reset();
-    if (inputs.empty()) {
-      makeFrameInto(scene, i, current);
-      if (stereo) makeFrameInto(right, i, currentRight);
-    }
-    FrameInputs in = inputs.empty() ? current.inputs() : inputs[size_t(i) % inputs.size()].inputs();
+    refill(seq ? seq->read(i % cycle) : synthetic::makeFrame(scene, i), current);
+    if (stereo) refill(synthetic::makeFrame(right, i), currentRight);
+    FrameInputs in = current.inputs();
     if (o.sampleMask) in[Buffer::SampleMask] = masks[size_t(i % 4)].view();
     const double cpuStart = processCpuMs();
     if (stereo) {
@@ -221,9 +221,13 @@ void addBench(CLI::App& app) {
   auto* input = cmd->add_option("--input,-i", o->input,
                                 "time on the first frames of this sequence (e.g. a rendered mirrorfloor) instead of the "
                                 "synthetic scene; --size is then the sequence's");
-  cmd->add_option("--input-frames", o->inputFrames, "with --input: frames read and cycled forward (the wrap is a camera cut, not timed)")
+  cmd->add_option("--input-frames", o->inputFrames,
+                  "with --input: the first N frames of the sequence, cycled forward (the wrap is a camera cut, not "
+                  "timed; 0 = all)")
       ->capture_default_str()
-      ->check(atLeast(2))
+      ->check(CLI::Validator(
+          [](std::string& v) { return v == "0" || std::atoi(v.c_str()) >= 2 ? std::string() : "must be 0 or at least 2"; },
+          "0 or >= 2"))
       ->needs(input);
   cmd->add_flag("--stereo", o->stereo, "both eyes through the two-view denoiser (the right eye: other noise)")
       ->excludes(input);
