@@ -88,8 +88,10 @@ def main():
     only = set(a.only.split(","))
     lscpu = subprocess.run(["lscpu"], text=True, stdout=subprocess.PIPE).stdout
     model = re.search(r"Model name:\s*(.*)", lscpu)
-    write_section("machine", "Measured by `scripts/reflections-experiments.py` on %s (%d cores, shared with other "
-                  "jobs: timings are noisy)." % (model.group(1).strip() if model else "unknown CPU", os.cpu_count() or 0))
+    machine = "%s (%d cores)" % (model.group(1).strip() if model else "unknown CPU", os.cpu_count() or 0)
+    if only == set(ap.get_default("only").split(",")):  # a partial run leaves the other sections' machine line
+        write_section("machine", "Measured by `scripts/reflections-experiments.py` on %s, shared with other "
+                      "jobs: timings are noisy." % machine)
 
     class Sections(list):
         def append(self, key_text):
@@ -207,7 +209,7 @@ def main():
             rows.append(["**total**", "%.1f" % tb, "%.1f" % to])
             sections.append(("fig14", "**Fig. 14 (cost over Base)**: `rtdenoise bench --input` on 12 rendered 1280x720 "
                             "mirrorfloor frames (frames 6-11 timed, histories of 6 frames and more), CPU, 2 threads, medians of 3 "
-                            "alternating runs; "
+                            "alternating runs, on " + machine + "; "
                             "Ours costs %.1f ms (%.0f %%) over Base.\n\n" % (to - tb, 100 * (to - tb) / tb) +
                             table(["pass", "Base (ms)", "Ours (ms)"], rows)))
             out = run([bench, "--benchmark_filter=BM_GuideRays", "--benchmark_format=json", "--benchmark_repetitions=3",
@@ -218,7 +220,7 @@ def main():
                 if b.get("aggregate_name") == "median":
                     spp = re.search(r"/(\d+)", b["run_name"]).group(1)
                     rows.append([spp, "%.1f" % b["real_time"]])
-            sections.append(("fig15", "**Fig. 15 (guide-ray cost)**: `rtd_bench --benchmark_filter=BM_GuideRays`, 1280x720, "
+            sections.append(("fig15", "**Fig. 15 (guide-ray cost)**: `rtd_bench --benchmark_filter=BM_GuideRays`, 1280x720, on " + machine + ", "
                             "assignment + Eq. 7 pre-mix + copy back (the filter runs at guide resolution, so its cost "
                             "does not change with spp), medians of 3.\n\n" + table(["spp", "ms per frame"], rows)))
 
