@@ -59,6 +59,29 @@ struct TwoFrames {
   }
 };
 
+// The history an accumulation read (copied before run(), which swaps its buffers).
+struct History {
+  Plane3 color;
+  Plane length, m1, m2;
+  explicit History(const TemporalAccumulator& acc)
+      : color(acc.color()), length(acc.historyLength()), m1(acc.moment1()), m2(acc.moment2()) {}
+};
+
+// Pixel i of `acc` is the definition of a sampled pixel with bilinear history (Schied Sec. 4.1,
+// cumulative moments): n = min(round(N) + 1, 255), the new sample weighed max(1/n, 0.2), its
+// moments max(1/n, 0.1).
+void expectBlended(const TemporalAccumulator& acc, const Reprojection& rp, const Plane3& current, const History& h,
+                   size_t i) {
+  const float n = std::min(std::round(rp.gather(h.length, i)) + 1.0f, 255.0f);
+  EXPECT_EQ(acc.historyLength().data[i], n) << i;
+  const float a = std::max(1.0f / n, 0.2f), am = std::max(1.0f / n, 0.1f);
+  const float l = luminance(current[0].data[i], current[1].data[i], current[2].data[i]);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(acc.color()[c].data[i], a * current[c].data[i] + (1 - a) * rp.gather(h.color[c], i), 1e-6f) << i;
+  EXPECT_NEAR(acc.moment1().data[i], am * l + (1 - am) * rp.gather(h.m1, i), 1e-6f) << i;
+  EXPECT_NEAR(acc.moment2().data[i], am * l * l + (1 - am) * rp.gather(h.m2, i), 1e-6f) << i;
+}
+
 TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
   const int w = kWidth, h = kHeight;
   Lcg rnd;
@@ -78,22 +101,10 @@ TEST(SharedPassPaths, AccumulationMatchesTheScalarDefinitionOnRandomMotion) {
   TemporalAccumulator acc;
   acc.resize(w, h);
   for (int k = 0; k < 3; ++k) acc.run(none, first, 0.2f, 0.2f, 255);  // history length 3 everywhere
-  // Copy the history the second run reads (run() swaps its buffers).
-  const Plane3 hColor = acc.color();
-  const Plane hLength = acc.historyLength(), hM1 = acc.moment1(), hM2 = acc.moment2();
+  const History before(acc);
   acc.run(rp, second, 0.2f, 0.1f, 255);
-
-  for (size_t i = 0; i < size_t(w) * h; ++i) {
-    if (rp.kind[i] != Reprojection::Bilinear) continue;
-    const float n = std::min(std::round(rp.gather(hLength, i)) + 1.0f, 255.0f);
-    ASSERT_EQ(acc.historyLength().data[i], n) << i;
-    const float a = std::max(1.0f / n, 0.2f), am = std::max(1.0f / n, 0.1f);
-    const float l = luminance(second[0].data[i], second[1].data[i], second[2].data[i]);
-    for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(acc.color()[c].data[i], a * second[c].data[i] + (1 - a) * rp.gather(hColor[c], i), 1e-6f) << i;
-    EXPECT_NEAR(acc.moment1().data[i], am * l + (1 - am) * rp.gather(hM1, i), 1e-6f) << i;
-    EXPECT_NEAR(acc.moment2().data[i], am * l * l + (1 - am) * rp.gather(hM2, i), 1e-6f) << i;
-  }
+  for (size_t i = 0; i < size_t(w) * h; ++i)
+    if (rp.kind[i] == Reprojection::Bilinear) expectBlended(acc, rp, second, before, i);
 
   // BMFR's phase III accumulation of three planes with the same taps.
   Plane3 out;
@@ -161,6 +172,15 @@ TEST(SharedPassPaths, AdaptiveAccumulationMatchesTheDefinitionOnRandomMotion) {
     }
 }
 
+// Three planes of uniform random values in [0, 1).
+Plane3 randomColour(Lcg& rnd, int w, int h) {
+  Plane3 p;
+  resize(p, w, h);
+  for (auto& c : p)
+    for (float& v : c.data) v = rnd();
+  return p;
+}
+
 // Progressive mode's sample mask (AccumulationOptions::sampleMask, Dundr Sec. 5) on every CPU
 // path: a pixel with mask 0 keeps its history (length, colour and moments as reprojected), one
 // with a sample blends as without a mask. Most groups of eight pixels are wholly sampled (the
@@ -174,14 +194,7 @@ TEST(SharedPassPaths, MaskedAccumulationMatchesTheDefinitionOnEveryPath) {
     Lcg rnd;
     const TwoFrames frames(rnd);
     const Reprojection &none = frames.none, &rp = frames.rp;
-    auto image = [&] {
-      Plane3 p;
-      resize(p, w, h);
-      for (auto& c : p)
-        for (float& v : c.data) v = rnd();
-      return p;
-    };
-    const Plane3 first = image(), second = image();
+    const Plane3 first = randomColour(rnd, w, h), second = randomColour(rnd, w, h);
     Plane mask(w, h, 1.0f);
     size_t holes = 0;
     for (int y = 0; y < h; ++y)
@@ -193,42 +206,25 @@ TEST(SharedPassPaths, MaskedAccumulationMatchesTheDefinitionOnEveryPath) {
     TemporalAccumulator acc;
     acc.resize(w, h);
     for (int k = 0; k < 3; ++k) acc.run(none, first, 0.2f, 0.1f, 255);  // history length 3 everywhere
-    const Plane3 hColor = acc.color();
-    const Plane hLength = acc.historyLength(), hM1 = acc.moment1(), hM2 = acc.moment2();
+    const History before(acc);
     AccumulationOptions opt;
     opt.sampleMask = &mask;
     acc.run(rp, second, 0.2f, 0.1f, 255, opt);
     size_t sampled = 0;
     for (size_t i = 0; i < size_t(w) * h; ++i) {
       if (rp.kind[i] != Reprojection::Bilinear) continue;
-      if (mask.data[i] == 0.0f) {
-        ASSERT_EQ(acc.historyLength().data[i], std::round(rp.gather(hLength, i))) << i;
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(acc.color()[c].data[i], rp.gather(hColor[c], i), 1e-6f) << i;
-        EXPECT_NEAR(acc.moment1().data[i], rp.gather(hM1, i), 1e-6f) << i;
-        EXPECT_NEAR(acc.moment2().data[i], rp.gather(hM2, i), 1e-6f) << i;
+      if (mask.data[i] != 0.0f) {
+        ++sampled;
+        expectBlended(acc, rp, second, before, i);
         continue;
       }
-      ++sampled;
-      const float n = std::min(std::round(rp.gather(hLength, i)) + 1.0f, 255.0f);
-      ASSERT_EQ(acc.historyLength().data[i], n) << i;
-      const float a = std::max(1.0f / n, 0.2f), am = std::max(1.0f / n, 0.1f);
-      const float l = luminance(second[0].data[i], second[1].data[i], second[2].data[i]);
-      for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(acc.color()[c].data[i], a * second[c].data[i] + (1 - a) * rp.gather(hColor[c], i), 1e-6f) << i;
-      EXPECT_NEAR(acc.moment1().data[i], am * l + (1 - am) * rp.gather(hM1, i), 1e-6f) << i;
-      EXPECT_NEAR(acc.moment2().data[i], am * l * l + (1 - am) * rp.gather(hM2, i), 1e-6f) << i;
+      EXPECT_EQ(acc.historyLength().data[i], std::round(rp.gather(before.length, i))) << i;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(acc.color()[c].data[i], rp.gather(before.color[c], i), 1e-6f) << i;
+      EXPECT_NEAR(acc.moment1().data[i], rp.gather(before.m1, i), 1e-6f) << i;
+      EXPECT_NEAR(acc.moment2().data[i], rp.gather(before.m2, i), 1e-6f) << i;
     }
     EXPECT_GT(sampled, size_t(w * h / 2));
   }
-}
-
-// Three planes of uniform random values in [0, 1).
-Plane3 randomColour(Lcg& rnd, int w, int h) {
-  Plane3 p;
-  resize(p, w, h);
-  for (auto& c : p)
-    for (float& v : c.data) v = rnd();
-  return p;
 }
 
 // Without moments (AccumulationOptions::moments = false, BMFR's phase I), the colour and the
