@@ -94,7 +94,10 @@ class ReflectionSearchFeatures {
   /// pixels (hasGlossyMotionBuffers), classes from `cls`; other pixels' records are not set.
   void build(const FrameData& f, const PixelVector<uint8_t>& cls);
   const Record& operator[](size_t i) const { return records_[i]; }
-  size_t bytes() const { return records_.size() * sizeof(Record); }
+  /// The records as floats (eight per pixel), for the memory report and the tests' checks.
+  void forEachPlane(const PlaneVisitor& visit) const {
+    if (!records_.empty()) visit("reflection search features", records_.front().bytes32, records_.size() * 8);
+  }
 
  private:
   PixelVector<Record> records_;

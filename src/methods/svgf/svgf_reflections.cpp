@@ -27,6 +27,7 @@ void Reflections::resize(int /*w*/, int /*h*/, int pad) {
 
 void Reflections::forEachPlane(const PlaneVisitor& visit) const {
   specular_.forEachPlane(visit);
+  searchFeatures_.forEachPlane(visit);
   reflectedGuide_.forEachPlane(visit);
   visitPlane(visit, "virtual depth", virtualDepth_);
   for (const Plane& p : normals_) visitPlane(visit, "reflected normal", p);
