@@ -196,12 +196,18 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
     // The lowest tap row is the one row of the window that no row before this one in
     // stridedRows' order read (in the strided order the row just before read the others; in
     // the row order of smaller spans, the row `step` before): its planes ahead
-    // (kPrefetchAhead), with the centre row's own planes.
+    // (kPrefetchAhead), with the centre row's own planes. The 3x3 kernel's eight taps make a
+    // short loop body, in which eleven prefetches per group of pixels cost more than they
+    // bring: on the 8-lane paths (two groups per cache line) it asks once per line
+    // (BM_AtrousLevel avx2 3x3 0.90-0.97; every group 1.00, none 1.05; the 5x5 kernel keeps
+    // every group: asking once per line was 1.0 at step 1 and up to 1.2 at step 8).
     const ptrdiff_t newRow = ptrdiff_t(z.index(0, y)) + ptrdiff_t(radius) * lv.step * S;
     for (int x = 0; x < w; x += kLanes) {
       const size_t c = z.index(x, y);
-      for (const float* q : {pz, pnx, pny, pnz, pl, pr, pg, pb, pv}) prefetchAhead(q + newRow + x);
-      for (const float* q : {pgx, pgy}) prefetchAhead(q + c);
+      if (kLanes == 16 || tapCount == 24 || x % 16 == 0) {
+        for (const float* q : {pz, pnx, pny, pnz, pl, pr, pg, pb, pv}) prefetchAhead(q + newRow + x);
+        for (const float* q : {pgx, pgy}) prefetchAhead(q + c);
+      }
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
       const vf gx = load(pgx + c) * sigmaZ2, gy = load(pgy + c) * sigmaZ2;
       const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
