@@ -120,7 +120,9 @@ void runBench(const BenchOptions& o) {
   // denoiser's planes out of the caches (Dundr at 1280x720: ~1.5 ms more), and the output says
   // so.
   constexpr uint64_t kPreloadBytes = uint64_t(3) << 30;
-  const int distinct = seq ? cycle : o.warmup + o.frames;
+  // The frames the run shows: a sequence longer than the run is not cycled, only its first
+  // warm-up + timed frames are read.
+  const int distinct = seq ? std::min(cycle, o.warmup + o.frames) : o.warmup + o.frames;
   std::vector<Frame> preloaded, preloadedRight;
   bool preload = true;
   for (int k = 0; k < distinct && preload; ++k) {
@@ -153,7 +155,7 @@ void runBench(const BenchOptions& o) {
   Progress progress("bench " + o.method, o.warmup + o.frames);
   for (int i = 0, timed = 0; timed < o.frames; ++i) {
     const bool cut = seq && i > 0 && i % cycle == 0;
-    if (cut) stereo ? stereo->reset() : denoiser->reset();
+    if (cut) denoiser->reset();  // --input: not with --stereo
     const int k = seq ? i % cycle : i;  // the frame of the path
     refill(preload ? preloaded[size_t(k)] : make(k, false), current);
     if (stereo) refill(preload ? preloadedRight[size_t(k)] : make(k, true), currentRight);

@@ -6,6 +6,7 @@
 
 #include "core/parallel.h"
 #include "core/timer.h"
+#include "methods/svgf/svgf_passes.h"
 #include "passes/demodulation.h"
 #include "passes/emitters.h"
 #include "passes/fxaa.h"
@@ -15,23 +16,6 @@ namespace rtd::svgf {
 namespace {
 void copyPadded(const Plane& in, PaddedPlane& out) { out.copyFrom(in); }
 }  // namespace
-
-float sampleCoverage(const Plane& mask, const Plane* hidden) {
-  std::atomic<uint64_t> sampled{0}, visible{0};
-  parallelRows(mask.height, [&](int y) {
-    uint64_t s = 0, v = 0;
-    const float* m = mask.row(y);
-    const float* h = hidden ? hidden->row(y) : nullptr;
-    for (int x = 0; x < mask.width; ++x) {
-      if (h && h[x] > 0.5f) continue;
-      ++v;
-      s += m[x] != 0.0f;
-    }
-    sampled += s;
-    visible += v;
-  });
-  return visible ? float(double(sampled) / double(visible)) : 1.0f;
-}
 
 size_t boostDisoccluded(const Reprojection& rp, const Plane& previousLength, const Plane& mask, float c, Plane& factor) {
   const float k = 1.0f / c;

@@ -30,9 +30,6 @@
 
 namespace rtd::svgf {
 
-/// Share of the visible pixels (HiddenArea 0) that `mask` marks as sampled.
-float sampleCoverage(const Plane& mask, const Plane* hidden);
-
 /// Eq. 3.1: `factor` = 1/c where `mask` is 1 and the pixel has no history (reprojection
 /// failed, or its taps hold no data: the gathered previous `historyLength` rounds to 0), 1
 /// elsewhere. Returns the number of boosted pixels.

@@ -33,23 +33,6 @@ struct Stream {
   TemporalAccumulator accumulator;
 };
 
-// Whether every pixel has a sample this frame (SampleMask != 0 everywhere). The renderer
-// writes a mask of ones at 1 spp; progressive mode (Dundr Sec. 5) then computes exactly what the
-// plain pipeline does (no pixel keeps an unsampled history, every pixel is valid at every
-// a-trous level, the fed-back level is taken everywhere), only slower: the levels' validity
-// weights cost ~1.14x.
-bool everyPixelSampled(const Plane& mask) {
-  std::atomic<bool> all{true};
-  parallelRows(mask.height, [&](int y) {
-    if (!all.load(std::memory_order_relaxed)) return;
-    const float* m = mask.row(y);
-    bool sampled = true;
-    for (int x = 0; x < mask.width; ++x) sampled &= m[x] != 0.0f;
-    if (!sampled) all.store(false, std::memory_order_relaxed);
-  });
-  return all;
-}
-
 class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
  public:
   using CpuDenoiser::CpuDenoiser;
@@ -105,10 +88,12 @@ class SvgfCpu final : public CpuDenoiser<SvgfSettings> {
     const bool lobes = nStreams == 2 && streams_[1].plan.lobe == svgf::Lobe::specular;
     // Before any history is touched: an explicitly requested part without its buffers throws.
     svgf::ReflectionParts parts = svgf::resolveReflectionParts(s, [&](Buffer b) { return frame.has(b); }, lobes);
-    // A mask without holes is no mask (everyPixelSampled).
-    mask_ = s.useSampleMask && frame.has(Buffer::SampleMask) && !everyPixelSampled(frame.plane(Buffer::SampleMask))
-                ? &frame.plane(Buffer::SampleMask)
-                : nullptr;
+    // A mask without holes is no mask. The renderer writes a mask of ones at 1 spp; progressive
+    // mode (Dundr Sec. 5) then computes exactly what the plain pipeline does (no pixel keeps an
+    // unsampled history, every pixel is valid at every a-trous level, the fed-back level is
+    // taken everywhere), only slower: the levels' validity weights cost ~1.14x.
+    const Plane* mask = s.useSampleMask && frame.has(Buffer::SampleMask) ? &frame.plane(Buffer::SampleMask) : nullptr;
+    mask_ = mask && svgf::sampleCoverage(*mask, nullptr) < 1.0f ? mask : nullptr;
     const auto* albedo = frame.has(Buffer::Albedo) ? &frame.planes(Buffer::Albedo) : nullptr;
     {
       // The guide's rows right after the reprojection's (both read the frame's depth and

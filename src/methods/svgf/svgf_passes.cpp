@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <type_traits>
 #include <vector>
 
@@ -86,6 +87,25 @@ size_t estimateVariance(const AtrousGuide& g, const VarianceInputs& in, const Va
 
 void luminanceSigmaScale(const Plane& len, const SvgfSettings& s, PaddedPlane& out) {
   luminanceSigmaScale(len, filterParams(s, false), out);
+}
+
+float sampleCoverage(const Plane& mask, const Plane* hidden) {
+  std::atomic<uint64_t> sampled{0}, visible{0};
+  parallelRows(mask.height, [&](int y) {
+    uint64_t s = 0, v = 0;
+    const float* m = mask.row(y);
+    const float* h = hidden ? hidden->row(y) : nullptr;
+    for (int x = 0; x < mask.width; ++x) {
+      if (h && h[x] > 0.5f) continue;
+      ++v;
+      s += m[x] != 0.0f;
+    }
+    sampled += s;
+    visible += v;
+  });
+  if (sampled == visible) return 1.0f;
+  // Below 1 however close: the share of one hole in more than 2^25 pixels rounds to 1.0f.
+  return std::min(float(double(sampled) / double(visible)), std::nextafter(1.0f, 0.0f));
 }
 
 namespace {

@@ -61,6 +61,11 @@ size_t spatialVarianceEstimate(const AtrousGuide& guide, const VarianceInputs& i
 /// where enabled, else 1.
 void luminanceSigmaScale(const Plane& historyLength, const SvgfSettings& s, PaddedPlane& out);
 
+/// Share of the visible pixels (`hidden` 0; all where null) that `mask` marks as sampled
+/// (SampleMask != 0): exactly 1 only where every visible pixel is sampled, which makes the
+/// progressive mode (Dundr Sec. 5, Gersthofer's masking) the plain pipeline.
+float sampleCoverage(const Plane& mask, const Plane* hidden);
+
 /// 3x3 per-channel median (Voorhuis Sec. 6, fireflies) of pixels whose roughness is >= 0.9
 /// (diffuse), or of every pixel when `roughness` is null; others are copied.
 void median3x3(const Plane3& in, const Plane* roughness, Plane3& out);
