@@ -189,7 +189,8 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   // The normal series' coefficients and the depth denominator in log2 units: the reciprocal
   // of ln 2 (sigma_z |grad z . o| + eps) is log2(e) / (...).
   const float cn1 = sigmaN * kLog2e, cn2 = 0.5f * sigmaN * kLog2e, cn3 = sigmaN / 3.0f * kLog2e;
-  const float sigmaZ2 = sigmaZ * kLn2, epsZ2 = epsZ * kLn2, epsRelZ2 = epsRelZ * kLn2, maxDen2 = kMaxDepthDenominator * kLn2;
+  const float sigmaZStep2 = sigmaZ * kLn2 * float(lv.step), epsZ2 = epsZ * kLn2, epsRelZ2 = epsRelZ * kLn2,
+              maxDen2 = kMaxDepthDenominator * kLn2;
 
   const int radius = kernelRadius(lv.kernel);
   stridedRows(z.height, lv.step, radius, [&](int y) {
@@ -209,7 +210,9 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         for (const float* q : {pgx, pgy}) prefetchAhead(q + c);
       }
       const vf zc = load(pz + c), nx = load(pnx + c), ny = load(pny + c), nz = load(pnz + c);
-      const vf gx = load(pgx + c) * sigmaZ2, gy = load(pgy + c) * sigmaZ2;
+      // sigma_z grad z times the step, in log2 units: the pairs' |grad z . o| below are sums of
+      // these and their doubles (o = step (dx, dy)).
+      const vf gx = load(pgx + c) * sigmaZStep2, gy = load(pgy + c) * sigmaZStep2;
       const vf epsZc2 = epsZ2 + epsRelZ2 * vabs(zc);  // depthEpsilonAt, in log2 units
       const vf lc = load(pl + c);
       vf inv, ziInv, zic;
@@ -294,8 +297,23 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       constexpr bool kScalesFirst = kLanes < 16;
       auto pairs = [&](auto count) {
         constexpr int n = decltype(count)::value;
+        // Pair k's taps are (-dx, -dy) and (dx, dy) in kernel units, dy >= 0 (atrousLevel's
+        // list, row by row): |grad z . o| = |dx gx + dy gy|, gx and gy already times the step,
+        // from them and their doubles by one addition (the step a power of two, the products are
+        // exact: the value the fused multiply-add gave), and its reciprocal by one division: the
+        // divider is a unit of its own, where the estimate's Newton step and the products took
+        // four operations of the two multiply pipes (BM_AtrousLevel avx2 0.93-0.99, avx512
+        // 0.86-1.0; the additions with the estimate kept 0.94-1.02: docs/performance.md,
+        // "Session 26").
+        constexpr int kWidth = n == 24 ? 5 : 3, kRadius = kWidth / 2;
+        const vf gx2 = gx + gx, gy2 = gy + gy;
         auto depthScale = [&](int k) __attribute__((always_inline)) {
-          return vrcp(vmin(vabs(gx * taps[k].ox + gy * taps[k].oy), splat(maxDen2)) + epsZc2);
+          const int dx = -(k % kWidth - kRadius), dy = kRadius - k / kWidth;
+          assert(taps[k].ox == float(-dx * lv.step) && taps[k].oy == float(-dy * lv.step));
+          const vf ax = dx == 0 ? splat(0.0f) : (dx == 1 || dx == -1 ? gx : gx2);
+          const vf ay = dy == 1 ? gy : gy2;
+          const vf d = dy == 0 ? ax : dx == 0 ? ay : dx > 0 ? ay + ax : ay - ax;
+          return 1.0f / (vmin(vabs(d), splat(maxDen2)) + epsZc2);
         };
         vf depthScales[n / 2];
         if constexpr (kScalesFirst) {
