@@ -185,6 +185,13 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   // Each tap's starting exponent (exp2ShiftedN).
   float start[32];
   assert(tapCount == 24 || tapCount == 8);
+  // The pairs' depth denominators (`pairs` below) take tap k of the first half at (-dx, -dy)
+  // kernel units, dx = r - k % (2r + 1), dy = r - k / (2r + 1): atrousLevel's list, row by row.
+  for (int k = 0, r = tapCount == 24 ? 2 : 1; k < tapCount / 2; ++k) {
+    assert(taps[k].ox == float((k % (2 * r + 1) - r) * lv.step) &&
+           taps[k].oy == float((k / (2 * r + 1) - r) * lv.step));
+    (void)r;
+  }
   for (int k = 0; k < tapCount; ++k) start[k] = exp2Start(taps[k].h);
   // The normal series' coefficients and the depth denominator in log2 units: the reciprocal
   // of ln 2 (sigma_z |grad z . o| + eps) is log2(e) / (...).
@@ -309,7 +316,6 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
         const vf gx2 = gx + gx, gy2 = gy + gy;
         auto depthScale = [&](int k) __attribute__((always_inline)) {
           const int dx = -(k % kWidth - kRadius), dy = kRadius - k / kWidth;
-          assert(taps[k].ox == float(-dx * lv.step) && taps[k].oy == float(-dy * lv.step));
           const vf ax = dx == 0 ? splat(0.0f) : (dx == 1 || dx == -1 ? gx : gx2);
           const vf ay = dy == 1 ? gy : gy2;
           const vf d = dy == 0 ? ax : dx == 0 ? ay : dx > 0 ? ay + ax : ay - ax;
