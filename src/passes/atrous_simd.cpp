@@ -481,8 +481,9 @@ void spatialVarianceRowsT(const AtrousGuide& g, const PaddedPlane& pa, const Pad
           s2 += wt * load(B + q);
         }
       };
-      // Opposite offsets share the depth denominator's reciprocal; the default radius 3 (48
-      // taps) is unrolled at compile time.
+      // Opposite offsets share the depth denominator's reciprocal, here the estimate (a division
+      // as in atrousRowsT measured no gain on this pass: docs/performance.md, "Session 26");
+      // the default radius 3 (48 taps) is unrolled at compile time.
       auto window = [&](auto radius) {
         constexpr int kR = decltype(radius)::value;
         const int r = kR > 0 ? kR : R;
