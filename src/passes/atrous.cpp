@@ -98,8 +98,8 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
     for (int dx = -r; dx <= r; ++dx) {
       if (!dx && !dy) continue;
       const int ox = dx * lv.step, oy = dy * lv.step;
-      taps.push_back({ptrdiff_t(oy) * z.stride + ox, float(ox), float(oy),
-                      kernelWeight1D(lv.kernel, dx) * kernelWeight1D(lv.kernel, dy), float(dx * dx + dy * dy)});
+      taps.push_back({ptrdiff_t(oy) * z.stride + ox, kernelWeight1D(lv.kernel, dx) * kernelWeight1D(lv.kernel, dy),
+                      float(dx * dx + dy * dy)});
     }
   // atrousRows pairs tap k with tap n-1-k: the list above is point-symmetric.
   for (size_t k = 0; k < taps.size(); ++k) assert(taps[k].offset == -taps[taps.size() - 1 - k].offset);

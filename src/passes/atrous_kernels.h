@@ -7,10 +7,9 @@
 #include "passes/atrous.h"
 
 namespace rtd {
-/// One tap of a level: offset in floats and in pixels, kernel weight h(q).
+/// One tap of a level: offset in floats, kernel weight h(q).
 struct AtrousTap {
   ptrdiff_t offset;
-  float ox, oy;
   float h;
   float k2;  // |k|^2, k the offset in kernel units (Eq. 6 falloff)
 };

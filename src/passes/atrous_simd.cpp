@@ -189,8 +189,7 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   // kernel units, dx = r - k % (2r + 1), dy = r - k / (2r + 1): atrousLevel's list, row by row.
 #ifndef NDEBUG
   for (int k = 0, r = tapCount == 24 ? 2 : 1; k < tapCount / 2; ++k)
-    assert(taps[k].ox == float((k % (2 * r + 1) - r) * lv.step) &&
-           taps[k].oy == float((k / (2 * r + 1) - r) * lv.step));
+    assert(taps[k].offset == ptrdiff_t(k / (2 * r + 1) - r) * lv.step * z.stride + (k % (2 * r + 1) - r) * lv.step);
 #endif
   for (int k = 0; k < tapCount; ++k) start[k] = exp2Start(taps[k].h);
   // The normal series' coefficients and the depth denominator in log2 units: the reciprocal
