@@ -101,8 +101,13 @@ void atrousLevel(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
       taps.push_back({ptrdiff_t(oy) * z.stride + ox, kernelWeight1D(lv.kernel, dx) * kernelWeight1D(lv.kernel, dy),
                       float(dx * dx + dy * dy)});
     }
-  // atrousRows pairs tap k with tap n-1-k: the list above is point-symmetric.
-  for (size_t k = 0; k < taps.size(); ++k) assert(taps[k].offset == -taps[taps.size() - 1 - k].offset);
+  // atrousRows' contract (atrous_kernels.h): the list above is point-symmetric (tap k opposite
+  // tap n-1-k), and the first half's tap k is at kernel offset (k % (2r + 1) - r, k / (2r + 1) - r).
+  for (size_t k = 0; k < taps.size(); ++k) {
+    assert(taps[k].offset == -taps[taps.size() - 1 - k].offset);
+    assert(2 * k >= taps.size() ||
+           taps[k].offset == ptrdiff_t(int(k) / (2 * r + 1) - r) * lv.step * z.stride + (int(k) % (2 * r + 1) - r) * lv.step);
+  }
   const float h0 = kernelWeight1D(lv.kernel, 0) * kernelWeight1D(lv.kernel, 0);
   RTD_SIMD(atrousRows)(g, lv, in, out, taps.data(), int(taps.size()), h0);
 }

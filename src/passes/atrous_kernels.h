@@ -16,7 +16,9 @@ struct AtrousTap {
 }  // namespace rtd
 
 RTD_SIMD_DECLARE(
-/// atrousLevel's rows: `taps` point-symmetric (tap k opposite tap count - 1 - k), h0 the centre's kernel weight.
+/// atrousLevel's rows: `taps` point-symmetric (tap k opposite tap count - 1 - k) and in
+/// atrousLevel's order, row by row without the centre (the pairs' depth terms take each tap's
+/// kernel offset from its index), h0 the centre's kernel weight.
 void atrousRows(const AtrousGuide& guide, const AtrousLevel& level, const AtrousImage& in, AtrousImage& out,
                 const AtrousTap* taps, int tapCount, float h0);
 /// spatialVariance's rows, radius R <= a.pad, normal exponent e >= 1.

@@ -186,11 +186,8 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
   float start[32];
   assert(tapCount == 24 || tapCount == 8);
   // The pairs' depth denominators (`pairs` below) take tap k of the first half at (-dx, -dy)
-  // kernel units, dx = r - k % (2r + 1), dy = r - k / (2r + 1): atrousLevel's list, row by row.
-#ifndef NDEBUG
-  for (int k = 0, r = tapCount == 24 ? 2 : 1; k < tapCount / 2; ++k)
-    assert(taps[k].offset == ptrdiff_t(k / (2 * r + 1) - r) * lv.step * z.stride + (k % (2 * r + 1) - r) * lv.step);
-#endif
+  // kernel units, dx = r - k % (2r + 1), dy = r - k / (2r + 1): atrousLevel's list, row by row
+  // (the contract in atrous_kernels.h, asserted where atrousLevel builds the list).
   for (int k = 0; k < tapCount; ++k) start[k] = exp2Start(taps[k].h);
   // The normal series' coefficients and the depth denominator in log2 units: the reciprocal
   // of ln 2 (sigma_z |grad z . o| + eps) is log2(e) / (...).
