@@ -149,6 +149,17 @@ template <class Fn> void stridedRows(int height, int step, int radius, Fn&& fn) 
 // (BM_AtrousLevel; docs/performance.md, "Session 15").
 enum class LevelOutput { plain, propagate, remodulated };
 
+// Whether a level of `tapCount` taps adds each pair's taps into its sums right after their
+// weights, or computes all its weights first (into an array in L1) and then the sums. The sums
+// after each pair save the weights' round trip through L1 where the registers hold the five sums
+// beside the pair's chains: AVX-512's 32 with the 5x5 kernel (BM_AtrousLevel avx512, one thread,
+// steps 1-16: 0.87-0.99; docs/performance.md, "Session 28"). AVX2 has 16 vector registers, and
+// the five sums, the nine centre values and the exp's constants together (~25) made GCC spill and
+// reload ~20 values per tap, the sums among them ("Session 8, speed"; on Zen 5 the sums after
+// each pair measured 1.03-1.10 there); AVX-512's 3x3 kernel keeps its weights first too
+// (1.02-1.15).
+constexpr bool sumsFollowPairs(int tapCount) { return kLanes == 16 && tapCount == 24; }
+
 template <LevelOutput kOut, bool kLogNormal, bool kMasked, bool kReflection, bool kGlossy>
 void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage& in, AtrousImage& out,
                 const AtrousTap* taps, int tapCount, float h0) {
@@ -290,6 +301,17 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
           for (int j = 0; j < 2; ++j) wt[j] *= load(pvalid + q[j]);
         for (int j = 0; j < 2; ++j) weights[kk[j]] = wt[j];
       };
+      // One tap's share of the sums. Taken in the order of the pairs (tap k, then its opposite),
+      // so the result is bit for bit that of one tap after the other wherever the sums are taken.
+      auto sumTap = [&](int k) __attribute__((always_inline)) {
+        const size_t q = c + taps[k].offset;
+        const vf wt = weights[k];
+        sw += wt;
+        sr += wt * load(pr + q);
+        sg += wt * load(pg + q);
+        sb += wt * load(pb + q);
+        if constexpr (kPropagate) sv += wt * wt * load(pv + q);
+      };
       // Taps come in opposite pairs (q, 2p - q) whose w_z denominators sigma_z |grad z . (p - q)|
       // + eps are equal: one reciprocal serves both (atrousLevel orders the list that way).
       // The 3x3 and 5x5 kernels' 8 and 24 taps as compile-time counts: fully unrolled.
@@ -323,25 +345,20 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
           for (int k = 0; k < n / 2; ++k) depthScales[k] = depthScale(k);
         }
 #pragma GCC unroll 12
-        for (int k = 0; k < n / 2; ++k) tapPair(k, n - 1 - k, kScalesFirst ? depthScales[k] : depthScale(k));
+        for (int k = 0; k < n / 2; ++k) {
+          tapPair(k, n - 1 - k, kScalesFirst ? depthScales[k] : depthScale(k));
+          if constexpr (sumsFollowPairs(n)) {
+            sumTap(k);
+            sumTap(n - 1 - k);
+          }
+        }
       };
-      // The weights first (into `weights`, in L1), then the sums in the order of the pairs, so
-      // the result is bit for bit that of one tap after the other: AVX2 has 16 vector registers,
-      // and the five sums, the nine centre values and the exp's constants together (~25) made
-      // GCC spill and reload ~20 values per tap, the sums among them (docs/performance.md,
-      // "Session 8, speed").
+      // Elsewhere the weights first (into `weights`, in L1), then the sums (sumsFollowPairs).
       auto sums = [&](auto count) {
         constexpr int n = decltype(count)::value;
+        if constexpr (!sumsFollowPairs(n)) {
 #pragma GCC unroll 24
-        for (int i = 0; i < n; ++i) {
-          const int k = i % 2 ? n - 1 - i / 2 : i / 2;
-          const size_t q = c + taps[k].offset;
-          const vf wt = weights[k];
-          sw += wt;
-          sr += wt * load(pr + q);
-          sg += wt * load(pg + q);
-          sb += wt * load(pb + q);
-          if constexpr (kPropagate) sv += wt * wt * load(pv + q);
+          for (int i = 0; i < n; ++i) sumTap(i % 2 ? n - 1 - i / 2 : i / 2);
         }
       };
       if (tapCount == 24) {
