@@ -353,7 +353,8 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
           }
         }
       };
-      // Elsewhere the weights first (into `weights`, in L1), then the sums (sumsFollowPairs).
+      // Where the sums do not follow each pair (sumsFollowPairs): after all the weights, which
+      // wait in `weights` (in L1).
       auto sums = [&](auto count) {
         constexpr int n = decltype(count)::value;
         if constexpr (!sumsFollowPairs(n)) {
