@@ -352,23 +352,17 @@ void atrousRowsT(const AtrousGuide& g, const AtrousLevel& lv, const AtrousImage&
             sumTap(n - 1 - k);
           }
         }
-      };
-      // Where the sums do not follow each pair (sumsFollowPairs): after all the weights, which
-      // wait in `weights` (in L1).
-      auto sums = [&](auto count) {
-        constexpr int n = decltype(count)::value;
+        // Otherwise the sums after all the weights, which wait in `weights` (in L1).
         if constexpr (!sumsFollowPairs(n)) {
-#pragma GCC unroll 24
-          for (int i = 0; i < n; ++i) sumTap(i % 2 ? n - 1 - i / 2 : i / 2);
+#pragma GCC unroll 12
+          for (int k = 0; k < n / 2; ++k) {
+            sumTap(k);
+            sumTap(n - 1 - k);
+          }
         }
       };
-      if (tapCount == 24) {
-        pairs(std::integral_constant<int, 24>{});
-        sums(std::integral_constant<int, 24>{});
-      } else {
-        pairs(std::integral_constant<int, 8>{});
-        sums(std::integral_constant<int, 8>{});
-      }
+      if (tapCount == 24) pairs(std::integral_constant<int, 24>{});
+      else pairs(std::integral_constant<int, 8>{});
       vf rcp;
       if constexpr (kMasked) {
         // Any weight that is not 0 is >= 2^-24 (core/flush.h).
